@@ -1,0 +1,211 @@
+//! Device 2, the contact-density detector (SPEC 2.4): a digital capacitor charged per FES
+//! pulse in contact and discharged per pulse without, firing on an upward threshold
+//! crossing, with hysteresis.
+//!
+//! Updating once per FES pulse puts the capacitor in the angle domain, so the decision
+//! does not depend on spindle speed. The charge is an unsigned integer in LSBs of a
+//! `charge_bits`-wide register (UQ0.`charge_bits` of full scale); every step saturates at
+//! zero and at full scale.
+
+use crate::config::{ChargeLaw, MeasureConfig};
+
+/// The digital capacitor with its fire/re-arm hysteresis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DensityDetector {
+    law: ChargeLaw,
+    full: u32,
+    fire_threshold: u32,
+    rearm_threshold: u32,
+    /// Charge, LSBs, `0..=full`.
+    charge: u32,
+    /// Ready to fire; cleared by a fire, set again once the charge falls below the re-arm
+    /// threshold.
+    armed: bool,
+    /// Fired at least once since the last reset.
+    fired: bool,
+}
+
+impl DensityDetector {
+    /// An empty, armed capacitor for `config`.
+    pub fn new(config: &MeasureConfig) -> Self {
+        let s = config.settings();
+        DensityDetector {
+            law: s.charge_law,
+            full: config.full_charge(),
+            fire_threshold: s.fire_threshold,
+            rearm_threshold: s.rearm_threshold,
+            charge: 0,
+            armed: true,
+            fired: false,
+        }
+    }
+
+    /// Empties and re-arms the capacitor.
+    pub fn reset(&mut self) {
+        self.charge = 0;
+        self.armed = true;
+        self.fired = false;
+    }
+
+    /// Next charge after one pulse with contact bit `contact`. Saturating at `0` and `full`.
+    pub fn next_charge(&self, contact: bool) -> u32 {
+        let q = self.charge;
+        match (self.law, contact) {
+            (ChargeLaw::Linear { charge_step, .. }, true) => {
+                q.saturating_add(charge_step).min(self.full)
+            }
+            (
+                ChargeLaw::Linear {
+                    discharge_step: step,
+                    ..
+                },
+                false,
+            ) => q.saturating_sub(step),
+            (ChargeLaw::Exponential { charge_shift, .. }, true) => {
+                let room = self.full.saturating_sub(q);
+                q.saturating_add(exp_step(room, charge_shift))
+            }
+            (
+                ChargeLaw::Exponential {
+                    discharge_shift, ..
+                },
+                false,
+            ) => q.saturating_sub(exp_step(q, discharge_shift)),
+        }
+    }
+
+    /// One FES pulse. Updates the charge, then fires if armed and the charge has reached
+    /// the fire threshold (returns `true` on that pulse only), or re-arms if disarmed and
+    /// the charge is below the re-arm threshold.
+    pub fn on_pulse(&mut self, contact: bool) -> bool {
+        self.charge = self.next_charge(contact);
+        if self.armed {
+            if self.charge >= self.fire_threshold {
+                self.armed = false;
+                self.fired = true;
+                return true;
+            }
+        } else if self.charge < self.rearm_threshold {
+            self.armed = true;
+        }
+        false
+    }
+
+    /// Charge, LSBs of full scale.
+    pub fn charge(&self) -> u32 {
+        self.charge
+    }
+    /// Whether the detector can fire.
+    pub fn armed(&self) -> bool {
+        self.armed
+    }
+    /// Whether it has fired since the last reset.
+    pub fn fired(&self) -> bool {
+        self.fired
+    }
+}
+
+/// Exponential step: `max(1, distance >> shift)`, or 0 when the distance is 0.
+fn exp_step(distance: u32, shift: u8) -> u32 {
+    if distance == 0 {
+        0
+    } else {
+        (distance >> shift).max(1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::MeasureSettings;
+    use proptest::prelude::*;
+
+    fn detector(law: ChargeLaw) -> DensityDetector {
+        let s = MeasureSettings {
+            charge_bits: 8,
+            charge_law: law,
+            fire_threshold: 192,
+            rearm_threshold: 64,
+            ..Default::default()
+        };
+        DensityDetector::new(&s.validate().unwrap())
+    }
+
+    const LINEAR: ChargeLaw = ChargeLaw::Linear {
+        charge_step: 32,
+        discharge_step: 16,
+    };
+
+    #[test]
+    fn linear_fires_on_the_sixth_contact_pulse() {
+        let mut d = detector(LINEAR);
+        for _ in 0..5 {
+            assert!(!d.on_pulse(true));
+        }
+        assert!(d.on_pulse(true));
+        assert_eq!(d.charge(), 192);
+    }
+
+    #[test]
+    fn exponential_reaches_both_ends_exactly() {
+        let mut d = detector(ChargeLaw::Exponential {
+            charge_shift: 3,
+            discharge_shift: 2,
+        });
+        for _ in 0..200 {
+            d.on_pulse(true);
+        }
+        assert_eq!(d.charge(), 255);
+        for _ in 0..200 {
+            d.on_pulse(false);
+        }
+        assert_eq!(d.charge(), 0);
+    }
+
+    #[test]
+    fn no_refire_without_falling_below_rearm() {
+        let mut d = detector(LINEAR);
+        let fires = (0..20).filter(|_| d.on_pulse(true)).count();
+        assert_eq!(fires, 1);
+        // Fall to 80 (above re-arm 64), climb again: no second fire.
+        for _ in 0..11 {
+            d.on_pulse(false);
+        }
+        assert_eq!(d.charge(), 79);
+        assert_eq!((0..20).filter(|_| d.on_pulse(true)).count(), 0);
+        // Fall below 64: re-armed, fires again.
+        for _ in 0..20 {
+            d.on_pulse(false);
+        }
+        assert!(d.armed());
+        assert_eq!((0..20).filter(|_| d.on_pulse(true)).count(), 1);
+    }
+
+    proptest! {
+        #[test]
+        fn charge_stays_in_bounds_and_fires_only_when_armed(
+            bits in proptest::collection::vec(any::<bool>(), 0..600),
+            exp in any::<bool>(), a in 0u8..9, b in 0u8..9, up in 1u32..256, down in 1u32..256,
+        ) {
+            let law = if exp {
+                ChargeLaw::Exponential { charge_shift: a, discharge_shift: b }
+            } else {
+                ChargeLaw::Linear { charge_step: up.min(255), discharge_step: down.min(255) }
+            };
+            let mut d = detector(law);
+            let mut armed_before = d.armed();
+            for bit in bits {
+                let fired = d.on_pulse(bit);
+                prop_assert!(d.charge() <= 255);
+                if fired {
+                    prop_assert!(armed_before, "fired while disarmed");
+                    prop_assert!(d.charge() >= 192);
+                }
+                if !armed_before && d.armed() {
+                    prop_assert!(d.charge() < 64);
+                }
+                armed_before = d.armed();
+            }
+        }
+    }
+}

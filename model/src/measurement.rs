@@ -1,0 +1,263 @@
+//! The measurement front end as one kernel: the pulse counter, the density detector, the
+//! quadrature decoder and the two position latches, driven one event at a time.
+//!
+//! This is the logic both timings share. The event level ([`crate::events`]) calls these
+//! methods once per timestamped event; the cycle level ([`crate::frontend`]) calls them for
+//! the edges detected in one clock, in the canonical order of
+//! [`crate::events::MeasureEvent::CANONICAL_ORDER`]: arm, contact, index, FES, scale. The
+//! latches therefore capture the scale position as it was *before* a scale edge in the
+//! same clock.
+
+use crate::config::{ContactRule, DecisionMethod, MeasureConfig};
+use crate::density::DensityDetector;
+use crate::latch::PositionLatch;
+use crate::pulse_counter::PulseCounter;
+use crate::quadrature::QuadratureDecoder;
+
+/// Every output of the measurement front end, as compared bit for bit between the model,
+/// the firmware and the Verilog.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct MeasureOutputs {
+    /// A measurement cycle is running (the CNC's arm input is high).
+    pub armed: bool,
+    /// Filtered contact level.
+    pub contact: bool,
+    /// "Position reached, register now" to the CNC; held until the next arm.
+    pub register_now: bool,
+    /// Scale position latched at the decision, counts (`scale_bits`, 0 until decided).
+    pub decision_position: i32,
+    /// A contact edge has been seen since arm.
+    pub first_contact: bool,
+    /// Scale position latched at the first contact edge, counts (0 until then).
+    pub first_contact_position: i32,
+    /// Live scale position, counts, `scale_bits` two's complement.
+    pub position: i32,
+    /// Illegal scale transitions since power-on, saturating at 255.
+    pub scale_errors: u8,
+    /// Contact pulses in the current window (`count_bits`).
+    pub count: u32,
+    /// Contact pulses in the previous window (`count_bits`).
+    pub last_window_count: u32,
+    /// Capacitor charge, LSBs (`charge_bits`).
+    pub charge: u32,
+    /// The density detector is armed (hysteresis state).
+    pub density_armed: bool,
+    /// The density detector has fired since arm.
+    pub density_fired: bool,
+    /// Index pulses since arm, saturating at 65535.
+    pub revolutions: u16,
+    /// FES pulses since arm, wrapping at 2^32.
+    pub pulses: u32,
+}
+
+/// The combined measurement kernel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Measurement {
+    rule: ContactRule,
+    method: DecisionMethod,
+    armed: bool,
+    contact: bool,
+    /// Contact was active since the previous FES pulse (the sticky rule's bit).
+    sticky: bool,
+    counter: PulseCounter,
+    density: DensityDetector,
+    scale: QuadratureDecoder,
+    first_contact: PositionLatch,
+    decision: PositionLatch,
+    revolutions: u16,
+    pulses: u32,
+}
+
+impl Measurement {
+    /// Power-on state: disarmed, position 0, scale lines 00.
+    pub fn new(config: &MeasureConfig) -> Self {
+        let s = config.settings();
+        Measurement {
+            rule: s.contact_rule,
+            method: s.method,
+            armed: false,
+            contact: false,
+            sticky: false,
+            counter: PulseCounter::new(config),
+            density: DensityDetector::new(config),
+            scale: QuadratureDecoder::new(config),
+            first_contact: PositionLatch::new(),
+            decision: PositionLatch::new(),
+            revolutions: 0,
+            pulses: 0,
+        }
+    }
+
+    /// The CNC's arm line changed. A rising edge starts a measurement cycle: counts,
+    /// charge, latches and the decision are cleared. A falling edge ends it; the results
+    /// are held for the CNC to read until the next rising edge.
+    pub fn on_arm(&mut self, level: bool) {
+        if level && !self.armed {
+            self.counter.reset();
+            self.density.reset();
+            self.first_contact.clear();
+            self.decision.clear();
+            self.revolutions = 0;
+            self.pulses = 0;
+        }
+        self.armed = level;
+    }
+
+    /// The contact line changed to `level`. A rising edge sets the sticky bit and, while
+    /// armed, latches the first-contact position (and decides, for single-pulse method).
+    pub fn on_contact(&mut self, level: bool) {
+        self.contact = level;
+        if level {
+            self.sticky = true;
+            if self.armed {
+                let position = self.scale.position();
+                self.first_contact.capture(position);
+                if self.method == DecisionMethod::SinglePulse {
+                    self.decision.capture(position);
+                }
+            }
+        }
+    }
+
+    /// An index pulse (start of a revolution).
+    pub fn on_index(&mut self) {
+        if self.armed {
+            self.counter.on_index();
+            self.revolutions = self.revolutions.saturating_add(1);
+        }
+    }
+
+    /// An FES pulse: forms the pulse's contact bit by the configured rule, consumes the
+    /// sticky bit, and while armed feeds the counter and the capacitor; the configured
+    /// detector's decision latches the position.
+    pub fn on_fes(&mut self) {
+        let bit = match self.rule {
+            ContactRule::Sampled => self.contact,
+            ContactRule::Sticky => self.sticky,
+        };
+        self.sticky = self.contact;
+        if !self.armed {
+            return;
+        }
+        self.pulses = self.pulses.wrapping_add(1);
+        let counter_decides = self.counter.on_pulse(bit);
+        let density_decides = self.density.on_pulse(bit);
+        let decides = match self.method {
+            DecisionMethod::Counter => counter_decides,
+            DecisionMethod::Density => density_decides,
+            DecisionMethod::SinglePulse => false,
+        };
+        if decides {
+            self.decision.capture(self.scale.position());
+        }
+    }
+
+    /// New levels of the scale's A and B lines.
+    pub fn on_scale(&mut self, a: bool, b: bool) {
+        self.scale.on_ab(a, b);
+    }
+
+    /// Whether "register now" is raised.
+    pub fn register_now(&self) -> bool {
+        self.decision.valid()
+    }
+
+    /// Snapshot of every output.
+    pub fn outputs(&self) -> MeasureOutputs {
+        MeasureOutputs {
+            armed: self.armed,
+            contact: self.contact,
+            register_now: self.decision.valid(),
+            decision_position: self.decision.position(),
+            first_contact: self.first_contact.valid(),
+            first_contact_position: self.first_contact.position(),
+            position: self.scale.position(),
+            scale_errors: self.scale.errors(),
+            count: self.counter.count(),
+            last_window_count: self.counter.last_window_count(),
+            charge: self.density.charge(),
+            density_armed: self.density.armed(),
+            density_fired: self.density.fired(),
+            revolutions: self.revolutions,
+            pulses: self.pulses,
+        }
+    }
+
+    /// The pulse counter (read-only).
+    pub fn counter(&self) -> &PulseCounter {
+        &self.counter
+    }
+    /// The density detector (read-only).
+    pub fn density(&self) -> &DensityDetector {
+        &self.density
+    }
+    /// The quadrature decoder (read-only).
+    pub fn scale(&self) -> &QuadratureDecoder {
+        &self.scale
+    }
+    /// The sticky contact bit.
+    pub fn sticky(&self) -> bool {
+        self.sticky
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::MeasureSettings;
+
+    fn measurement(method: DecisionMethod, rule: ContactRule) -> Measurement {
+        let s = MeasureSettings {
+            pulses_per_rev: 16,
+            i_def: 8,
+            method,
+            contact_rule: rule,
+            ..Default::default()
+        };
+        Measurement::new(&s.validate().unwrap())
+    }
+
+    #[test]
+    fn sticky_rule_counts_a_burst_between_pulses_sampled_does_not() {
+        for (rule, expected) in [(ContactRule::Sticky, 1), (ContactRule::Sampled, 0)] {
+            let mut m = measurement(DecisionMethod::Counter, rule);
+            m.on_arm(true);
+            m.on_contact(true);
+            m.on_contact(false);
+            m.on_fes();
+            assert_eq!(m.outputs().count, expected, "{rule:?}");
+            m.on_fes();
+            assert_eq!(m.outputs().count, expected, "{rule:?}: consumed");
+        }
+    }
+
+    #[test]
+    fn counter_decision_latches_the_position_before_a_same_clock_scale_edge() {
+        let mut m = measurement(DecisionMethod::Counter, ContactRule::Sampled);
+        m.on_arm(true);
+        m.on_scale(true, false);
+        m.on_contact(true);
+        assert_eq!(m.outputs().first_contact_position, 1);
+        for _ in 0..9 {
+            m.on_fes();
+        }
+        m.on_scale(true, true);
+        let o = m.outputs();
+        assert!(o.register_now);
+        assert_eq!((o.decision_position, o.position), (1, 2));
+    }
+
+    #[test]
+    fn disarm_holds_results_and_rearm_clears_them() {
+        let mut m = measurement(DecisionMethod::SinglePulse, ContactRule::Sampled);
+        m.on_arm(true);
+        m.on_contact(true);
+        assert!(m.register_now());
+        m.on_arm(false);
+        m.on_fes();
+        assert!(m.register_now());
+        assert_eq!(m.outputs().pulses, 0, "no counting while disarmed");
+        m.on_arm(true);
+        assert!(!m.register_now());
+    }
+}

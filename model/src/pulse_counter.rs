@@ -1,0 +1,160 @@
+//! Device 1, the pulse counter (SPEC 2.3): counts the FES pulses that carry contact and
+//! decides when the count exceeds `i_def` within a window of revolutions.
+//!
+//! The decision is taken on the very pulse that makes the count exceed `i_def` (the last
+//! pulse of the series, SPEC S9), not at the following index pulse: the comparator CU is
+//! combinational on the count, and the index pulse only resets a count that did not get
+//! there. Deciding at the pulse removes up to one revolution of latency and decides on the
+//! same pulse an index-time compare would have accepted.
+
+use crate::config::MeasureConfig;
+
+/// Contact-pulse counter over a window of `window_revs` revolutions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PulseCounter {
+    i_def: u32,
+    window_revs: u8,
+    window_pulses: u32,
+    /// Contact pulses in the current window, `0..=window_pulses` (saturating, so a missing
+    /// index pulse cannot overflow the `count_bits`-wide register).
+    count: u32,
+    /// The previous window's final count (contact density × window pulses).
+    last_window_count: u32,
+    /// Index pulses seen in the current window, `0..window_revs`.
+    revs_in_window: u8,
+    /// The count has exceeded `i_def` since the last reset.
+    reached: bool,
+}
+
+impl PulseCounter {
+    /// A cleared counter for `config`.
+    pub fn new(config: &MeasureConfig) -> Self {
+        let s = config.settings();
+        PulseCounter {
+            i_def: s.i_def,
+            window_revs: s.window_revs,
+            window_pulses: config.window_pulses(),
+            count: 0,
+            last_window_count: 0,
+            revs_in_window: 0,
+            reached: false,
+        }
+    }
+
+    /// Clears counts and the decision (start of a measurement cycle).
+    pub fn reset(&mut self) {
+        self.count = 0;
+        self.last_window_count = 0;
+        self.revs_in_window = 0;
+        self.reached = false;
+    }
+
+    /// One FES pulse; `contact` is the pulse's contact bit. Adds one to the count when in
+    /// contact (saturating at `window_pulses`). Returns `true` on the single pulse at which
+    /// the count first exceeds `i_def`.
+    pub fn on_pulse(&mut self, contact: bool) -> bool {
+        if contact && self.count < self.window_pulses {
+            self.count += 1;
+        }
+        if !self.reached && self.count > self.i_def {
+            self.reached = true;
+            return true;
+        }
+        false
+    }
+
+    /// One index pulse: at the end of a window the count moves to `last_window_count` and
+    /// restarts from zero.
+    pub fn on_index(&mut self) {
+        self.revs_in_window = self.revs_in_window.saturating_add(1);
+        if self.revs_in_window >= self.window_revs {
+            self.last_window_count = self.count;
+            self.count = 0;
+            self.revs_in_window = 0;
+        }
+    }
+
+    /// Contact pulses in the current window.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+    /// The previous window's final count.
+    pub fn last_window_count(&self) -> u32 {
+        self.last_window_count
+    }
+    /// Index pulses seen in the current window.
+    pub fn revs_in_window(&self) -> u8 {
+        self.revs_in_window
+    }
+    /// Whether the count has exceeded `i_def` since the last reset.
+    pub fn reached(&self) -> bool {
+        self.reached
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::MeasureSettings;
+    use proptest::prelude::*;
+
+    fn counter(i_def: u32, window_revs: u8) -> PulseCounter {
+        let c = MeasureSettings {
+            pulses_per_rev: 16,
+            i_def,
+            window_revs,
+            ..Default::default()
+        };
+        PulseCounter::new(&c.validate().unwrap())
+    }
+
+    #[test]
+    fn decides_on_the_pulse_that_exceeds_i_def() {
+        let mut c = counter(8, 1);
+        for _ in 0..8 {
+            assert!(!c.on_pulse(true));
+        }
+        assert!(c.on_pulse(true), "ninth contact pulse exceeds 8");
+        assert!(!c.on_pulse(true), "decides once");
+        assert!(c.reached());
+    }
+
+    #[test]
+    fn index_resets_a_count_that_did_not_get_there() {
+        let mut c = counter(8, 1);
+        for _ in 0..8 {
+            c.on_pulse(true);
+        }
+        c.on_index();
+        assert_eq!((c.count(), c.last_window_count()), (0, 8));
+        assert!(!c.on_pulse(true));
+    }
+
+    #[test]
+    fn window_of_two_revolutions_spans_two_index_pulses() {
+        let mut c = counter(20, 2);
+        for _ in 0..12 {
+            c.on_pulse(true);
+        }
+        c.on_index();
+        assert_eq!(c.count(), 12);
+        for _ in 0..8 {
+            assert!(!c.on_pulse(true));
+        }
+        assert!(c.on_pulse(true), "12 + 9 = 21 exceeds 20");
+        c.on_index();
+        assert_eq!((c.count(), c.last_window_count()), (0, 21));
+    }
+
+    proptest! {
+        #[test]
+        fn count_never_exceeds_window_pulses(ops in proptest::collection::vec(0u8..3, 0..400)) {
+            let mut c = counter(15, 1);
+            for op in ops {
+                match op { 0 => { c.on_pulse(true); } 1 => { c.on_pulse(false); } _ => c.on_index() }
+                prop_assert!(c.count() <= 16);
+                prop_assert!(c.last_window_count() <= 16);
+            }
+        }
+    }
+}

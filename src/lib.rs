@@ -1,0 +1,5 @@
+//! tooltouch: the host side of the co-design workspace — the lathe and spindle-drive
+//! plants, scenarios, vector files, float reference models, tuning sweeps, plots, and the
+//! co-simulation runners. The fixed-point golden model itself is `tooltouch-model`.
+
+pub mod cli;

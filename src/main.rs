@@ -1,0 +1,5 @@
+//! The `tooltouch` command line.
+
+fn main() -> std::process::ExitCode {
+    tooltouch::cli::main()
+}

@@ -1,0 +1,152 @@
+//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bench.
+//!
+//! Each external tool is run with the working directory it needs: cargo reads
+//! `.cargo/config.toml` from the current directory, so firmware commands run inside
+//! firmware/.
+
+mod firmware;
+mod hdl;
+mod setup;
+
+use anyhow::{bail, Context, Result};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+const USAGE: &str = "\
+usage: cargo xtask <verb>
+
+verbs:
+  setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
+               iverilog, yosys, nextpnr-ice40) that are missing
+  test         setup, then fmt, clippy, host tests, thumb builds, firmware, lockfile check
+  firmware     build the firmware for both boards
+  hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax
+";
+
+fn main() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let verb = args.first().map(String::as_str).unwrap_or("help");
+    match verb {
+        "setup" => setup::run(),
+        "test" | "ci" => test(),
+        "firmware" => firmware::build_all(),
+        "hdl-report" => hdl::report(),
+        "help" | "-h" | "--help" => {
+            print!("{USAGE}");
+            Ok(())
+        }
+        other => bail!("unknown verb `{other}`\n\n{USAGE}"),
+    }
+}
+
+/// The workspace root (the parent of xtask/).
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."))
+}
+
+/// Runs `program args…` in `dir`, echoing the command; fails naming it on a non-zero exit.
+pub fn run(dir: &Path, program: &str, args: &[&str]) -> Result<()> {
+    println!("$ (cd {}) {program} {}", dir.display(), args.join(" "));
+    let status = Command::new(program)
+        .args(args)
+        .current_dir(dir)
+        .status()
+        .with_context(|| format!("could not start `{program}`"))?;
+    if !status.success() {
+        bail!("`{program} {}` failed ({status})", args.join(" "));
+    }
+    Ok(())
+}
+
+/// Runs one named step and prints its wall time.
+fn step(name: &str, f: impl FnOnce() -> Result<()>) -> Result<()> {
+    println!("\n==> {name}");
+    let t = Instant::now();
+    f().with_context(|| format!("step `{name}` failed"))?;
+    println!("<== {name}: {:.1} s", t.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn test() -> Result<()> {
+    let root = root();
+    let t = Instant::now();
+    step("setup", setup::run)?;
+    step("fmt", || run(&root, "cargo", &["fmt", "--all", "--", "--check"]))?;
+    step("clippy", || {
+        run(
+            &root,
+            "cargo",
+            &[
+                "clippy",
+                "--workspace",
+                "--all-targets",
+                "--",
+                "-D",
+                "warnings",
+            ],
+        )
+    })?;
+    for target in setup::THUMB_TARGETS {
+        step(&format!("model for {target}"), || {
+            run(
+                &root,
+                "cargo",
+                &["build", "-p", "tooltouch-model", "--target", target],
+            )
+        })?;
+    }
+    step("lockfile pins", check_lockfile_pins)?;
+    step("firmware", firmware::check_all)?;
+    step("host tests", || {
+        run(&root, "cargo", &["test", "--workspace", "--release"])
+    })?;
+    step("benches build", || {
+        run(&root, "cargo", &["bench", "--workspace", "--no-run"])
+    })?;
+    println!("\nall checks passed in {:.0} s", t.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// Crates whose version decides results; model/ pins them with `=`.
+const PINNED: &[&str] = &["fixed"];
+
+/// Fails when the root and firmware lockfiles resolve a pinned crate differently.
+fn check_lockfile_pins() -> Result<()> {
+    let root = root();
+    let host = std::fs::read_to_string(root.join("Cargo.lock")).context("reading Cargo.lock")?;
+    let fw_path = root.join("firmware/Cargo.lock");
+    if !fw_path.exists() {
+        bail!("firmware/Cargo.lock is missing: the firmware's lockfile must be committed");
+    }
+    let fw = std::fs::read_to_string(&fw_path).context("reading firmware/Cargo.lock")?;
+    for name in PINNED {
+        let a = locked_versions(&host, name);
+        let b = locked_versions(&fw, name);
+        if a != b {
+            bail!("crate `{name}`: Cargo.lock has {a:?} but firmware/Cargo.lock has {b:?}");
+        }
+        println!("{name}: {a:?} in both lockfiles");
+    }
+    Ok(())
+}
+
+/// Versions of package `name` in a Cargo.lock text.
+fn locked_versions(lock: &str, name: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut lines = lock.lines();
+    while let Some(line) = lines.next() {
+        if line.trim() == format!("name = \"{name}\"") {
+            if let Some(v) = lines.next() {
+                if let Some(v) = v.trim().strip_prefix("version = ") {
+                    out.push(v.trim_matches('"').to_string());
+                }
+            }
+        }
+    }
+    out.sort();
+    out
+}

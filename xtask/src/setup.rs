@@ -1,0 +1,100 @@
+//! `cargo xtask setup`: what a fresh machine needs, installed only when missing.
+
+use crate::run;
+use anyhow::{bail, Context, Result};
+use std::process::Command;
+
+/// The two Cortex-M targets: QEMU's lm3s6965evb (M3) and the STM32F4 board (M4F).
+pub const THUMB_TARGETS: [&str; 2] = ["thumbv7m-none-eabi", "thumbv7em-none-eabihf"];
+
+/// (program looked for on PATH, Debian package providing it).
+const TOOLS: &[(&str, &str)] = &[
+    ("qemu-system-arm", "qemu-system-arm"),
+    ("verilator", "verilator"),
+    ("iverilog", "iverilog"),
+    ("yosys", "yosys"),
+    ("nextpnr-ice40", "nextpnr-ice40"),
+    ("icepack", "fpga-icestorm"),
+];
+
+fn on_path(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .map(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
+        .unwrap_or(false)
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+        .unwrap_or(false)
+}
+
+/// Installs missing rustup targets and components, then missing Debian packages.
+pub fn run() -> Result<()> {
+    let root = crate::root();
+    let installed = Command::new("rustup")
+        .args(["target", "list", "--installed"])
+        .current_dir(&root)
+        .output()
+        .context("running `rustup target list --installed` (is rustup installed?)")?;
+    let installed = String::from_utf8_lossy(&installed.stdout).to_string();
+    let missing: Vec<&str> = THUMB_TARGETS
+        .iter()
+        .copied()
+        .filter(|t| !installed.lines().any(|l| l.trim() == *t))
+        .collect();
+    if !missing.is_empty() {
+        let mut args = vec!["target", "add"];
+        args.extend(&missing);
+        run(&root, "rustup", &args)?;
+    }
+    for component in ["rustfmt", "clippy"] {
+        let ok = Command::new("cargo")
+            .args([if component == "rustfmt" { "fmt" } else { "clippy" }, "--version"])
+            .current_dir(&root)
+            .output()
+            .map(|o| o.status.success())
+            .unwrap_or(false);
+        if !ok {
+            run(&root, "rustup", &["component", "add", component])?;
+        }
+    }
+    let packages: Vec<&str> = TOOLS
+        .iter()
+        .filter(|(program, _)| !on_path(program))
+        .map(|(_, package)| *package)
+        .collect();
+    if packages.is_empty() {
+        println!("setup: rustup targets and all external tools are present");
+        return Ok(());
+    }
+    if !is_root() {
+        bail!(
+            "missing tools; install them as root with:\n  apt-get update && apt-get install -y {}",
+            packages.join(" ")
+        );
+    }
+    run(&root, "apt-get", &["update", "-qq"])?;
+    let mut args = vec!["install", "-y", "-qq", "--no-install-recommends"];
+    args.extend(&packages);
+    let status = Command::new("apt-get")
+        .args(&args)
+        .env("DEBIAN_FRONTEND", "noninteractive")
+        .status()
+        .context("running apt-get install")?;
+    if !status.success() {
+        bail!("apt-get install {} failed ({status})", packages.join(" "));
+    }
+    let still: Vec<&str> = TOOLS
+        .iter()
+        .filter(|(program, _)| !on_path(program))
+        .map(|(program, _)| *program)
+        .collect();
+    if !still.is_empty() {
+        bail!("after apt-get install these are still missing: {}", still.join(", "));
+    }
+    println!("setup: installed {}", packages.join(" "));
+    Ok(())
+}
