@@ -3,3 +3,4 @@
 //! co-simulation runners. The fixed-point golden model itself is `tooltouch-model`.
 
 pub mod cli;
+pub mod stimulus;

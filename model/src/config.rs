@@ -184,7 +184,12 @@ impl MeasureSettings {
                 charge_shift,
                 discharge_shift,
             } => {
-                check("charge_shift", charge_shift.into(), 0, self.charge_bits.into())?;
+                check(
+                    "charge_shift",
+                    charge_shift.into(),
+                    0,
+                    self.charge_bits.into(),
+                )?;
                 check(
                     "discharge_shift",
                     discharge_shift.into(),

@@ -240,7 +240,10 @@ mod tests {
                 fe.clock(pins);
                 passed |= fe.outputs().armed;
             }
-            assert_eq!(passed, passes, "{width}-clock pulse through a 4-cycle filter");
+            assert_eq!(
+                passed, passes,
+                "{width}-clock pulse through a 4-cycle filter"
+            );
         }
     }
 

@@ -103,7 +103,12 @@ mod tests {
         }
         assert_eq!(q.position(), 12);
         for _ in 0..5 {
-            for (a, b) in FORWARD.iter().rev().skip(1).chain(core::iter::once(&(false, false))) {
+            for (a, b) in FORWARD
+                .iter()
+                .rev()
+                .skip(1)
+                .chain(core::iter::once(&(false, false)))
+            {
                 q.on_ab(*a, *b);
             }
         }

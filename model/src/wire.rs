@@ -122,7 +122,10 @@ impl fmt::Display for WireError {
             }
             WireError::BadMagic(m) => write!(f, "wrong magic {m:02x?}, expected \"TTVX\""),
             WireError::BadVersion(v) => {
-                write!(f, "unsupported format version {v}, expected {FORMAT_VERSION}")
+                write!(
+                    f,
+                    "unsupported format version {v}, expected {FORMAT_VERSION}"
+                )
             }
             WireError::BadStream(s) => write!(f, "unknown stream kind {s}, expected 1 or 2"),
             WireError::UnknownKind { kind, offset } => {
@@ -141,7 +144,9 @@ impl fmt::Display for WireError {
                 "time goes backwards at byte {offset}: {time} after {previous}"
             ),
             WireError::Config(e) => write!(f, "bad configuration record: {e}"),
-            WireError::BadConfigEncoding => write!(f, "configuration record has an unknown encoding"),
+            WireError::BadConfigEncoding => {
+                write!(f, "configuration record has an unknown encoding")
+            }
         }
     }
 }
@@ -452,7 +457,8 @@ pub fn encode_config(config: &MeasureConfig) -> Record {
 /// Decodes a configuration record's payload and validates it.
 pub fn decode_config(p: &[u8]) -> Result<MeasureConfig, WireError> {
     let bad = WireError::BadConfigEncoding;
-    if p.len() != CANONICAL_CONFIG_LEN || u16::from_le_bytes([p[0], p[1]]) != CONFIG_FORMAT_VERSION {
+    if p.len() != CANONICAL_CONFIG_LEN || u16::from_le_bytes([p[0], p[1]]) != CONFIG_FORMAT_VERSION
+    {
         return Err(bad);
     }
     let contact_rule = match p[9] {
@@ -560,7 +566,10 @@ mod tests {
             })
         ));
         let (_, mut it) = Records::new(&buf[..total - 3 - n2]).unwrap();
-        assert!(matches!(it.next().unwrap(), Err(WireError::Truncated { .. })));
+        assert!(matches!(
+            it.next().unwrap(),
+            Err(WireError::Truncated { .. })
+        ));
         let mut bad = buf;
         bad[0] = b'X';
         assert!(matches!(Records::new(&bad), Err(WireError::BadMagic(_))));

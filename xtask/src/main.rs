@@ -75,7 +75,9 @@ fn test() -> Result<()> {
     let root = root();
     let t = Instant::now();
     step("setup", setup::run)?;
-    step("fmt", || run(&root, "cargo", &["fmt", "--all", "--", "--check"]))?;
+    step("fmt", || {
+        run(&root, "cargo", &["fmt", "--all", "--", "--check"])
+    })?;
     step("clippy", || {
         run(
             &root,

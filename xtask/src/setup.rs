@@ -52,7 +52,14 @@ pub fn run() -> Result<()> {
     }
     for component in ["rustfmt", "clippy"] {
         let ok = Command::new("cargo")
-            .args([if component == "rustfmt" { "fmt" } else { "clippy" }, "--version"])
+            .args([
+                if component == "rustfmt" {
+                    "fmt"
+                } else {
+                    "clippy"
+                },
+                "--version",
+            ])
             .current_dir(&root)
             .output()
             .map(|o| o.status.success())
@@ -93,7 +100,10 @@ pub fn run() -> Result<()> {
         .map(|(program, _)| *program)
         .collect();
     if !still.is_empty() {
-        bail!("after apt-get install these are still missing: {}", still.join(", "));
+        bail!(
+            "after apt-get install these are still missing: {}",
+            still.join(", ")
+        );
     }
     println!("setup: installed {}", packages.join(" "));
     Ok(())
