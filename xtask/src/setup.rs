@@ -1,6 +1,6 @@
 //! `cargo xtask setup`: what a fresh machine needs, installed only when missing.
 
-use crate::run;
+use crate::run as run_in;
 use anyhow::{bail, Context, Result};
 use std::process::Command;
 
@@ -48,7 +48,7 @@ pub fn run() -> Result<()> {
     if !missing.is_empty() {
         let mut args = vec!["target", "add"];
         args.extend(&missing);
-        run(&root, "rustup", &args)?;
+        run_in(&root, "rustup", &args)?;
     }
     for component in ["rustfmt", "clippy"] {
         let ok = Command::new("cargo")
@@ -65,7 +65,7 @@ pub fn run() -> Result<()> {
             .map(|o| o.status.success())
             .unwrap_or(false);
         if !ok {
-            run(&root, "rustup", &["component", "add", component])?;
+            run_in(&root, "rustup", &["component", "add", component])?;
         }
     }
     let packages: Vec<&str> = TOOLS
@@ -83,7 +83,7 @@ pub fn run() -> Result<()> {
             packages.join(" ")
         );
     }
-    run(&root, "apt-get", &["update", "-qq"])?;
+    run_in(&root, "apt-get", &["update", "-qq"])?;
     let mut args = vec!["install", "-y", "-qq", "--no-install-recommends"];
     args.extend(&packages);
     let status = Command::new("apt-get")
