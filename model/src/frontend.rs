@@ -168,6 +168,31 @@ impl FrontEnd {
         }
     }
 
+    /// `cycles` clocks with `pins` held, calling `on_edges(k, edges)` for the `k`-th of
+    /// them (from 0) whenever the kernel acted on edges. Exact fast-forward: once the front
+    /// end [is settled](Self::is_settled) no later clock can change a register, so the
+    /// remaining clocks are skipped. Returns the clocks actually simulated one by one.
+    #[inline]
+    pub fn advance(
+        &mut self,
+        pins: Pins,
+        cycles: u64,
+        mut on_edges: impl FnMut(u64, Edges),
+    ) -> u64 {
+        let mut k = 0;
+        while k < cycles {
+            if self.is_settled(pins) {
+                return k;
+            }
+            let edges = self.clock(pins);
+            if !edges.is_empty() {
+                on_edges(k, edges);
+            }
+            k += 1;
+        }
+        k
+    }
+
     /// Whether clocking with `pins` held would change no register at all, so any number
     /// of such clocks may be skipped exactly.
     pub fn is_settled(&self, pins: Pins) -> bool {
@@ -197,6 +222,7 @@ impl FrontEnd {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
     use crate::config::MeasureSettings;
 
@@ -244,6 +270,33 @@ mod tests {
                 passed, passes,
                 "{width}-clock pulse through a 4-cycle filter"
             );
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn advance_equals_clocking_one_by_one(
+            segments in proptest::collection::vec((0u8..64, 1u64..40), 1..60),
+            glitch in 0u8..6,
+        ) {
+            let mut plain = front_end(glitch);
+            let mut fast = plain;
+            let mut t = 0u64;
+            for (pins, cycles) in segments {
+                let pins = Pins(pins);
+                let mut plain_edges = std::vec::Vec::new();
+                for k in 0..cycles {
+                    let e = plain.clock(pins);
+                    if !e.is_empty() {
+                        plain_edges.push((t + k, e));
+                    }
+                }
+                let mut fast_edges = std::vec::Vec::new();
+                fast.advance(pins, cycles, |k, e| fast_edges.push((t + k, e)));
+                proptest::prop_assert_eq!(&plain_edges, &fast_edges);
+                proptest::prop_assert_eq!(plain, fast);
+                t += cycles;
+            }
         }
     }
 
