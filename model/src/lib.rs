@@ -15,13 +15,18 @@
 #![forbid(unsafe_code)]
 
 pub mod config;
+pub mod control;
 pub mod density;
+pub mod estimator;
 pub mod events;
+pub mod force;
 pub mod frontend;
 pub mod latch;
 pub mod measurement;
 pub mod pulse_counter;
 pub mod quadrature;
+pub mod sampling;
+pub mod wear;
 pub mod wire;
 
 pub use config::{MeasureConfig, MeasureSettings};

@@ -1,0 +1,143 @@
+//! PI force controller with anti-windup (SPEC 3, controller 1).
+//!
+//! Position form, evaluated once per period h:
+//! `u(i) = K_p·e(i) + I(i)`, `e = F_r − F̂_c`, then
+//! `I(i+1) = clamp(I(i) + K_i·h·e(i), I_min, I_max)` — except while the demand is saturated
+//! and the error would push it further out (conditional integration). Both guards are
+//! used: the clamp bounds the integrator whatever happens, conditional integration stops
+//! it from sitting at the clamp during a long saturation, so the controller leaves
+//! saturation as soon as the error changes sign. The gains come from Ziegler–Nichols on the
+//! nominal process F10 (designed on the host: `tooltouch::reference::design`).
+//!
+//! Formats: gains and state I32F32 (`K_p` in %/N, `K_i` in %/(N·s), I in %); every product
+//! and sum saturates; `K_i·h` is computed once at construction.
+
+use super::{clamp_override, quantize, ControlOutput, ForceController, Percent, OVERRIDE_MAX_FX};
+use crate::estimator::{check_range, positive};
+use crate::force::{ForceConfigError, Fx, Newtons};
+
+/// PI settings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PiSettings {
+    /// Proportional gain K_p, %/N, `(0, 100]`.
+    pub kp: Fx,
+    /// Integral gain K_i, %/(N·s), `(0, 1000]`.
+    pub ki: Fx,
+    /// Integrator lower clamp, %, `[0, 255)`.
+    pub integrator_min: Percent,
+    /// Integrator upper clamp, %, `(integrator_min, 255]`.
+    pub integrator_max: Percent,
+}
+
+impl PiSettings {
+    /// Checks every field (`pi.<field>`).
+    pub fn validate(&self) -> Result<(), ForceConfigError> {
+        positive("pi.kp", self.kp, Fx::const_from_int(100))?;
+        positive("pi.ki", self.ki, Fx::const_from_int(1000))?;
+        check_range(
+            "pi.integrator_min",
+            self.integrator_min,
+            Fx::ZERO,
+            OVERRIDE_MAX_FX - Fx::ONE,
+        )?;
+        check_range(
+            "pi.integrator_max",
+            self.integrator_max,
+            self.integrator_min.saturating_add(Fx::DELTA),
+            OVERRIDE_MAX_FX,
+        )
+    }
+}
+
+/// The PI kernel's state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Pi {
+    kp: Fx,
+    ki_h: Fx,
+    i_min: Percent,
+    i_max: Percent,
+    integral: Percent,
+}
+
+impl Pi {
+    /// A PI for validated `s`, period `h` (s), integrator starting at `override_pct`.
+    pub fn new(s: &PiSettings, h: Fx, override_pct: u8) -> Pi {
+        let mut pi = Pi {
+            kp: s.kp,
+            ki_h: s.ki.saturating_mul(h),
+            i_min: s.integrator_min,
+            i_max: s.integrator_max,
+            integral: Fx::ZERO,
+        };
+        pi.reset(override_pct);
+        pi
+    }
+
+    /// The integrator, %.
+    pub fn integral(&self) -> Percent {
+        self.integral
+    }
+}
+
+impl ForceController for Pi {
+    /// `u = K_p·e + I`, saturating; integrates unless saturated in the error's direction.
+    fn step(&mut self, reference: Newtons, force: Newtons) -> ControlOutput {
+        let e = reference.saturating_sub(force);
+        let demand = self.kp.saturating_mul(e).saturating_add(self.integral);
+        let (u, saturated) = clamp_override(demand);
+        let winding_up =
+            (demand > OVERRIDE_MAX_FX && e > Fx::ZERO) || (demand < Fx::ZERO && e < Fx::ZERO);
+        if !winding_up {
+            self.integral = self
+                .integral
+                .saturating_add(self.ki_h.saturating_mul(e))
+                .clamp(self.i_min, self.i_max);
+        }
+        ControlOutput {
+            override_pct: quantize(u),
+            saturated,
+        }
+    }
+
+    /// Integrator to `override_pct` (clamped), so the first output with zero error is it.
+    fn reset(&mut self, override_pct: u8) {
+        self.integral = Fx::from_num(override_pct).clamp(self.i_min, self.i_max);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pi() -> Pi {
+        Pi::new(
+            &PiSettings {
+                kp: Fx::lit("0.1"),
+                ki: Fx::const_from_int(1),
+                integrator_min: Fx::ZERO,
+                integrator_max: OVERRIDE_MAX_FX,
+            },
+            Fx::lit("0.05"),
+            100,
+        )
+    }
+
+    #[test]
+    fn zero_error_holds_the_override() {
+        let mut c = pi();
+        let f = Fx::const_from_int(500);
+        assert_eq!(c.step(f, f).override_pct, 100);
+    }
+
+    #[test]
+    fn integrator_stops_while_saturated() {
+        let mut c = pi();
+        for _ in 0..1000 {
+            let o = c.step(Fx::const_from_int(5000), Fx::ZERO);
+            assert!(o.saturated);
+            assert_eq!(o.override_pct, 255);
+        }
+        // proportional part alone saturates: the integrator stayed where it was
+        assert_eq!(c.integral(), Fx::const_from_int(100));
+    }
+}

@@ -1,0 +1,198 @@
+//! The spindle-drive sampling chain (SPEC 3): 1 kHz ADC codes, a first-order low-pass near
+//! 100 Hz, and a boxcar average over each control period (h = 0.05 s at 20 Hz).
+//!
+//! Why this shape: the phase voltages and currents are sinusoids at the electrical frequency
+//! (tens of Hz), so they cannot be low-passed themselves. The chain therefore squares them
+//! per sample first — for a balanced three-phase set, Σv² and Σi² are constant, so
+//! `V_line = √(Σv²/3)` (SPEC F3) is exact at every sample — and filters the squares. Speed,
+//! measured power and the dynamometer force are filtered as they are.
+//!
+//! ## Formats
+//! - ADC codes: 12 bit, `0..=4095` (larger codes are clamped to 4095). Speed and measured
+//!   power are unipolar (code × scale); phase voltages, phase currents and the dynamometer
+//!   force are bipolar around [`ADC_MID`] ((code − 2048) × scale). `i_w = −i_u − i_v`.
+//! - Filter state and averages: `i64` in codes (or codes² for the squares) with
+//!   [`FILTER_FRAC_BITS`] fractional bits. Largest magnitude: Σi² ≤ 2·2048² + 4095² < 2^25,
+//!   ×2^8 < 2^33, summed over at most 1000 samples < 2^43: no `i64` operation here can
+//!   overflow, and every one is still written saturating.
+//! - Low-pass: `y ← y + (x·2^8 − y) >> k` (arithmetic shift, rounds toward −∞), one step per
+//!   sample; `k = lowpass_shift`. Its −3 dB frequency is `−ln(1 − 2^−k)·f_s / 2π`: k = 1 gives
+//!   110 Hz at 1 kHz — the "100 Hz low-pass" of SPEC 3.
+//! - Average: the filter outputs of the samples since the previous control tick are summed
+//!   and divided by their number (integer division, rounding toward zero). A tick with no
+//!   sample repeats the previous averages.
+
+/// Mid-scale code of the bipolar channels.
+pub const ADC_MID: i32 = 2048;
+/// Largest ADC code.
+pub const ADC_MAX: u16 = 4095;
+/// Fractional bits of the filter state and of [`Averages`].
+pub const FILTER_FRAC_BITS: u32 = 8;
+
+/// One 1 kHz sample of every spindle-drive channel, raw 12-bit ADC codes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct AdcCodes {
+    /// Motor speed ω_M, unipolar: rad/s = code × `speed_per_lsb`.
+    pub speed: u16,
+    /// Measured (lagging) drive power P_o, unipolar: W = code × `power_per_lsb`.
+    pub power: u16,
+    /// Dynamometer cutting force, bipolar: N = (code − 2048) × `force_per_lsb`.
+    pub force: u16,
+    /// Phase voltages v_u, v_v, v_w, bipolar: V = (code − 2048) × `volts_per_lsb`.
+    pub volts: [u16; 3],
+    /// Phase currents i_u, i_v, bipolar: A = (code − 2048) × `amps_per_lsb`.
+    pub amps: [u16; 2],
+}
+
+/// Number of filtered channels.
+pub const CHANNELS: usize = 5;
+
+/// Per-period averages of the filtered channels, codes with [`FILTER_FRAC_BITS`] fraction
+/// bits (`Σv²` and `Σi²` in codes²).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Averages {
+    /// Speed, codes.
+    pub speed: i64,
+    /// Measured power, codes.
+    pub power: i64,
+    /// Dynamometer force, codes relative to mid-scale.
+    pub force: i64,
+    /// v_u² + v_v² + v_w², codes².
+    pub volts_sq: i64,
+    /// i_u² + i_v² + i_w², codes².
+    pub amps_sq: i64,
+    /// Samples averaged (0 when the tick repeated the previous averages).
+    pub samples: u16,
+}
+
+/// The sampling chain's state: one low-pass per channel and the period's running sums.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Sampler {
+    shift: u32,
+    filtered: [i64; CHANNELS],
+    sums: [i64; CHANNELS],
+    count: u16,
+    primed: bool,
+    last: Averages,
+}
+
+fn code(c: u16) -> i64 {
+    i64::from(c.min(ADC_MAX))
+}
+
+fn centered(c: u16) -> i64 {
+    code(c).saturating_sub(i64::from(ADC_MID))
+}
+
+impl Sampler {
+    /// A sampler whose low-pass has coefficient `2^-lowpass_shift` (`1..=8`, validated by
+    /// the force configuration; larger values are clamped to 8).
+    pub fn new(lowpass_shift: u8) -> Sampler {
+        Sampler {
+            shift: u32::from(lowpass_shift.clamp(1, 8)),
+            ..Sampler::default()
+        }
+    }
+
+    /// One ADC sample: square the phase signals, low-pass every channel, add to the
+    /// period's sums. The first sample after construction loads the filters directly (no
+    /// start-up transient). Saturating throughout (cannot saturate; see the module header).
+    pub fn on_sample(&mut self, adc: &AdcCodes) {
+        let [vu, vv, vw] = adc.volts.map(centered);
+        let [iu, iv] = adc.amps.map(centered);
+        let iw = iu.saturating_add(iv).saturating_neg();
+        let sq = |a: i64, b: i64, c: i64| {
+            a.saturating_mul(a)
+                .saturating_add(b.saturating_mul(b))
+                .saturating_add(c.saturating_mul(c))
+        };
+        let x = [
+            code(adc.speed),
+            code(adc.power),
+            centered(adc.force),
+            sq(vu, vv, vw),
+            sq(iu, iv, iw),
+        ];
+        for ((y, s), x) in self.filtered.iter_mut().zip(self.sums.iter_mut()).zip(x) {
+            let target = x.saturating_mul(1 << FILTER_FRAC_BITS);
+            if self.primed {
+                *y = y.saturating_add(target.saturating_sub(*y) >> self.shift);
+            } else {
+                *y = target;
+            }
+            *s = s.saturating_add(*y);
+        }
+        self.primed = true;
+        self.count = self.count.saturating_add(1);
+    }
+
+    /// Control tick: the averages of the samples since the previous tick; the sums restart.
+    /// With no sample in the period the previous averages are returned with `samples = 0`.
+    pub fn on_tick(&mut self) -> Averages {
+        let n = i64::from(self.count);
+        let avg = |s: i64| s.checked_div(n);
+        let [speed, power, force, volts_sq, amps_sq] = self.sums.map(avg);
+        match (speed, power, force, volts_sq, amps_sq) {
+            (Some(speed), Some(power), Some(force), Some(volts_sq), Some(amps_sq)) => {
+                self.last = Averages {
+                    speed,
+                    power,
+                    force,
+                    volts_sq,
+                    amps_sq,
+                    samples: self.count,
+                };
+            }
+            _ => self.last.samples = 0,
+        }
+        self.sums = [0; CHANNELS];
+        self.count = 0;
+        self.last
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constant_codes_average_to_themselves() {
+        let mut s = Sampler::new(1);
+        let adc = AdcCodes {
+            speed: 1000,
+            power: 500,
+            force: 2048 + 100,
+            volts: [2048 + 3, 2048 - 4, 2048],
+            amps: [2048 + 1, 2048 + 2],
+        };
+        for _ in 0..50 {
+            s.on_sample(&adc);
+        }
+        let a = s.on_tick();
+        assert_eq!(a.speed, 1000 << 8);
+        assert_eq!(a.power, 500 << 8);
+        assert_eq!(a.force, 100 << 8);
+        assert_eq!(a.volts_sq, 25 << 8);
+        assert_eq!(a.amps_sq, (1 + 4 + 9) << 8);
+        assert_eq!(a.samples, 50);
+        let b = s.on_tick();
+        assert_eq!(b.samples, 0);
+        assert_eq!(b.speed, a.speed);
+    }
+
+    #[test]
+    fn lowpass_follows_a_step() {
+        let mut s = Sampler::new(1);
+        s.on_sample(&AdcCodes::default());
+        let _ = s.on_tick();
+        for _ in 0..50 {
+            s.on_sample(&AdcCodes {
+                speed: 4095,
+                ..AdcCodes::default()
+            });
+        }
+        let a = s.on_tick();
+        // y_k = 4095·(1 − 2^−k): the period's mean loses Σ2^−k ≈ 1 sample of 50, ~82 codes
+        assert!(a.speed > 4010 << 8 && a.speed < 4016 << 8, "{}", a.speed);
+    }
+}
