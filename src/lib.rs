@@ -3,6 +3,7 @@
 //! co-simulation runners. The fixed-point golden model itself is `tooltouch-model`.
 
 pub mod cli;
+pub mod cosim;
 pub mod lathe;
 pub mod measurement_cycle;
 pub mod stimulus;

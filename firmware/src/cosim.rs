@@ -1,0 +1,402 @@
+//! The co-simulation driver: replays binary event streams (model::wire) through the
+//! firmware's interrupts and writes the output trace the host compares with the golden
+//! model.
+//!
+//! Input: one or more concatenated streams, each `Header{stream: Events}`, a
+//! `MEASURE_CONFIG` record (the firmware configures itself from it and checks it against
+//! the header's hash), event records, `END`. Output, per input stream: `Header{stream:
+//! Outputs}` with the same hashes, one `MEASURE_OUTPUTS` record after every event (same
+//! time as the event), a [`kind::FIRMWARE_PROFILE`] and a [`kind::FIRMWARE_STATUS`]
+//! record, `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
+//! `END`, and [`run`] returns the error.
+//!
+//! Board-independent: the board supplies the file [`Port`] and the [`Target`] that
+//! delivers an event through its interrupt.
+
+use crate::handlers::Counters;
+use tooltouch_model::events::MeasureEventKind;
+use tooltouch_model::wire::{
+    self, decode_config, decode_event, encode_outputs, Header, Record, StreamKind, WireError,
+    HEADER_LEN, MAX_PAYLOAD, RECORD_HEADER_LEN,
+};
+use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs};
+
+/// Record kinds the firmware adds to its output trace, from the range model::wire
+/// reserves for other output traces (`0x41..=0x5f`), counted down from the top so the
+/// force path can take the bottom of the range.
+pub mod kind {
+    /// The input was rejected; payload: code u8, wire error u8, byte offset u64, detail u64.
+    pub const FIRMWARE_ERROR: u8 = 0x5d;
+    /// Per event kind (arm, contact, index, FES, scale): events u32 and SysTick ticks
+    /// u32 spent delivering them (pend to return), 40 bytes.
+    pub const FIRMWARE_PROFILE: u8 = 0x5e;
+    /// events u32, lost u32, overflowed u32, stack bytes used u32, calibration
+    /// instructions u32, calibration ticks u32: 24 bytes.
+    pub const FIRMWARE_STATUS: u8 = 0x5f;
+}
+
+/// A file transfer failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct IoError;
+
+/// The host files: input events, output trace.
+pub trait Port {
+    /// Reads up to `buf.len()` bytes of the input; 0 at its end.
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, IoError>;
+    /// Appends `bytes` to the output.
+    fn write(&mut self, bytes: &[u8]) -> Result<(), IoError>;
+}
+
+/// The firmware under test, as the driver sees it.
+pub trait Target {
+    /// Power-on state with `config`: a fresh kernel, all input pins low.
+    fn configure(&mut self, config: &MeasureConfig);
+    /// Drives the event's pins and pends its interrupt (with the barriers that make the
+    /// pend take effect at once); returns SysTick ticks from the pend to the return.
+    fn inject(&mut self, event: MeasureEvent) -> u32;
+    /// Snapshot of the kernel's outputs.
+    fn outputs(&mut self) -> MeasureOutputs;
+    /// Lost / overflowed counters since [`Target::configure`].
+    fn counters(&mut self) -> Counters;
+    /// A known instruction count and the SysTick ticks it took (converts ticks to
+    /// instructions under `-icount`).
+    fn calibration(&self) -> (u32, u32);
+    /// Stack bytes used so far.
+    fn stack_used(&self) -> u32;
+}
+
+/// Why a run stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Error {
+    /// Reading the input or writing the output failed.
+    Io,
+    /// A malformed stream at `offset`.
+    Wire(WireError, u64),
+    /// A header at `offset` is not an event stream.
+    NotEvents(u64),
+    /// The stream at `offset` does not start with a `MEASURE_CONFIG` record.
+    MissingConfig(u64),
+    /// The configuration record's hash differs from the header's (stream at `offset`).
+    HashMismatch(u64),
+    /// A record of a kind an event stream may not hold here (`kind`, at `offset`).
+    UnexpectedKind(u8, u64),
+    /// The input holds no stream.
+    Empty,
+}
+
+impl Error {
+    /// `(code, wire error, offset, detail)` as written in a [`kind::FIRMWARE_ERROR`] record.
+    pub fn code(&self) -> (u8, u8, u64, u64) {
+        match *self {
+            Error::Io => (1, 0, 0, 0),
+            Error::Wire(e, offset) => {
+                let (w, detail) = match e {
+                    WireError::Truncated { needed, .. } => (1, needed as u64),
+                    WireError::BadMagic(m) => (2, u64::from(u32::from_le_bytes(m))),
+                    WireError::BadVersion(v) => (3, v.into()),
+                    WireError::BadStream(s) => (4, s.into()),
+                    WireError::UnknownKind { kind, .. } => (5, kind.into()),
+                    WireError::BadLength { kind, len, .. } => {
+                        (6, u64::from(kind) << 8 | u64::from(len))
+                    }
+                    WireError::NonMonotonicTime { time, .. } => (7, time),
+                    WireError::Config(c) => (8, c.value),
+                    WireError::BadConfigEncoding => (9, 0),
+                };
+                (2, w, offset, detail)
+            }
+            Error::NotEvents(offset) => (3, 0, offset, 0),
+            Error::MissingConfig(offset) => (4, 0, offset, 0),
+            Error::HashMismatch(offset) => (5, 0, offset, 0),
+            Error::UnexpectedKind(k, offset) => (6, 0, offset, k.into()),
+            Error::Empty => (7, 0, 0, 0),
+        }
+    }
+}
+
+const READ_BUF: usize = 2048;
+const WRITE_BUF: usize = 2048;
+const MAX_RECORD: usize = RECORD_HEADER_LEN + MAX_PAYLOAD;
+
+/// Buffered reader over the input port; `pos` is the file offset of the first unread byte.
+struct Reader {
+    buf: [u8; READ_BUF],
+    start: usize,
+    end: usize,
+    pos: u64,
+    eof: bool,
+}
+
+impl Reader {
+    fn new() -> Self {
+        Reader {
+            buf: [0; READ_BUF],
+            start: 0,
+            end: 0,
+            pos: 0,
+            eof: false,
+        }
+    }
+
+    fn available(&self) -> &[u8] {
+        self.buf.get(self.start..self.end).unwrap_or(&[])
+    }
+
+    /// Makes at least `want` bytes available unless the input ends first.
+    fn fill<P: Port>(&mut self, port: &mut P, want: usize) -> Result<(), Error> {
+        if self.end.saturating_sub(self.start) >= want || self.eof {
+            return Ok(());
+        }
+        // Move the unread tail to the front (no slicing that could panic).
+        let n = self.end.saturating_sub(self.start);
+        for i in 0..n {
+            let b = self
+                .buf
+                .get(self.start.wrapping_add(i))
+                .copied()
+                .unwrap_or(0);
+            if let Some(d) = self.buf.get_mut(i) {
+                *d = b;
+            }
+        }
+        self.start = 0;
+        self.end = n;
+        while self.end < want && !self.eof {
+            let room = self.buf.get_mut(self.end..).unwrap_or(&mut []);
+            if room.is_empty() {
+                break;
+            }
+            let got = port.read(room).map_err(|_| Error::Io)?;
+            if got == 0 {
+                self.eof = true;
+            }
+            self.end = self.end.saturating_add(got).min(READ_BUF);
+        }
+        Ok(())
+    }
+
+    fn consume(&mut self, n: usize) {
+        let n = n.min(self.end.saturating_sub(self.start));
+        self.start = self.start.saturating_add(n);
+        self.pos = self.pos.wrapping_add(n as u64);
+    }
+
+    /// The next record and its file offset.
+    fn record<P: Port>(&mut self, port: &mut P) -> Result<(Record, u64), Error> {
+        self.fill(port, MAX_RECORD)?;
+        let at = self.pos;
+        let (record, n) =
+            Record::decode(self.available(), at as usize).map_err(|e| Error::Wire(e, at))?;
+        self.consume(n);
+        Ok((record, at))
+    }
+}
+
+/// Buffered writer over the output port.
+struct Writer {
+    buf: [u8; WRITE_BUF],
+    len: usize,
+}
+
+impl Writer {
+    fn new() -> Self {
+        Writer {
+            buf: [0; WRITE_BUF],
+            len: 0,
+        }
+    }
+
+    fn put<P: Port>(&mut self, port: &mut P, bytes: &[u8]) -> Result<(), Error> {
+        if self.len.saturating_add(bytes.len()) > WRITE_BUF {
+            self.flush(port)?;
+        }
+        for (d, s) in self.buf.iter_mut().skip(self.len).zip(bytes) {
+            *d = *s;
+        }
+        self.len = self.len.saturating_add(bytes.len()).min(WRITE_BUF);
+        Ok(())
+    }
+
+    fn record<P: Port>(&mut self, port: &mut P, record: &Record) -> Result<(), Error> {
+        let mut tmp = [0u8; MAX_RECORD];
+        let n = record.encode(&mut tmp).unwrap_or(0);
+        self.put(port, tmp.get(..n).unwrap_or(&[]))
+    }
+
+    fn flush<P: Port>(&mut self, port: &mut P) -> Result<(), Error> {
+        let pending = self.buf.get(..self.len).unwrap_or(&[]);
+        if !pending.is_empty() {
+            port.write(pending).map_err(|_| Error::Io)?;
+        }
+        self.len = 0;
+        Ok(())
+    }
+}
+
+/// Events and SysTick ticks per event kind.
+#[derive(Default)]
+struct Profile {
+    slots: [(u32, u32); 5],
+}
+
+impl Profile {
+    fn add(&mut self, kind: MeasureEventKind, ticks: u32) {
+        if let Some((n, t)) = self.slots.get_mut(kind as usize) {
+            *n = n.saturating_add(1);
+            *t = t.saturating_add(ticks);
+        }
+    }
+
+    fn encode(&self) -> [u8; 40] {
+        let mut out = [0u8; 40];
+        for (chunk, (n, t)) in out.chunks_exact_mut(8).zip(self.slots.iter()) {
+            for (d, s) in chunk
+                .iter_mut()
+                .zip(n.to_le_bytes().iter().chain(&t.to_le_bytes()))
+            {
+                *d = *s;
+            }
+        }
+        out
+    }
+}
+
+fn put_u32s(out: &mut [u8], values: &[u32]) {
+    for (chunk, v) in out.chunks_exact_mut(4).zip(values) {
+        for (d, s) in chunk.iter_mut().zip(v.to_le_bytes()) {
+            *d = s;
+        }
+    }
+}
+
+/// Replays every stream of the input through `target`, writing the output trace. Returns
+/// the number of streams; on an error the trace ends with a [`kind::FIRMWARE_ERROR`]
+/// record.
+pub fn run<P: Port, T: Target>(port: &mut P, target: &mut T) -> Result<u32, Error> {
+    let mut reader = Reader::new();
+    let mut writer = Writer::new();
+    let result = run_streams(port, target, &mut reader, &mut writer);
+    if let Err(e) = result {
+        let (code, wire_code, offset, detail) = e.code();
+        let mut p = [0u8; 18];
+        p[0] = code;
+        p[1] = wire_code;
+        for (d, s) in p
+            .iter_mut()
+            .skip(2)
+            .zip(offset.to_le_bytes().iter().chain(&detail.to_le_bytes()))
+        {
+            *d = *s;
+        }
+        // Best effort: the error is returned whether or not it reaches the host.
+        let _ = writer.record(port, &Record::new(kind::FIRMWARE_ERROR, 0, &p));
+        let _ = writer.record(port, &Record::new(wire::kind::END, 0, &[]));
+    }
+    writer.flush(port)?;
+    result
+}
+
+fn run_streams<P: Port, T: Target>(
+    port: &mut P,
+    target: &mut T,
+    reader: &mut Reader,
+    writer: &mut Writer,
+) -> Result<u32, Error> {
+    let mut streams: u32 = 0;
+    loop {
+        reader.fill(port, HEADER_LEN)?;
+        if reader.available().is_empty() {
+            break;
+        }
+        let at = reader.pos;
+        let header = Header::decode(reader.available()).map_err(|e| Error::Wire(e, at))?;
+        if header.stream != StreamKind::Events {
+            return Err(Error::NotEvents(at));
+        }
+        reader.consume(HEADER_LEN);
+        let (first, offset) = reader.record(port)?;
+        if first.kind != wire::kind::MEASURE_CONFIG {
+            return Err(Error::MissingConfig(offset));
+        }
+        let config = decode_config(first.payload()).map_err(|e| Error::Wire(e, offset))?;
+        if config.hash() != header.measure_hash {
+            return Err(Error::HashMismatch(at));
+        }
+        target.configure(&config);
+        let out_header = Header {
+            stream: StreamKind::Outputs,
+            ..header
+        };
+        writer.put(port, &out_header.encode())?;
+        replay(port, target, reader, writer, first.time)?;
+        streams = streams.saturating_add(1);
+    }
+    if streams == 0 {
+        return Err(Error::Empty);
+    }
+    Ok(streams)
+}
+
+/// Replays one stream's events up to its END record.
+fn replay<P: Port, T: Target>(
+    port: &mut P,
+    target: &mut T,
+    reader: &mut Reader,
+    writer: &mut Writer,
+    start: u64,
+) -> Result<(), Error> {
+    let mut previous = start;
+    let mut profile = Profile::default();
+    let mut events: u32 = 0;
+    loop {
+        let (record, offset) = reader.record(port)?;
+        if record.time < previous {
+            return Err(Error::Wire(
+                WireError::NonMonotonicTime {
+                    offset: offset as usize,
+                    previous,
+                    time: record.time,
+                },
+                offset,
+            ));
+        }
+        previous = record.time;
+        if record.kind == wire::kind::END {
+            break;
+        }
+        let event = match decode_event(&record, offset as usize) {
+            Ok(Some(event)) => event,
+            Ok(None) => return Err(Error::UnexpectedKind(record.kind, offset)),
+            Err(e) => return Err(Error::Wire(e, offset)),
+        };
+        let ticks = target.inject(event);
+        profile.add(event.kind(), ticks);
+        events = events.saturating_add(1);
+        let outputs = encode_outputs(&target.outputs());
+        writer.record(
+            port,
+            &Record::new(wire::kind::MEASURE_OUTPUTS, record.time, &outputs),
+        )?;
+    }
+    let counters = target.counters();
+    let (cal_instructions, cal_ticks) = target.calibration();
+    let mut status = [0u8; 24];
+    put_u32s(
+        &mut status,
+        &[
+            events,
+            counters.lost,
+            counters.overflowed,
+            target.stack_used(),
+            cal_instructions,
+            cal_ticks,
+        ],
+    );
+    writer.record(
+        port,
+        &Record::new(kind::FIRMWARE_PROFILE, previous, &profile.encode()),
+    )?;
+    writer.record(port, &Record::new(kind::FIRMWARE_STATUS, previous, &status))?;
+    writer.record(port, &Record::new(wire::kind::END, previous, &[]))?;
+    Ok(())
+}

@@ -1,0 +1,290 @@
+//! Co-simulation of the RTIC firmware under QEMU against the event-level golden model.
+//!
+//! The host writes each case's event stream in the binary vector format
+//! (`model::wire`: an `Events` header, the `MEASURE_CONFIG` record so the firmware
+//! configures itself, the events, `END`), concatenates many cases into one file so that
+//! one QEMU boot replays them all, boots the firmware, reads its output trace (a
+//! `MEASURE_OUTPUTS` record after every event) and compares every output of every event
+//! with [`tooltouch_model::Measurement::apply`], reporting the first difference with the
+//! case, event index, time, signal and both values.
+
+pub mod qemu;
+pub mod scenario;
+pub mod trace;
+
+use std::time::Duration;
+use tooltouch_model::wire::{self, encode_config, encode_event, Header, Record, StreamKind};
+use tooltouch_model::{MeasureOutputs, Measurement};
+
+pub use scenario::{generate, Case, Fault};
+pub use trace::{Profile, StreamTrace};
+
+/// Why a co-simulation could not run or did not agree.
+#[derive(Debug, thiserror::Error)]
+pub enum CosimError {
+    /// A required tool is missing.
+    #[error("{0}: run `cargo xtask setup` to install qemu-system-arm and the thumb targets")]
+    ToolMissing(String),
+    /// Building the firmware failed.
+    #[error("firmware build failed: {0}")]
+    Build(String),
+    /// QEMU failed.
+    #[error("QEMU: {0}")]
+    Qemu(String),
+    /// The firmware rejected its input.
+    #[error("the firmware rejected its input: {0}")]
+    Firmware(String),
+    /// The output trace is malformed.
+    #[error("output trace, byte {offset}: {why}")]
+    Trace {
+        /// Byte offset in the trace file.
+        offset: usize,
+        /// What is wrong.
+        why: String,
+    },
+    /// A file could not be written or read.
+    #[error("{0}")]
+    Io(String),
+    /// Firmware and model disagree.
+    #[error("{0}")]
+    Mismatch(Box<Mismatch>),
+}
+
+/// The first difference between the firmware and the golden model.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mismatch {
+    /// Case index in the batch.
+    pub case: usize,
+    /// The case's name (seed, fault…).
+    pub name: String,
+    /// Event index within the case (`None`: the trace's shape differs).
+    pub event: Option<usize>,
+    /// The event's time, ticks.
+    pub time: u64,
+    /// The signal (a `MeasureOutputs` field, or a trace property).
+    pub signal: String,
+    /// The golden model's value.
+    pub model: String,
+    /// The firmware's value.
+    pub firmware: String,
+}
+
+impl std::fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let at = match self.event {
+            Some(i) => format!("event {i} (time {} ticks)", self.time),
+            None => "trace".to_string(),
+        };
+        write!(
+            f,
+            "firmware differs from the golden model in case {} ({}), {at}: signal `{}`: model {}, firmware {}",
+            self.case, self.name, self.signal, self.model, self.firmware
+        )
+    }
+}
+
+/// Every output as `(name, value)`, names as in `MeasureOutputs` (docs/CONTRACT.md).
+pub fn signals(o: &MeasureOutputs) -> [(&'static str, i64); 15] {
+    [
+        ("armed", o.armed.into()),
+        ("contact", o.contact.into()),
+        ("register_now", o.register_now.into()),
+        ("decision_position", o.decision_position.into()),
+        ("first_contact", o.first_contact.into()),
+        ("first_contact_position", o.first_contact_position.into()),
+        ("position", o.position.into()),
+        ("scale_errors", o.scale_errors.into()),
+        ("count", o.count.into()),
+        ("last_window_count", o.last_window_count.into()),
+        ("charge", o.charge.into()),
+        ("density_armed", o.density_armed.into()),
+        ("density_fired", o.density_fired.into()),
+        ("revolutions", o.revolutions.into()),
+        ("pulses", o.pulses.into()),
+    ]
+}
+
+/// Appends `case` as one event stream to `out`.
+pub fn encode_case(case: &Case, out: &mut Vec<u8>) {
+    let header = Header {
+        stream: StreamKind::Events,
+        tick_hz: case.tick_hz,
+        measure_hash: case.config.hash(),
+        force_hash: 0,
+    };
+    out.extend_from_slice(&header.encode());
+    let mut buf = [0u8; wire::RECORD_HEADER_LEN + wire::MAX_PAYLOAD];
+    let mut put = |r: &Record, out: &mut Vec<u8>| {
+        let n = r.encode(&mut buf).unwrap_or(0);
+        out.extend_from_slice(&buf[..n]);
+    };
+    put(&encode_config(&case.config), out);
+    let mut last = 0;
+    for e in &case.events {
+        put(&encode_event(e.time, e.event), out);
+        last = e.time;
+    }
+    put(&Record::new(wire::kind::END, last, &[]), out);
+}
+
+/// The golden model's outputs after each event of `case`.
+pub fn golden(case: &Case) -> Vec<MeasureOutputs> {
+    let mut m = Measurement::new(&case.config);
+    case.events
+        .iter()
+        .map(|e| {
+            m.apply(e.event);
+            m.outputs()
+        })
+        .collect()
+}
+
+/// Compares one case's firmware trace with the golden model, every output of every event.
+pub fn compare(index: usize, case: &Case, stream: &StreamTrace) -> Result<(), Box<Mismatch>> {
+    let mismatch =
+        |event: Option<usize>, time: u64, signal: &str, model: String, firmware: String| {
+            Box::new(Mismatch {
+                case: index,
+                name: case.name.clone(),
+                event,
+                time,
+                signal: signal.to_string(),
+                model,
+                firmware,
+            })
+        };
+    if stream.measure_hash != case.config.hash() {
+        return Err(mismatch(
+            None,
+            0,
+            "measure_hash",
+            format!("{:#018x}", case.config.hash()),
+            format!("{:#018x}", stream.measure_hash),
+        ));
+    }
+    let expected = golden(case);
+    for (i, (event, model)) in case.events.iter().zip(&expected).enumerate() {
+        let Some((time, fw)) = stream.outputs.get(i) else {
+            return Err(mismatch(
+                Some(i),
+                event.time,
+                "outputs record",
+                "present".into(),
+                "missing".into(),
+            ));
+        };
+        if *time != event.time {
+            return Err(mismatch(
+                Some(i),
+                event.time,
+                "time",
+                event.time.to_string(),
+                time.to_string(),
+            ));
+        }
+        for ((name, want), (_, got)) in signals(model).iter().zip(signals(fw).iter()) {
+            if want != got {
+                return Err(mismatch(
+                    Some(i),
+                    event.time,
+                    name,
+                    want.to_string(),
+                    got.to_string(),
+                ));
+            }
+        }
+    }
+    let p = &stream.profile;
+    let checks = [
+        (
+            "outputs records",
+            expected.len() as u64,
+            stream.outputs.len() as u64,
+        ),
+        (
+            "events replayed",
+            expected.len() as u64,
+            u64::from(p.events),
+        ),
+        ("lost events", 0, u64::from(p.lost)),
+        ("overflowed events", 0, u64::from(p.overflowed)),
+    ];
+    for (signal, want, got) in checks {
+        if want != got {
+            return Err(mismatch(None, 0, signal, want.to_string(), got.to_string()));
+        }
+    }
+    Ok(())
+}
+
+/// The result of one batch.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Cases run.
+    pub cases: usize,
+    /// Events replayed in all cases.
+    pub events: u64,
+    /// QEMU's wall time for the whole batch (boot included).
+    pub qemu_time: Duration,
+    /// Each case's firmware profile.
+    pub profiles: Vec<Profile>,
+}
+
+impl Report {
+    /// Events per second of QEMU wall time.
+    pub fn events_per_second(&self) -> f64 {
+        self.events as f64 / self.qemu_time.as_secs_f64().max(1e-9)
+    }
+
+    /// Mean instructions per event of kind `k` over all cases (pend to return; see
+    /// [`Profile::instructions_per_event`]).
+    pub fn instructions_per_event(&self, k: usize) -> Option<f64> {
+        let (mut n, mut instr) = (0f64, 0f64);
+        for p in &self.profiles {
+            if let Some(&(count, ticks)) = p.per_kind.get(k) {
+                n += f64::from(count);
+                instr += f64::from(ticks) * p.instructions_per_tick();
+            }
+        }
+        (n > 0.0).then(|| instr / n)
+    }
+
+    /// The deepest stack the firmware used, bytes.
+    pub fn stack_bytes(&self) -> u32 {
+        self.profiles
+            .iter()
+            .map(|p| p.stack_bytes)
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// Runs every case in one QEMU boot of `image` and compares each with the golden model.
+pub fn run_batch(image: &std::path::Path, cases: &[Case]) -> Result<Report, CosimError> {
+    let mut input = Vec::new();
+    for case in cases {
+        encode_case(case, &mut input);
+    }
+    let (trace, qemu_time) = qemu::run_image(image, &input)?;
+    let streams = trace::parse(&trace)?;
+    if streams.len() != cases.len() {
+        return Err(CosimError::Mismatch(Box::new(Mismatch {
+            case: streams.len().min(cases.len()),
+            name: String::new(),
+            event: None,
+            time: 0,
+            signal: "streams in the trace".into(),
+            model: cases.len().to_string(),
+            firmware: streams.len().to_string(),
+        })));
+    }
+    for (i, (case, stream)) in cases.iter().zip(&streams).enumerate() {
+        compare(i, case, stream).map_err(CosimError::Mismatch)?;
+    }
+    Ok(Report {
+        cases: cases.len(),
+        events: cases.iter().map(|c| c.events.len() as u64).sum(),
+        qemu_time,
+        profiles: streams.iter().map(|s| s.profile).collect(),
+    })
+}

@@ -1,0 +1,392 @@
+//! A compact, physically shaped random event generator for the co-simulation (until the
+//! lathe simulator's streams are wired in): a spindle turning at a given speed (FES pulses
+//! and an index per revolution), a cross-slide feeding toward the workpiece (scale
+//! quadrature steps), intermittent contact bursts that grow denser each revolution until
+//! contact is permanent (SPEC 2.2, 2.6), the CNC arming a measurement cycle, retracting
+//! after "register now" and re-arming for the next Z step (SPEC 2.5) — plus the fault
+//! cases: missing index pulses, a spindle that stops (the CNC times out and aborts, no
+//! decision), encoder glitches, contact chatter, a broken FES line (revolution counter
+//! saturates).
+//!
+//! Everything is integer arithmetic on ticks of [`TICK_HZ`]; the randomness comes from one
+//! seed, so a case is reproduced from its seed alone.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureSettings, Measurement, TimedEvent};
+
+/// Tick rate of generated streams: the FPGA clock, 50 MHz (20 ns per tick).
+pub const TICK_HZ: u32 = 50_000_000;
+
+/// Which fault a scenario injects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fault {
+    /// None: a clean measurement cycle.
+    None,
+    /// Some index pulses are missing.
+    MissingIndex,
+    /// The spindle stops mid-measurement; the CNC times out and aborts (no decision).
+    SpindleStopped,
+    /// Extra FES pulses between the real ones and illegal (double) scale transitions.
+    EncoderGlitches,
+    /// Every contact edge bounces several times, some bounces shorter than one tick apart.
+    ContactChatter,
+    /// The FES line is broken: index pulses only, 65 536 + of them, so the revolution
+    /// counter saturates (16 bits).
+    BrokenFesLine,
+}
+
+impl Fault {
+    /// Every fault, for cases that must cover each.
+    pub const ALL: [Fault; 6] = [
+        Fault::None,
+        Fault::MissingIndex,
+        Fault::SpindleStopped,
+        Fault::EncoderGlitches,
+        Fault::ContactChatter,
+        Fault::BrokenFesLine,
+    ];
+}
+
+/// One co-simulation case: a configuration and the event stream made with it.
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// A name saying how the case was made (seed, fault, speed).
+    pub name: String,
+    /// The configuration the firmware configures itself with.
+    pub config: MeasureConfig,
+    /// Ticks per second of the event times.
+    pub tick_hz: u32,
+    /// The events, in time order (same-time events in canonical order).
+    pub events: Vec<TimedEvent>,
+}
+
+/// A random valid configuration: every field drawn across its allowed range (pulses per
+/// revolution up to 1024 to keep cases short), `i_def` around 50 % of the window.
+pub fn random_settings(rng: &mut impl Rng) -> MeasureSettings {
+    let pulses_per_rev: u16 = *[16u16, 32, 64, 100, 128, 256, 360, 512, 1000, 1024]
+        .get(rng.gen_range(0..10))
+        .unwrap_or(&1024);
+    let window_revs: u8 = if rng.gen_bool(0.7) {
+        1
+    } else {
+        rng.gen_range(2..=3)
+    };
+    let window = u32::from(pulses_per_rev) * u32::from(window_revs);
+    // 20 %..80 % of the window, 50 % most often (the papers' setting).
+    let i_def = if rng.gen_bool(0.4) {
+        window / 2
+    } else {
+        rng.gen_range(window / 5..=window * 4 / 5).min(window - 1)
+    };
+    let charge_bits: u8 = rng.gen_range(4..=24);
+    let full = (1u32 << charge_bits) - 1;
+    let charge_law = if rng.gen_bool(0.5) {
+        ChargeLaw::Linear {
+            charge_step: rng.gen_range(1..=(full / 4).max(1)),
+            discharge_step: rng.gen_range(1..=(full / 4).max(1)),
+        }
+    } else {
+        ChargeLaw::Exponential {
+            charge_shift: rng.gen_range(0..=charge_bits.min(8)),
+            discharge_shift: rng.gen_range(0..=charge_bits.min(9)),
+        }
+    };
+    let fire_threshold = rng.gen_range(1..=full);
+    let rearm_threshold = rng.gen_range(0..fire_threshold);
+    MeasureSettings {
+        pulses_per_rev,
+        i_def,
+        window_revs,
+        contact_rule: if rng.gen_bool(0.5) {
+            ContactRule::Sticky
+        } else {
+            ContactRule::Sampled
+        },
+        charge_bits,
+        charge_law,
+        fire_threshold,
+        rearm_threshold,
+        glitch_cycles: rng.gen(),
+        scale_bits: rng.gen_range(8..=32),
+        method: match rng.gen_range(0..3) {
+            0 => DecisionMethod::SinglePulse,
+            1 => DecisionMethod::Counter,
+            _ => DecisionMethod::Density,
+        },
+    }
+}
+
+/// Quadrature phase order for positive motion: A leads B (00, 10, 11, 01).
+const PHASES: [(bool, bool); 4] = [(false, false), (true, false), (true, true), (false, true)];
+
+/// Builds the event list; sorts it into time order with same-time events in canonical
+/// order (the sort is stable, so same-time, same-kind events keep their order).
+struct Builder {
+    events: Vec<(u64, u64, MeasureEvent)>,
+    seq: u64,
+    scale_phase: usize,
+}
+
+impl Builder {
+    fn push(&mut self, time: u64, event: MeasureEvent) {
+        self.events.push((time, self.seq, event));
+        self.seq += 1;
+    }
+
+    /// One quadrature step forward (`+1`) or back (`-1`).
+    fn scale_step(&mut self, time: u64, forward: bool) {
+        self.scale_phase = if forward {
+            (self.scale_phase + 1) % 4
+        } else {
+            (self.scale_phase + 3) % 4
+        };
+        let (a, b) = PHASES[self.scale_phase];
+        self.push(time, MeasureEvent::Scale { a, b });
+    }
+
+    /// An illegal transition: both lines change at once.
+    fn scale_glitch(&mut self, time: u64) {
+        self.scale_phase = (self.scale_phase + 2) % 4;
+        let (a, b) = PHASES[self.scale_phase];
+        self.push(time, MeasureEvent::Scale { a, b });
+    }
+
+    /// Applies the events with `from <= time < until` to `m` in stream order; returns
+    /// `until`.
+    fn apply_until(&self, m: &mut Measurement, from: u64, until: u64) -> u64 {
+        let mut due: Vec<_> = self
+            .events
+            .iter()
+            .filter(|(time, _, _)| *time >= from && *time < until)
+            .copied()
+            .collect();
+        due.sort_by_key(|&(time, seq, event)| (time, event.kind(), seq));
+        for (_, _, e) in due {
+            m.apply(e);
+        }
+        until
+    }
+
+    fn finish(mut self) -> Vec<TimedEvent> {
+        self.events
+            .sort_by_key(|&(time, seq, event)| (time, event.kind(), seq));
+        self.events
+            .into_iter()
+            .map(|(time, _, event)| TimedEvent { time, event })
+            .collect()
+    }
+}
+
+/// A contact interval within one revolution, ticks from the revolution's start.
+#[derive(Clone, Copy)]
+struct Burst {
+    start: u64,
+    end: u64,
+}
+
+/// Generates one case from `seed` with `fault`.
+pub fn generate(seed: u64, fault: Fault) -> Case {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let settings = random_settings(&mut rng);
+    // random_settings draws every field inside its range; fall back to the defaults if a
+    // future range change makes that false, so the case still runs.
+    let config = settings.validate().unwrap_or_default();
+    let ppr = u64::from(config.pulses_per_rev());
+    // Spindle speed, rpm: the papers' 600–1000, sometimes the 12 000 rpm target.
+    let rpm: u64 = if rng.gen_bool(0.2) {
+        12_000
+    } else {
+        rng.gen_range(600..=1000)
+    };
+    let rev_ticks = u64::from(TICK_HZ) * 60 / rpm;
+    let fes_period = (rev_ticks / ppr).max(2);
+    let rev_ticks = fes_period * ppr;
+    let lobes: u64 = rng.gen_range(1..=5);
+    let revs_to_permanent: u64 = rng.gen_range(2..=12);
+    let cycles: u32 = if fault == Fault::BrokenFesLine {
+        1
+    } else {
+        rng.gen_range(1..=3)
+    };
+    let mut b = Builder {
+        events: Vec::new(),
+        seq: 0,
+        scale_phase: 0,
+    };
+    // A CNC that watches "register now" like the real one: run the golden model alongside.
+    let mut cnc = Measurement::new(&config);
+    let mut cnc_upto = 0u64;
+    let mut t: u64 = rng.gen_range(0..1000);
+    // Rapid approach: the cross-slide moves some counts before the cycle starts.
+    for _ in 0..rng.gen_range(0..40) {
+        t += rng.gen_range(50..2000);
+        b.scale_step(t, true);
+    }
+    let mut contact = false;
+    for cycle in 0..cycles {
+        t += rng.gen_range(1..5000);
+        b.push(t, MeasureEvent::Arm(true));
+        if fault == Fault::BrokenFesLine {
+            for _ in 0..(65_536 + rng.gen_range(1..600)) {
+                t += rev_ticks.min(1 << 20);
+                b.push(t, MeasureEvent::Index);
+            }
+            t += 100;
+            b.push(t, MeasureEvent::Arm(false));
+            break;
+        }
+        let approach_revs: u64 = rng.gen_range(0..3);
+        let max_revs =
+            approach_revs + revs_to_permanent + 4 * u64::from(config.settings().window_revs) + 3;
+        let stop_after = if fault == Fault::SpindleStopped && cycle + 1 == cycles {
+            rng.gen_range(0..=approach_revs + revs_to_permanent / 2)
+        } else {
+            u64::MAX
+        };
+        // Feed: a scale step every `feed_period` ticks toward the workpiece.
+        let feed_period = rng.gen_range(rev_ticks / 8..=rev_ticks * 2).max(1);
+        let mut next_feed = t + feed_period;
+        let mut decided_at: Option<u64> = None;
+        let rev0 = t + rng.gen_range(0..rev_ticks);
+        let mut rev = 0u64;
+        'revs: loop {
+            if rev >= max_revs || rev >= stop_after {
+                break;
+            }
+            if let Some(r) = decided_at {
+                if rev > r + 1 {
+                    break;
+                }
+            }
+            let start = rev0 + rev * rev_ticks;
+            // Contact density this revolution, per mille: 0 before the first touch, rising
+            // to 1000 (permanent) over `revs_to_permanent` revolutions.
+            let density = if rev < approach_revs {
+                0
+            } else {
+                ((rev - approach_revs + 1) * 1000 / revs_to_permanent).min(1000)
+            };
+            let mut bursts = Vec::new();
+            if density >= 1000 {
+                bursts.push(Burst {
+                    start: 0,
+                    end: rev_ticks,
+                });
+            } else if density > 0 {
+                let width = rev_ticks * density / 1000 / lobes;
+                for lobe in 0..lobes {
+                    let center =
+                        rev_ticks * lobe / lobes + rng.gen_range(0..rev_ticks / lobes / 4 + 1);
+                    let w = (width * rng.gen_range(50..=150) / 100).max(1);
+                    let s = center.saturating_sub(w / 2).max(1);
+                    let e = (s + w).min(rev_ticks - 1);
+                    if e > s {
+                        bursts.push(Burst { start: s, end: e });
+                    }
+                }
+                // Noise spikes: contact shorter than one FES period.
+                for _ in 0..rng.gen_range(0..3) {
+                    let s = rng.gen_range(1..rev_ticks - 2);
+                    let e = (s + rng.gen_range(1..fes_period.max(2))).min(rev_ticks - 1);
+                    bursts.push(Burst { start: s, end: e });
+                }
+                bursts.sort_by_key(|x| x.start);
+            }
+            // Contact edges of this revolution, merged where bursts overlap.
+            let mut edges: Vec<(u64, bool)> = Vec::new();
+            let mut open_until = 0u64;
+            for burst in bursts {
+                if burst.start <= open_until && !edges.is_empty() {
+                    if burst.end > open_until {
+                        if let Some(last) = edges.last_mut() {
+                            last.0 = start + burst.end;
+                        }
+                        open_until = burst.end;
+                    }
+                    continue;
+                }
+                edges.push((start + burst.start, true));
+                edges.push((start + burst.end, false));
+                open_until = burst.end;
+            }
+            if density >= 1000 {
+                // Permanent: one rising edge (if not in contact yet), no falling edge.
+                edges.retain(|e| e.1);
+            }
+            for (time, level) in edges {
+                if level == contact {
+                    continue;
+                }
+                contact = level;
+                if fault == Fault::ContactChatter {
+                    for _ in 0..rng.gen_range(1..4) {
+                        b.push(time, MeasureEvent::Contact(level));
+                        let d = rng.gen_range(0..3);
+                        b.push(time + d, MeasureEvent::Contact(!level));
+                    }
+                    b.push(time + 3, MeasureEvent::Contact(level));
+                } else {
+                    b.push(time, MeasureEvent::Contact(level));
+                }
+            }
+            // The spindle: index at the revolution's start, one FES per pulse period.
+            let drop_index = fault == Fault::MissingIndex && rng.gen_bool(0.4);
+            if !drop_index {
+                b.push(start, MeasureEvent::Index);
+            }
+            for p in 0..ppr {
+                let tp = start + p * fes_period;
+                b.push(tp, MeasureEvent::Fes);
+                if fault == Fault::EncoderGlitches && rng.gen_bool(0.01) {
+                    b.push(tp + rng.gen_range(1..fes_period), MeasureEvent::Fes);
+                }
+                while next_feed <= tp {
+                    if fault == Fault::EncoderGlitches && rng.gen_bool(0.05) {
+                        b.scale_glitch(next_feed);
+                    } else {
+                        b.scale_step(next_feed, true);
+                    }
+                    next_feed += feed_period;
+                }
+            }
+            // The CNC sees "register now" (the model run alongside, up to this revolution's end).
+            cnc_upto = b.apply_until(&mut cnc, cnc_upto, start + rev_ticks);
+            if decided_at.is_none() && cnc.register_now() {
+                decided_at = Some(rev);
+            }
+            rev += 1;
+            if rev > 200 {
+                break 'revs;
+            }
+        }
+        // End of this cycle: the time after the last revolution.
+        t = rev0 + rev * rev_ticks + rng.gen_range(1..1000);
+        if fault == Fault::SpindleStopped && cycle + 1 == cycles {
+            // CNC timeout: no FES for a while, then abort.
+            t += u64::from(TICK_HZ) / 10;
+        }
+        b.push(t, MeasureEvent::Arm(false));
+        // Retract: a few steps back, then the next cycle starts after a Z step.
+        if contact {
+            t += rng.gen_range(10..1000);
+            b.push(t, MeasureEvent::Contact(false));
+            contact = false;
+        }
+        for _ in 0..rng.gen_range(0..20) {
+            t += rng.gen_range(50..2000);
+            b.scale_step(t, false);
+        }
+        cnc_upto = b.apply_until(&mut cnc, cnc_upto, t + 1);
+    }
+    Case {
+        name: format!(
+            "seed {seed:#018x}, fault {fault:?}, {rpm} rpm, {ppr} ppr, {:?}",
+            config.settings().method
+        ),
+        config,
+        tick_hz: TICK_HZ,
+        events: b.finish(),
+    }
+}

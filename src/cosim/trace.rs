@@ -1,0 +1,180 @@
+//! Reading the firmware's output trace: per input stream, an `Outputs` header, one
+//! `MEASURE_OUTPUTS` record per event, the firmware's profile and status records, `END`;
+//! or an error record that says why the firmware rejected its input.
+
+use super::CosimError;
+use tooltouch_model::wire::{self, decode_outputs, Header, Record, StreamKind, HEADER_LEN};
+use tooltouch_model::MeasureOutputs;
+
+/// Record kinds the firmware adds (firmware/src/cosim.rs `kind`, same values).
+pub mod kind {
+    /// The firmware rejected its input.
+    pub const FIRMWARE_ERROR: u8 = 0x5d;
+    /// Events and SysTick ticks per event kind.
+    pub const FIRMWARE_PROFILE: u8 = 0x5e;
+    /// Events, lost, overflowed, stack bytes, calibration.
+    pub const FIRMWARE_STATUS: u8 = 0x5f;
+}
+
+/// Names of the event kinds in [`Profile::per_kind`]'s order.
+pub const EVENT_KIND_NAMES: [&str; 5] = ["arm", "contact", "index", "fes", "scale"];
+
+/// What the firmware measured about itself during one stream.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Profile {
+    /// Per event kind (arm, contact, index, FES, scale): events delivered and SysTick
+    /// ticks spent from the pend to the return (interrupt entry, handler, exit).
+    pub per_kind: [(u32, u32); 5],
+    /// Events replayed.
+    pub events: u32,
+    /// Edges lost (interrupt still pending at the next edge).
+    pub lost: u32,
+    /// Samples dropped by a full queue.
+    pub overflowed: u32,
+    /// Stack bytes used (watermark since boot).
+    pub stack_bytes: u32,
+    /// Instructions of the calibration loop.
+    pub calibration_instructions: u32,
+    /// SysTick ticks of the calibration loop.
+    pub calibration_ticks: u32,
+}
+
+impl Profile {
+    /// Instructions per SysTick tick (QEMU `-icount shift=0`: a fixed virtual time per
+    /// instruction), from the calibration loop.
+    pub fn instructions_per_tick(&self) -> f64 {
+        f64::from(self.calibration_instructions) / f64::from(self.calibration_ticks.max(1))
+    }
+
+    /// Mean instructions per delivered event of kind `k` (index into
+    /// [`EVENT_KIND_NAMES`]), pend to return.
+    pub fn instructions_per_event(&self, k: usize) -> Option<f64> {
+        let (n, ticks) = *self.per_kind.get(k)?;
+        (n > 0).then(|| f64::from(ticks) * self.instructions_per_tick() / f64::from(n))
+    }
+}
+
+/// One stream of the firmware's trace.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct StreamTrace {
+    /// The header's configuration hash.
+    pub measure_hash: u64,
+    /// Outputs after each event, with the event's time.
+    pub outputs: Vec<(u64, MeasureOutputs)>,
+    /// The firmware's profile and status.
+    pub profile: Profile,
+}
+
+fn u32_at(p: &[u8], i: usize) -> u32 {
+    p.get(i..i + 4)
+        .and_then(|b| b.try_into().ok())
+        .map(u32::from_le_bytes)
+        .unwrap_or(0)
+}
+
+fn u64_at(p: &[u8], i: usize) -> u64 {
+    p.get(i..i + 8)
+        .and_then(|b| b.try_into().ok())
+        .map(u64::from_le_bytes)
+        .unwrap_or(0)
+}
+
+/// Explains a firmware error record (codes of firmware/src/cosim.rs `Error::code`).
+pub fn describe_firmware_error(p: &[u8]) -> String {
+    let code = p.first().copied().unwrap_or(0);
+    let wire_code = p.get(1).copied().unwrap_or(0);
+    let offset = u64_at(p, 2);
+    let detail = u64_at(p, 10);
+    let what = match code {
+        1 => "semihosting file I/O failed".to_string(),
+        2 => {
+            let w = match wire_code {
+                1 => format!("truncated record, {detail} bytes needed"),
+                2 => format!("bad magic {detail:#010x}"),
+                3 => format!("unsupported format version {detail}"),
+                4 => format!("unknown stream kind {detail}"),
+                5 => format!("unknown record kind {detail:#04x}"),
+                6 => format!(
+                    "record kind {:#04x} with bad payload length {}",
+                    detail >> 8,
+                    detail & 0xff
+                ),
+                7 => format!("time goes backwards (record time {detail})"),
+                8 => format!("configuration field out of range (value {detail})"),
+                9 => "configuration record with an unknown encoding".to_string(),
+                _ => format!("wire error {wire_code}"),
+            };
+            format!("malformed input: {w}")
+        }
+        3 => "header is not an event stream".to_string(),
+        4 => "stream does not start with a MEASURE_CONFIG record".to_string(),
+        5 => "configuration record does not match the header's hash".to_string(),
+        6 => format!("unexpected record kind {detail:#04x} in an event stream"),
+        7 => "input holds no stream".to_string(),
+        _ => format!("error code {code}"),
+    };
+    format!("{what} at byte {offset} of the event file")
+}
+
+/// Parses the whole trace file `bytes` into its streams.
+pub fn parse(bytes: &[u8]) -> Result<Vec<StreamTrace>, CosimError> {
+    let bad = |offset: usize, why: String| CosimError::Trace { offset, why };
+    let mut streams = Vec::new();
+    let mut at = 0usize;
+    while at < bytes.len() {
+        let rest = &bytes[at..];
+        // An error record may follow the last complete stream directly.
+        if rest.first() == Some(&kind::FIRMWARE_ERROR) {
+            let (record, _) = Record::decode(rest, at).map_err(|e| bad(at, e.to_string()))?;
+            return Err(CosimError::Firmware(describe_firmware_error(
+                record.payload(),
+            )));
+        }
+        let header = Header::decode(rest).map_err(|e| bad(at, e.to_string()))?;
+        if header.stream != StreamKind::Outputs {
+            return Err(bad(at, "header is not an output trace".into()));
+        }
+        at += HEADER_LEN;
+        let mut stream = StreamTrace {
+            measure_hash: header.measure_hash,
+            ..Default::default()
+        };
+        loop {
+            let (record, n) = Record::decode(bytes.get(at..).unwrap_or(&[]), at)
+                .map_err(|e| bad(at, e.to_string()))?;
+            let p = record.payload();
+            match record.kind {
+                wire::kind::MEASURE_OUTPUTS => {
+                    let o = decode_outputs(p)
+                        .ok_or_else(|| bad(at, format!("outputs record of {} bytes", p.len())))?;
+                    stream.outputs.push((record.time, o));
+                }
+                kind::FIRMWARE_PROFILE => {
+                    for (k, slot) in stream.profile.per_kind.iter_mut().enumerate() {
+                        *slot = (u32_at(p, 8 * k), u32_at(p, 8 * k + 4));
+                    }
+                }
+                kind::FIRMWARE_STATUS => {
+                    let pr = &mut stream.profile;
+                    pr.events = u32_at(p, 0);
+                    pr.lost = u32_at(p, 4);
+                    pr.overflowed = u32_at(p, 8);
+                    pr.stack_bytes = u32_at(p, 12);
+                    pr.calibration_instructions = u32_at(p, 16);
+                    pr.calibration_ticks = u32_at(p, 20);
+                }
+                kind::FIRMWARE_ERROR => {
+                    return Err(CosimError::Firmware(describe_firmware_error(p)));
+                }
+                wire::kind::END => {
+                    at += n;
+                    break;
+                }
+                other => return Err(bad(at, format!("unexpected record kind {other:#04x}"))),
+            }
+            at += n;
+        }
+        streams.push(stream);
+    }
+    Ok(streams)
+}
