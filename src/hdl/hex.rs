@@ -1,0 +1,218 @@
+//! `$readmemh` vectors for the generated testbench: the run-length stimulus and the
+//! golden cycle model's response, both run-length encoded so a long, mostly quiet
+//! scenario stays a small file (formats: `tooltouch_hdl_gen::testbench`).
+
+use super::{HdlError, Result};
+use crate::stimulus::Stimulus;
+use std::fmt::Write as _;
+use tooltouch_hdl_gen::{output_fields, output_values, outputs_width, STIM_WORD_BITS};
+use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
+
+/// The testbench vectors of one scenario.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Vectors {
+    /// Text of `stim.hex`.
+    pub stim_hex: String,
+    /// Text of `expect.hex`.
+    pub expect_hex: String,
+    /// Words in `stim.hex`, header included.
+    pub stim_words: usize,
+    /// Words in `expect.hex`, header included.
+    pub expect_words: usize,
+    /// Clock cycles of the scenario.
+    pub cycles: u64,
+    /// The model's outputs after the last clock.
+    pub final_outputs: MeasureOutputs,
+}
+
+/// A big-endian bit string built field by field, printed as hex digits.
+struct BitString {
+    /// Bits, most significant first.
+    bits: Vec<bool>,
+}
+
+impl BitString {
+    fn with_capacity(n: u32) -> Self {
+        BitString {
+            bits: Vec::with_capacity(n as usize),
+        }
+    }
+    /// Appends the `width` low bits of `value`, most significant first (`width <= 64`).
+    fn push(&mut self, value: u64, width: u32) {
+        for i in (0..width).rev() {
+            self.bits.push((value >> i) & 1 == 1);
+        }
+    }
+    /// Appends `width` zero bits.
+    fn zeros(&mut self, width: u32) {
+        self.bits.extend(std::iter::repeat_n(false, width as usize));
+    }
+    /// Hex digits, left-padded to whole digits, then a newline.
+    fn write_hex(&self, out: &mut String) {
+        let pad = (4 - self.bits.len() % 4) % 4;
+        let mut nibble = 0u32;
+        let mut n = pad;
+        for &b in &self.bits {
+            nibble = (nibble << 1) | u32::from(b);
+            n += 1;
+            if n == 4 {
+                out.push(char::from_digit(nibble, 16).unwrap_or('0'));
+                nibble = 0;
+                n = 0;
+            }
+        }
+        out.push('\n');
+    }
+}
+
+/// Runs the golden cycle model ([`FrontEnd::clock`] once per clock) over `stimulus` and
+/// writes both vector files.
+///
+/// Errors: an empty stimulus, or one longer than 2^31 clocks (the testbench's cycle
+/// field and loop counter are 32-bit signed integers).
+pub fn golden_vectors(config: &MeasureConfig, stimulus: &Stimulus) -> Result<Vectors> {
+    let cycles = stimulus.total_cycles();
+    if cycles == 0 {
+        return Err(HdlError::Stimulus(
+            "the stimulus has no clock cycles".into(),
+        ));
+    }
+    if cycles > i32::MAX as u64 {
+        return Err(HdlError::Stimulus(format!(
+            "{cycles} clock cycles is more than the testbench's limit of {}",
+            i32::MAX
+        )));
+    }
+    // Stimulus: one word per segment.
+    let segments: Vec<_> = stimulus.segments.iter().filter(|s| s.cycles > 0).collect();
+    let mut stim_hex = String::with_capacity((segments.len() + 1) * 11);
+    let mut word = BitString::with_capacity(STIM_WORD_BITS);
+    word.push(0, STIM_WORD_BITS - 32);
+    word.push(segments.len() as u64, 32);
+    word.write_hex(&mut stim_hex);
+    for s in &segments {
+        let mut word = BitString::with_capacity(STIM_WORD_BITS);
+        word.push(u64::from(s.pins.0), STIM_WORD_BITS - 32);
+        word.push(u64::from(s.cycles), 32);
+        word.write_hex(&mut stim_hex);
+    }
+
+    // Expected response: one word per clock after which an output changed.
+    let fields = output_fields(config);
+    let width = outputs_width(config);
+    let mut fe = FrontEnd::new(config);
+    let mut entries: Vec<(u64, [u64; 15])> = Vec::new();
+    let mut last: Option<[u64; 15]> = None;
+    let mut k: u64 = 0;
+    for s in &segments {
+        for _ in 0..s.cycles {
+            fe.clock(s.pins);
+            let values = output_values(config, &fe.outputs());
+            if last != Some(values) {
+                entries.push((k, values));
+                last = Some(values);
+            }
+            k = k.wrapping_add(1);
+        }
+    }
+    let mut expect_hex = String::with_capacity((entries.len() + 1) * (width as usize / 4 + 10));
+    let mut header = BitString::with_capacity(width + 32);
+    header.push(entries.len() as u64, 32);
+    header.zeros(width);
+    header.write_hex(&mut expect_hex);
+    for (cycle, values) in &entries {
+        let mut word = BitString::with_capacity(width + 32);
+        word.push(*cycle, 32);
+        for (v, f) in values.iter().zip(fields.iter()) {
+            word.push(*v, f.width);
+        }
+        word.write_hex(&mut expect_hex);
+    }
+    Ok(Vectors {
+        stim_hex,
+        expect_hex,
+        stim_words: segments.len() + 1,
+        expect_words: entries.len() + 1,
+        cycles,
+        final_outputs: fe.outputs(),
+    })
+}
+
+/// Writes `stim.hex` and `expect.hex` into `dir`.
+pub fn write_vectors(dir: &std::path::Path, v: &Vectors) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(super::io_err(dir))?;
+    for (name, text) in [
+        (tooltouch_hdl_gen::STIM_HEX, &v.stim_hex),
+        (tooltouch_hdl_gen::EXPECT_HEX, &v.expect_hex),
+    ] {
+        let p = dir.join(name);
+        std::fs::write(&p, text).map_err(super::io_err(&p))?;
+    }
+    Ok(())
+}
+
+/// A one-line description of a mismatch position for reports: which output fields of
+/// the expected word differ. Used by tests of the encoder.
+pub fn describe_word(config: &MeasureConfig, word_hex: &str) -> Option<String> {
+    let width = outputs_width(config) + 32;
+    let digits = width.div_ceil(4) as usize;
+    if word_hex.len() != digits {
+        return None;
+    }
+    let mut bits = Vec::with_capacity(digits * 4);
+    for c in word_hex.chars() {
+        let d = c.to_digit(16)?;
+        for i in (0..4).rev() {
+            bits.push((d >> i) & 1 == 1);
+        }
+    }
+    let bits = &bits[bits.len() - width as usize..];
+    let take = |from: usize, w: u32| -> u64 {
+        bits[from..from + w as usize]
+            .iter()
+            .fold(0u64, |acc, &b| (acc << 1) | u64::from(b))
+    };
+    let mut out = format!("cycle {}", take(0, 32));
+    let mut at = 32usize;
+    for f in output_fields(config) {
+        let _ = write!(out, " {}=0x{:x}", f.name, take(at, f.width));
+        at += f.width as usize;
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::frontend::{pin, Pins};
+
+    #[test]
+    fn words_round_trip_through_describe() {
+        let c = MeasureConfig::default();
+        let mut s = Stimulus::new(50_000_000);
+        s.push(Pins(pin::ARM), 20);
+        s.push(Pins(pin::ARM | pin::SCALE_B), 20);
+        let v = golden_vectors(&c, &s).unwrap();
+        assert_eq!(v.stim_hex.lines().next(), Some("0000000002"));
+        assert_eq!(v.stim_hex.lines().nth(2), Some("2100000014"));
+        // Armed after clock 7 (latency 3 + 4); position -1 after clock 27.
+        let lines: Vec<&str> = v.expect_hex.lines().collect();
+        assert_eq!(lines.len(), v.expect_words);
+        let first = describe_word(&c, lines[1]).unwrap();
+        assert!(first.starts_with("cycle 0 armed=0x0"), "{first}");
+        let armed = describe_word(&c, lines[2]).unwrap();
+        assert!(armed.starts_with("cycle 7 armed=0x1"), "{armed}");
+        let moved = describe_word(&c, lines[3]).unwrap();
+        assert!(
+            moved.contains("cycle 27 ") && moved.contains(" position=0xffffff "),
+            "{moved}"
+        );
+        assert_eq!(v.final_outputs.position, -1);
+    }
+
+    #[test]
+    fn an_empty_stimulus_is_an_error() {
+        let c = MeasureConfig::default();
+        assert!(golden_vectors(&c, &Stimulus::new(50_000_000)).is_err());
+    }
+}
