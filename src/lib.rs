@@ -3,9 +3,14 @@
 //! co-simulation runners. The fixed-point golden model itself is `tooltouch-model`.
 
 pub mod cli;
-pub mod hdl;
 pub mod cosim;
+pub mod drive;
+pub mod hdl;
 pub mod lathe;
 pub mod measurement_cycle;
+pub mod plot;
+pub mod reference;
+pub mod settings;
 pub mod stimulus;
+pub mod tune;
 pub mod vectors;

@@ -1,10 +1,256 @@
-//! `tooltouch control`: Run the force-control depth-step scenario. (Being built: issue 3.)
+//! `tooltouch control`: the depth-step force-control scenario (SPEC 3) — 500 N reference,
+//! depth 1 mm stepping to 1.5 mm at 8 s — closed through the fixed-point model (or the
+//! float reference), with its metrics, SVG plots and the sample-level vectors.
+
+use crate::drive::scenario::{
+    self, scenario_settings, ControlScenario, ControllerKind, Engine, Run,
+};
+use anyhow::{Context, Result};
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use tooltouch_model::force::{encode_force_event, outputs_record, ForceSource};
+use tooltouch_model::wire::{kind, Header, Record, StreamKind};
+
+/// Which controller(s).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Which {
+    /// PI, Ziegler–Nichols on F10.
+    Pi,
+    /// Variable-gain adaptive F11.
+    Adaptive,
+    /// Fuzzy PI.
+    Fuzzy,
+    /// All three.
+    All,
+}
+
+/// Which force feedback.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// Estimated from the spindle drive (F1–F9).
+    Estimated,
+    /// Dynamometer.
+    Measured,
+    /// Both.
+    Both,
+}
+
+/// Which implementation closes the loop.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EngineArg {
+    /// The fixed-point golden model.
+    Model,
+    /// The float reference.
+    Reference,
+}
 
 /// Arguments of `tooltouch control`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// Controller; `all` prints the table for the three.
+    #[arg(long, value_enum, default_value = "pi")]
+    pub controller: Which,
+    /// Force feedback; `both` runs measured and estimated.
+    #[arg(long, value_enum, default_value = "estimated")]
+    pub force: Source,
+    /// Fixed-point model or float reference.
+    #[arg(long, value_enum, default_value = "model")]
+    pub engine: EngineArg,
+    /// Noise seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Directory for plots and vectors (`<controller>_<force>.{svg,events.bin,outputs.bin}`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
 
 /// Runs `tooltouch control`.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("`tooltouch control` is not built yet (issue 3)")
+pub fn run(args: Args) -> Result<ExitCode> {
+    let kinds: Vec<ControllerKind> = match args.controller {
+        Which::Pi => vec![ControllerKind::Pi],
+        Which::Adaptive => vec![ControllerKind::Adaptive],
+        Which::Fuzzy => vec![ControllerKind::Fuzzy],
+        Which::All => ControllerKind::ALL.to_vec(),
+    };
+    let sources: Vec<ForceSource> = match args.force {
+        Source::Estimated => vec![ForceSource::Estimated],
+        Source::Measured => vec![ForceSource::Measured],
+        Source::Both => vec![ForceSource::Measured, ForceSource::Estimated],
+    };
+    let engine = match args.engine {
+        EngineArg::Model => Engine::Model,
+        EngineArg::Reference => Engine::Reference,
+    };
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("creating output directory {}", dir.display()))?;
+    }
+    let jobs: Vec<(ControllerKind, ForceSource)> = kinds
+        .iter()
+        .flat_map(|&k| sources.iter().map(move |&s| (k, s)))
+        .collect();
+    let bar = indicatif::ProgressBar::new(jobs.len() as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} runs {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    println!(
+        "depth step 1.0 -> 1.5 mm at 8 s, reference 500 N, engine {:?}",
+        engine
+    );
+    println!(
+        "{:<9} {:<10} {:>10} {:>11} {:>12} {:>10} {:>10}",
+        "controller", "force", "overshoot", "settling", "ss error", "IAE", "override"
+    );
+    let mut rows = Vec::new();
+    for &(k, source) in &jobs {
+        bar.set_message(format!("{} {}", k.name(), source_name(source)));
+        let settings = scenario_settings(k, source);
+        let config = settings
+            .validate()
+            .map_err(|e| anyhow::anyhow!("{e}"))
+            .with_context(|| format!("configuring the {} controller", k.name()))?;
+        let mut sc = ControlScenario::new(config);
+        sc.seed = args.seed;
+        let r = scenario::run(&sc, engine, args.out.is_some() && engine == Engine::Model);
+        if let Some(dir) = &args.out {
+            let stem = format!("{}_{}", k.name(), source_name(source));
+            plot_run(&dir.join(format!("{stem}.svg")), &r, &stem)
+                .with_context(|| format!("plotting {stem}"))?;
+            if engine == Engine::Model {
+                write_vectors(dir, &stem, &r, config.hash(), u32::from(settings.sample_hz))?;
+            }
+        }
+        rows.push((k, source, r.metrics));
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    for (k, source, m) in rows {
+        println!(
+            "{:<9} {:<10} {:>9.1}% {:>10.2}s {:>10.1} N {:>8.1}Ns {:>5}-{:<4}",
+            k.name(),
+            source_name(source),
+            m.overshoot_pct,
+            m.settling_s,
+            m.steady_error_n,
+            m.iae,
+            m.override_range.0,
+            m.override_range.1
+        );
+    }
+    if let Some(dir) = &args.out {
+        println!("plots and vectors written to {}", dir.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn source_name(s: ForceSource) -> &'static str {
+    match s {
+        ForceSource::Estimated => "estimated",
+        ForceSource::Measured => "measured",
+    }
+}
+
+/// Writes `<stem>.events.bin` (every input event) and `<stem>.outputs.bin` (the model's
+/// outputs after every non-sample event), each ending with an END record.
+pub fn write_vectors(dir: &Path, stem: &str, r: &Run, force_hash: u64, tick_hz: u32) -> Result<()> {
+    let stream = |kind_: StreamKind, records: &mut dyn Iterator<Item = Record>| {
+        let header = Header {
+            stream: kind_,
+            tick_hz,
+            measure_hash: 0,
+            force_hash,
+        };
+        let mut bytes = header.encode().to_vec();
+        let mut buf = [0u8; 64];
+        let mut last = 0;
+        for rec in records {
+            last = rec.time;
+            let n = rec.encode(&mut buf).unwrap_or(0);
+            bytes.extend_from_slice(&buf[..n]);
+        }
+        let n = Record::new(kind::END, last, &[])
+            .encode(&mut buf)
+            .unwrap_or(0);
+        bytes.extend_from_slice(&buf[..n]);
+        bytes
+    };
+    let events = stream(
+        StreamKind::Events,
+        &mut r.events.iter().map(|(t, e)| encode_force_event(*t, e)),
+    );
+    let outputs = stream(
+        StreamKind::Outputs,
+        &mut r.outputs.iter().map(|(t, o)| outputs_record(*t, o)),
+    );
+    for (name, bytes) in [("events", events), ("outputs", outputs)] {
+        let path = dir.join(format!("{stem}.{name}.bin"));
+        std::fs::write(&path, bytes).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+fn plot_run(path: &Path, r: &Run, title: &str) -> Result<()> {
+    let tr = &r.trace;
+    let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (top, bottom) = root.split_vertically(450);
+    let t_end = tr.t.last().copied().unwrap_or(1.0);
+    let fmax = tr
+        .force_true
+        .iter()
+        .chain(&tr.force_est)
+        .fold(600.0f64, |a, &b| a.max(b))
+        * 1.1;
+    let mut c = ChartBuilder::on(&top)
+        .caption(format!("{title}: cutting force"), ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..t_end, 0.0..fmax)?;
+    c.configure_mesh()
+        .x_desc("t, s")
+        .y_desc("force, N")
+        .draw()?;
+    c.draw_series(LineSeries::new(
+        tr.t.iter().map(|&t| (t, 500.0)),
+        BLACK.stroke_width(1),
+    ))?
+    .label("reference")
+    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], BLACK));
+    c.draw_series(LineSeries::new(
+        tr.t.iter().zip(&tr.force_true).map(|(&t, &f)| (t, f)),
+        BLUE.stroke_width(2),
+    ))?
+    .label("true")
+    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], BLUE));
+    c.draw_series(LineSeries::new(
+        tr.t.iter().zip(&tr.force_est).map(|(&t, &f)| (t, f)),
+        RED.stroke_width(1),
+    ))?
+    .label("estimated")
+    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], RED));
+    c.configure_series_labels()
+        .border_style(BLACK)
+        .background_style(WHITE)
+        .draw()?;
+    let mut c = ChartBuilder::on(&bottom)
+        .caption("feed override", ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(50)
+        .build_cartesian_2d(0.0..t_end, 0.0..160.0)?;
+    c.configure_mesh()
+        .x_desc("t, s")
+        .y_desc("override, %")
+        .draw()?;
+    c.draw_series(LineSeries::new(
+        tr.t.iter()
+            .zip(&tr.override_pct)
+            .map(|(&t, &o)| (t, f64::from(o))),
+        GREEN.stroke_width(2),
+    ))?;
+    root.present()?;
+    Ok(())
 }

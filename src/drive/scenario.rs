@@ -1,0 +1,334 @@
+//! The depth-step force-control scenario (SPEC 3's experiment): 500 N reference, depth of
+//! cut 1 mm stepping to 1.5 mm mid-cut, force control on measured or estimated force —
+//! run with the fixed-point model kernel or the float reference, with metrics and the
+//! sample-level vectors.
+//!
+//! Timeline (defaults): spindle at 600 rpm, run-up to 800 rpm between 0.5 and 1.5 s while
+//! the no-load identification runs (0.3–2.5 s), tool engages and force control starts at
+//! 3 s, depth steps at 8 s, end at 13 s. Events are timed in ADC samples (tick_hz =
+//! sample rate); the tick closing a period carries the time of its last sample.
+
+use super::{DepthProfile, DriveParams, Plant, ProcessParams};
+use crate::reference::ReferenceStack;
+use std::f64::consts::PI;
+use tooltouch_model::force::{ForceConfig, ForceEvent, ForceKernel, ForceOutputs};
+
+/// The scenario's set-up.
+#[derive(Clone, Copy, Debug)]
+pub struct ControlScenario {
+    /// The validated force-path configuration (controller, force source, reference).
+    pub config: ForceConfig,
+    /// Drive plant.
+    pub drive: DriveParams,
+    /// Process plant.
+    pub process: ProcessParams,
+    /// Depth profile.
+    pub depth: DepthProfile,
+    /// Run length, s.
+    pub duration: f64,
+    /// Spindle speed before the run-up, rpm.
+    pub rpm_start: f64,
+    /// Spindle speed while cutting, rpm.
+    pub rpm_cut: f64,
+    /// Run-up start and end, s.
+    pub ramp: (f64, f64),
+    /// No-load identification window, s.
+    pub identify: (f64, f64),
+    /// Tool engagement and control on, s.
+    pub engage_at: f64,
+    /// Noise seed.
+    pub seed: u64,
+}
+
+impl ControlScenario {
+    /// The default scenario for `config`.
+    pub fn new(config: ForceConfig) -> ControlScenario {
+        ControlScenario {
+            config,
+            drive: DriveParams::default(),
+            process: ProcessParams::default(),
+            depth: DepthProfile {
+                before: 1.0,
+                after: 1.5,
+                step_at: 8.0,
+            },
+            duration: 13.0,
+            rpm_start: 600.0,
+            rpm_cut: 800.0,
+            ramp: (0.5, 1.5),
+            identify: (0.3, 2.5),
+            engage_at: 3.0,
+            seed: 1,
+        }
+    }
+}
+
+/// Which implementation closes the loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Engine {
+    /// `tooltouch_model::force::ForceKernel` (fixed point).
+    Model,
+    /// [`ReferenceStack`] (f64).
+    Reference,
+}
+
+/// Per-period traces.
+#[derive(Clone, Debug, Default)]
+pub struct Trace {
+    /// Time at the tick, s.
+    pub t: Vec<f64>,
+    /// True cutting force, mean over the period, N.
+    pub force_true: Vec<f64>,
+    /// Estimated force, N.
+    pub force_est: Vec<f64>,
+    /// Dynamometer force (period average), N.
+    pub force_meas: Vec<f64>,
+    /// Override, %.
+    pub override_pct: Vec<u8>,
+    /// F9 used the fast estimate.
+    pub fast: Vec<bool>,
+}
+
+/// The scenario's figures of merit (on the true force).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Metrics {
+    /// Peak force above the reference after the depth step, % of the reference.
+    pub overshoot_pct: f64,
+    /// From the depth step until the force stays within ±5 % of the reference, s
+    /// (infinite if it never does).
+    pub settling_s: f64,
+    /// Mean force error over the last second, N.
+    pub steady_error_n: f64,
+    /// Integral of |F_r − F| from engagement to the end, N·s.
+    pub iae: f64,
+    /// Smallest and largest override while controlling, %.
+    pub override_range: (u8, u8),
+}
+
+/// One run's results.
+#[derive(Clone, Debug, Default)]
+pub struct Run {
+    /// Traces.
+    pub trace: Trace,
+    /// Metrics.
+    pub metrics: Metrics,
+    /// Input events (sample-level stimulus), time in samples.
+    pub events: Vec<(u64, ForceEvent)>,
+    /// Model outputs after every non-sample event (model engine only).
+    pub outputs: Vec<(u64, ForceOutputs)>,
+    /// Identified (B, T_fco).
+    pub identified: (f64, f64),
+}
+
+enum Stack {
+    Model(Box<ForceKernel>),
+    Reference(Box<ReferenceStack>),
+}
+
+impl Stack {
+    fn apply(&mut self, ev: ForceEvent) {
+        match self {
+            Stack::Model(k) => k.apply(ev),
+            Stack::Reference(r) => r.apply(ev),
+        }
+    }
+    fn override_pct(&self) -> u8 {
+        match self {
+            Stack::Model(k) => k.outputs().override_pct,
+            Stack::Reference(r) => r.override_pct,
+        }
+    }
+    fn estimate(&self) -> (f64, f64, bool) {
+        match self {
+            Stack::Model(k) => {
+                let o = k.outputs();
+                (
+                    o.force_estimate.to_num(),
+                    o.force_measured.to_num(),
+                    o.fast_estimate,
+                )
+            }
+            Stack::Reference(r) => (r.estimate.force, r.estimate.force_measured, r.estimate.fast),
+        }
+    }
+}
+
+/// Runs the scenario; `record` keeps the events and outputs for vectors.
+pub fn run(sc: &ControlScenario, engine: Engine, record: bool) -> Run {
+    let s = sc.config.settings();
+    let fs = f64::from(s.sample_hz);
+    let spp = u64::from(s.samples_per_period);
+    let h = spp as f64 / fs;
+    let rpm = |r: f64| r * 2.0 * PI / 60.0;
+    let mut plant = Plant::new(
+        sc.drive,
+        sc.process,
+        sc.depth,
+        &s.scales,
+        fs,
+        rpm(sc.rpm_start),
+        sc.seed,
+    );
+    let mut stack = match engine {
+        Engine::Model => Stack::Model(Box::new(ForceKernel::new(&sc.config))),
+        Engine::Reference => Stack::Reference(Box::new(ReferenceStack::new(s))),
+    };
+    let reference = s.reference.to_num::<f64>();
+    let n = (sc.duration * fs).round() as u64;
+    let at = |t: f64| (t * fs).round() as u64;
+    let commands = [
+        (at(sc.identify.0), ForceEvent::Identify(true)),
+        (at(sc.identify.1), ForceEvent::Identify(false)),
+        (at(sc.engage_at), ForceEvent::Control(true)),
+    ];
+    let mut run = Run::default();
+    let mut force_sum = 0.0;
+    let emit = |stack: &mut Stack, run: &mut Run, k: u64, ev: ForceEvent| {
+        stack.apply(ev);
+        if record {
+            run.events.push((k, ev));
+            if let (Stack::Model(kernel), false) = (&*stack, matches!(ev, ForceEvent::Sample(_))) {
+                run.outputs.push((k, kernel.outputs()));
+            }
+        }
+    };
+    for k in 0..n {
+        let t = k as f64 / fs;
+        let (r0, r1) = sc.ramp;
+        let speed = if t < r0 {
+            sc.rpm_start
+        } else if t < r1 {
+            sc.rpm_start + (sc.rpm_cut - sc.rpm_start) * (t - r0) / (r1 - r0)
+        } else {
+            sc.rpm_cut
+        };
+        plant.set_speed(rpm(speed));
+        let codes = plant.sample();
+        force_sum += plant.state().force;
+        emit(&mut stack, &mut run, k, ForceEvent::Sample(codes));
+        if (k + 1) % spp == 0 {
+            emit(&mut stack, &mut run, k, ForceEvent::Tick);
+            plant.override_pct = stack.override_pct();
+            let (est, meas, fast) = stack.estimate();
+            let tr = &mut run.trace;
+            tr.t.push((k + 1) as f64 / fs);
+            tr.force_true.push(force_sum / spp as f64);
+            tr.force_est.push(est);
+            tr.force_meas.push(meas);
+            tr.override_pct.push(plant.override_pct);
+            tr.fast.push(fast);
+            force_sum = 0.0;
+        }
+        for &(when, ev) in &commands {
+            if when == k {
+                emit(&mut stack, &mut run, k, ev);
+                if matches!(ev, ForceEvent::Control(true)) {
+                    plant.engaged = true;
+                }
+                plant.override_pct = stack.override_pct();
+            }
+        }
+    }
+    run.identified = match &stack {
+        Stack::Model(k) => (
+            k.estimator().viscous().to_num(),
+            k.estimator().coulomb().to_num(),
+        ),
+        Stack::Reference(r) => (r.estimator.viscous, r.estimator.coulomb),
+    };
+    run.metrics = metrics(&run.trace, reference, sc.depth.step_at, sc.engage_at, h);
+    run
+}
+
+/// Metrics of a trace (see [`Metrics`]).
+pub fn metrics(tr: &Trace, reference: f64, step_at: f64, engage_at: f64, h: f64) -> Metrics {
+    let band = 0.05 * reference;
+    let end = tr.t.last().copied().unwrap_or(0.0);
+    let mut m = Metrics {
+        override_range: (u8::MAX, 0),
+        ..Metrics::default()
+    };
+    let mut peak = f64::MIN;
+    let mut last_out = None;
+    let (mut ss_sum, mut ss_n) = (0.0, 0usize);
+    for (i, &t) in tr.t.iter().enumerate() {
+        let f = tr.force_true[i];
+        if t > engage_at {
+            m.iae += (reference - f).abs() * h;
+            let o = tr.override_pct[i];
+            m.override_range = (m.override_range.0.min(o), m.override_range.1.max(o));
+        }
+        if t > step_at {
+            peak = peak.max(f);
+            if (f - reference).abs() > band {
+                last_out = Some(t);
+            }
+        }
+        if t > end - 1.0 {
+            ss_sum += f - reference;
+            ss_n += 1;
+        }
+    }
+    m.overshoot_pct = ((peak - reference) / reference * 100.0).max(0.0);
+    m.settling_s = match last_out {
+        Some(t) if t >= end - h / 2.0 => f64::INFINITY,
+        Some(t) => t - step_at,
+        None => 0.0,
+    };
+    m.steady_error_n = if ss_n > 0 { ss_sum / ss_n as f64 } else { 0.0 };
+    m
+}
+
+/// The three controllers by name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ControllerKind {
+    /// PI (Ziegler–Nichols).
+    Pi,
+    /// Adaptive F11.
+    Adaptive,
+    /// Fuzzy PI.
+    Fuzzy,
+}
+
+impl ControllerKind {
+    /// All three.
+    pub const ALL: [ControllerKind; 3] = [
+        ControllerKind::Pi,
+        ControllerKind::Adaptive,
+        ControllerKind::Fuzzy,
+    ];
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ControllerKind::Pi => "pi",
+            ControllerKind::Adaptive => "adaptive",
+            ControllerKind::Fuzzy => "fuzzy",
+        }
+    }
+}
+
+/// The scenario's force-path settings: the model defaults with the controller designed on
+/// the nominal process F10 ([`crate::reference::design`]).
+pub fn scenario_settings(
+    kind: ControllerKind,
+    source: tooltouch_model::force::ForceSource,
+) -> tooltouch_model::force::ForceSettings {
+    use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
+    use tooltouch_model::control::ControllerSettings;
+    let nominal = NominalProcess::default();
+    let (kp, ki) = nominal.ziegler_nichols_pi();
+    let controller = match kind {
+        ControllerKind::Pi => ControllerSettings::Pi(pi_settings(kp, ki)),
+        ControllerKind::Adaptive => {
+            ControllerSettings::Adaptive(adaptive_settings(4.0, nominal.gain()))
+        }
+        ControllerKind::Fuzzy => {
+            ControllerSettings::Fuzzy(fuzzy_from_pi(kp, ki, nominal.period, 300.0))
+        }
+    };
+    tooltouch_model::force::ForceSettings {
+        controller,
+        force_source: source,
+        ..Default::default()
+    }
+}
