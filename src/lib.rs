@@ -4,6 +4,7 @@
 
 pub mod cli;
 pub mod cosim;
+pub mod hdl;
 pub mod drive;
 pub mod hdl;
 pub mod lathe;
