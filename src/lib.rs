@@ -4,8 +4,13 @@
 
 pub mod cli;
 pub mod cosim;
+pub mod drive;
 pub mod hdl;
 pub mod lathe;
 pub mod measurement_cycle;
+pub mod plot;
+pub mod reference;
+pub mod settings;
 pub mod stimulus;
+pub mod tune;
 pub mod vectors;
