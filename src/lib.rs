@@ -5,11 +5,9 @@
 pub mod cli;
 pub mod cosim;
 pub mod drive;
-pub mod drive;
 pub mod hdl;
 pub mod lathe;
 pub mod measurement_cycle;
-pub mod reference;
 pub mod plot;
 pub mod reference;
 pub mod settings;
