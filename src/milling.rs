@@ -1,0 +1,358 @@
+//! Face-milling spindle power with flank wear (SPEC 4, paper W: W1–W7), the precomputation
+//! of the wear monitor's condition sets (W8–W9), and the wear scenario of `tooltouch wear`.
+//!
+//! Units: lengths in mm except the cutter diameter in the power formulas (m), C and H in
+//! N/mm², forces in N, speed n in rev/s inside the formulas, powers in W. The papers'
+//! constants are the defaults: C = 1.54 (paper: "MN/m"; read here as 1.54 kN/mm² = 1540
+//! N/mm² so that `b·C·a^(−x)·s_z` is a force in N with b, a, s_z in mm — our reading),
+//! x = 0.23, μ = 0.1, H = 1680 N/mm² (cast iron), D = 100 mm, Z = 5, t = 70 mm.
+
+use crate::reference::f;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use std::f64::consts::PI;
+use tooltouch_model::force::{ForceConfig, ForceEvent, ForceKernel, ForceSettings, Fx};
+use tooltouch_model::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+
+/// Cutter, workpiece and machine data (strategy step 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MillingParams {
+    /// Cutting-force constant C, N/mm².
+    pub c: f64,
+    /// Chip-thickness exponent x.
+    pub x: f64,
+    /// Flank friction coefficient μ.
+    pub mu: f64,
+    /// Workpiece hardness H, N/mm².
+    pub hardness: f64,
+    /// Cutter diameter D, mm.
+    pub diameter_mm: f64,
+    /// Teeth Z.
+    pub teeth: u32,
+    /// Width of cut t, mm.
+    pub width_mm: f64,
+    /// Offset δ of the cutter axis from the middle of the cut, mm.
+    pub offset_mm: f64,
+    /// Idle spindle power p_i, W.
+    pub idle_power: f64,
+    /// Machine efficiency η.
+    pub efficiency: f64,
+}
+
+impl Default for MillingParams {
+    fn default() -> Self {
+        MillingParams {
+            c: 1540.0,
+            x: 0.23,
+            mu: 0.1,
+            hardness: 1680.0,
+            diameter_mm: 100.0,
+            teeth: 5,
+            width_mm: 70.0,
+            offset_mm: 0.0,
+            idle_power: 300.0,
+            efficiency: 0.8,
+        }
+    }
+}
+
+/// Current cutting conditions (strategy step 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conditions {
+    /// Depth of cut b (= cutting-edge length l), mm.
+    pub depth_mm: f64,
+    /// Feed per tooth s_z, mm.
+    pub feed_per_tooth_mm: f64,
+    /// Spindle speed, rpm.
+    pub rpm: f64,
+}
+
+/// Engagement angles: ψ_1, ψ_2, ψ, φ_v (entry), φ_r (exit), rad.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Angles {
+    /// ψ_1 = arcsin((t + 2δ)/D).
+    pub psi1: f64,
+    /// ψ_2 = arcsin((t − 2δ)/D).
+    pub psi2: f64,
+    /// ψ = ψ_1 + ψ_2.
+    pub psi: f64,
+    /// Entry angle φ_v = π/2 − ψ_1.
+    pub entry: f64,
+    /// Exit angle φ_r = π/2 + ψ_2.
+    pub exit: f64,
+}
+
+impl MillingParams {
+    /// The engagement angles (SPEC 4, below W1).
+    pub fn angles(&self) -> Angles {
+        let psi1 = ((self.width_mm + 2.0 * self.offset_mm) / self.diameter_mm)
+            .clamp(-1.0, 1.0)
+            .asin();
+        let psi2 = ((self.width_mm - 2.0 * self.offset_mm) / self.diameter_mm)
+            .clamp(-1.0, 1.0)
+            .asin();
+        Angles {
+            psi1,
+            psi2,
+            psi: psi1 + psi2,
+            entry: PI / 2.0 - psi1,
+            exit: PI / 2.0 + psi2,
+        }
+    }
+
+    /// Mean chip thickness a = (s_z/ψ)(sin ψ_1 + sin ψ_2), mm.
+    pub fn mean_chip_thickness(&self, c: &Conditions) -> f64 {
+        let an = self.angles();
+        c.feed_per_tooth_mm / an.psi * (an.psi1.sin() + an.psi2.sin())
+    }
+
+    /// Tangential force on one tooth at angle φ with flank wear VB (W4), N; 0 outside the
+    /// engagement `φ_v ≤ φ ≤ φ_r`.
+    pub fn tooth_force(&self, phi: f64, vb_mm: f64, c: &Conditions) -> f64 {
+        let an = self.angles();
+        let phi = phi.rem_euclid(2.0 * PI);
+        if phi < an.entry || phi > an.exit {
+            return 0.0;
+        }
+        let a = self.mean_chip_thickness(c);
+        c.depth_mm
+            * (self.c * a.powf(-self.x) * c.feed_per_tooth_mm * phi.sin()
+                + self.mu * self.hardness * vb_mm)
+    }
+
+    /// Cutting power of the whole cutter at rotation angle θ (W5–W6): the sum over the Z
+    /// teeth at θ + kΦ, Φ = 2π/Z (the m or m−1 engaged ones contribute), W.
+    pub fn cutting_power(&self, theta: f64, vb_mm: f64, c: &Conditions) -> f64 {
+        let pitch = 2.0 * PI / f64::from(self.teeth);
+        let v = PI * self.diameter_mm / 1000.0 * c.rpm / 60.0;
+        (0..self.teeth)
+            .map(|k| v * self.tooth_force(theta + f64::from(k) * pitch, vb_mm, c))
+            .sum()
+    }
+
+    /// Mean cutting power P̄ (W7), W.
+    pub fn mean_power(&self, vb_mm: f64, c: &Conditions) -> f64 {
+        let an = self.angles();
+        let a = self.mean_chip_thickness(c);
+        let n = c.rpm / 60.0;
+        f64::from(self.teeth) * n * self.diameter_mm / 1000.0
+            * c.depth_mm
+            * (self.c * a.powf(-self.x) * c.feed_per_tooth_mm * (an.entry.cos() - an.exit.cos())
+                + self.mu * self.hardness * vb_mm * an.psi)
+            / 2.0
+    }
+
+    /// Spindle motor power for a cutting power: p_i + P/η, W.
+    pub fn motor_power(&self, cutting: f64) -> f64 {
+        self.idle_power + cutting / self.efficiency
+    }
+
+    /// The wear monitor's constants for `c` with wear limit `[VB]` (W8): `[P̄]` and p_i,
+    /// converted to I32F32 once, here, outside the hot path.
+    pub fn condition_set(&self, c: &Conditions, vb_limit_mm: f64) -> ConditionSet {
+        ConditionSet {
+            mean_power_limit: Fx::from_num(self.mean_power(vb_limit_mm, c)),
+            idle_power: Fx::from_num(self.idle_power),
+        }
+    }
+}
+
+/// Which tool the scenario mills with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tool {
+    /// Name for tables and files.
+    pub name: &'static str,
+    /// Flank wear at the start, mm.
+    pub vb_start: f64,
+    /// Flank wear growth, mm/s of cutting.
+    pub vb_rate: f64,
+}
+
+/// A new tool: VB 0.05 mm growing 1 µm/s.
+pub const NEW_TOOL: Tool = Tool {
+    name: "new",
+    vb_start: 0.05,
+    vb_rate: 0.001,
+};
+/// A worn tool: VB 0.42 mm growing 1 µm/s (past the 0.3 mm limit).
+pub const WORN_TOOL: Tool = Tool {
+    name: "worn",
+    vb_start: 0.42,
+    vb_rate: 0.001,
+};
+
+/// The wear scenario: idle, then `depths[0]` for `segment` s, then `depths[1]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WearScenario {
+    /// Cutter and machine.
+    pub milling: MillingParams,
+    /// Depths of the two cuts, mm.
+    pub depths: [f64; 2],
+    /// Feed per tooth, mm.
+    pub feed_per_tooth_mm: f64,
+    /// Spindle speed, rpm.
+    pub rpm: f64,
+    /// Wear limit [VB], mm.
+    pub vb_limit_mm: f64,
+    /// Idle time before the first cut, s.
+    pub idle_s: f64,
+    /// Length of each cut, s.
+    pub segment_s: f64,
+    /// Lag of the measured power, s.
+    pub power_lag: f64,
+    /// ADC noise, LSB rms.
+    pub adc_noise: f64,
+    /// Noise seed.
+    pub seed: u64,
+}
+
+impl Default for WearScenario {
+    /// Depth 2 mm then 3 mm, s_z = 0.2 mm, 300 rpm, [VB] = 0.3 mm, 20 s per cut.
+    fn default() -> Self {
+        WearScenario {
+            milling: MillingParams::default(),
+            depths: [2.0, 3.0],
+            feed_per_tooth_mm: 0.2,
+            rpm: 300.0,
+            vb_limit_mm: 0.3,
+            idle_s: 1.0,
+            segment_s: 20.0,
+            power_lag: 0.3,
+            adc_noise: 1.5,
+            seed: 7,
+        }
+    }
+}
+
+/// Per-period wear traces.
+#[derive(Clone, Debug, Default)]
+pub struct WearRun {
+    /// Time, s.
+    pub t: Vec<f64>,
+    /// True motor power (period mean), W.
+    pub power_true: Vec<f64>,
+    /// Monitor's low-passed power p̄, W.
+    pub power: Vec<f64>,
+    /// Allowed power [P], W.
+    pub allowed: Vec<f64>,
+    /// Alarm latched.
+    pub alarm: Vec<bool>,
+    /// Flank wear, mm.
+    pub vb: Vec<f64>,
+    /// First alarm time, s.
+    pub alarm_at: Option<f64>,
+    /// Input events (time in samples).
+    pub events: Vec<(u64, ForceEvent)>,
+}
+
+impl WearScenario {
+    /// Conditions of cut `i`.
+    pub fn conditions(&self, i: usize) -> Conditions {
+        Conditions {
+            depth_mm: self.depths[i.min(1)],
+            feed_per_tooth_mm: self.feed_per_tooth_mm,
+            rpm: self.rpm,
+        }
+    }
+
+    /// The force-path configuration with the two condition sets precomputed (updating
+    /// threshold) or the constant threshold of the first cut's conditions.
+    pub fn config(
+        &self,
+        constant: bool,
+    ) -> Result<ForceConfig, tooltouch_model::force::ForceConfigError> {
+        let mut s = ForceSettings::default();
+        let mut sets = [ConditionSet::default(); MAX_CONDITION_SETS];
+        sets[0] = self
+            .milling
+            .condition_set(&self.conditions(0), self.vb_limit_mm);
+        sets[1] = self
+            .milling
+            .condition_set(&self.conditions(1), self.vb_limit_mm);
+        s.wear.sets = sets;
+        s.wear.set_count = 2;
+        s.wear.efficiency = Fx::from_num(self.milling.efficiency);
+        s.wear.threshold = if constant {
+            let p = tooltouch_model::wear::allowed_power(&sets[0], s.wear.efficiency);
+            Threshold::Constant(p)
+        } else {
+            Threshold::Updating
+        };
+        s.validate()
+    }
+
+    /// Runs the scenario through the model kernel.
+    pub fn run(&self, tool: &Tool, config: &ForceConfig) -> WearRun {
+        let s = config.settings();
+        let fs = f64::from(s.sample_hz);
+        let spp = u64::from(s.samples_per_period);
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        let noise = Normal::new(0.0, self.adc_noise.max(1e-12)).expect("positive sigma");
+        let mut kernel = ForceKernel::new(config);
+        let mut out = WearRun::default();
+        let total = self.idle_s + 2.0 * self.segment_s;
+        let n = (total * fs).round() as u64;
+        let second_at = ((self.idle_s + self.segment_s) * fs).round() as u64;
+        let mut p_meas = self.milling.idle_power;
+        let mut theta = 0.0;
+        let mut sum = 0.0;
+        let dt = 1.0 / fs;
+        let power_lsb = f(s.scales.power_per_lsb);
+        let apply = |k: &mut ForceKernel, out: &mut WearRun, t: u64, ev: ForceEvent| {
+            k.apply(ev);
+            out.events.push((t, ev));
+        };
+        apply(&mut kernel, &mut out, 0, ForceEvent::Conditions(0));
+        let mut vb = tool.vb_start;
+        for k in 0..n {
+            let t = k as f64 / fs;
+            if k == second_at {
+                apply(&mut kernel, &mut out, k, ForceEvent::Conditions(1));
+            }
+            let cutting_now = t >= self.idle_s;
+            let cond = self.conditions(if k >= second_at { 1 } else { 0 });
+            if cutting_now {
+                vb += tool.vb_rate * dt;
+            }
+            theta += 2.0 * PI * self.rpm / 60.0 * dt;
+            let p_cut = if cutting_now {
+                self.milling.cutting_power(theta, vb, &cond)
+            } else {
+                0.0
+            };
+            let p_motor = self.milling.motor_power(p_cut);
+            sum += p_motor;
+            p_meas += (p_motor - p_meas) * dt / self.power_lag;
+            let code = (p_meas / power_lsb + noise.sample(&mut rng))
+                .round()
+                .clamp(0.0, f64::from(ADC_MAX)) as u16;
+            let mid = ADC_MID as u16;
+            let codes = AdcCodes {
+                speed: 0,
+                power: code,
+                force: mid,
+                volts: [mid; 3],
+                amps: [mid; 2],
+            };
+            apply(&mut kernel, &mut out, k, ForceEvent::Sample(codes));
+            if (k + 1) % spp == 0 {
+                apply(&mut kernel, &mut out, k, ForceEvent::Tick);
+                let o = kernel.outputs();
+                let tt = (k + 1) as f64 / fs;
+                out.t.push(tt);
+                out.power_true.push(sum / spp as f64);
+                out.power.push(o.wear_power.to_num());
+                out.allowed.push(o.wear_allowed.to_num());
+                out.alarm.push(o.wear_alarm);
+                out.vb.push(vb);
+                if o.wear_alarm && out.alarm_at.is_none() {
+                    out.alarm_at = Some(tt);
+                }
+                sum = 0.0;
+            }
+        }
+        out
+    }
+}
