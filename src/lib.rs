@@ -8,6 +8,7 @@ pub mod drive;
 pub mod hdl;
 pub mod lathe;
 pub mod measurement_cycle;
+pub mod milling;
 pub mod plot;
 pub mod reference;
 pub mod settings;
