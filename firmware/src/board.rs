@@ -4,6 +4,9 @@
 //! memory-mapped registers, or on QEMU the virtual pins the co-simulation driver sets
 //! before it pends an interrupt), so the same handler code runs on every board.
 
+use tooltouch_model::force::ForceEvent;
+use tooltouch_model::sampling::AdcCodes;
+
 /// Pin levels the handlers read and the outputs they drive.
 pub trait Board {
     /// Level of the CNC's arm (measurement-cycle start / abort) input.
@@ -14,4 +17,13 @@ pub trait Board {
     fn scale() -> (bool, bool);
     /// Drives the "position reached, register now" output to the CNC.
     fn set_register_now(on: bool);
+    /// The latest conversion of every spindle-drive channel, 12-bit codes.
+    fn adc() -> AdcCodes;
+    /// The CNC's force-path command that raised the command interrupt, if any
+    /// (identify, control on/off, cutting conditions, tool changed).
+    fn force_command() -> Option<ForceEvent>;
+    /// Drives the feed override to the CNC, % (`0..=255`, SPEC 3).
+    fn set_feed_override(percent: u8);
+    /// Drives the wear alarm output (SPEC 4, W9: change the tool).
+    fn set_wear_alarm(on: bool);
 }

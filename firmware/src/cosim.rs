@@ -4,17 +4,24 @@
 //!
 //! Input: one or more concatenated streams, each `Header{stream: Events}`, a
 //! `MEASURE_CONFIG` record (the firmware configures itself from it and checks it against
-//! the header's hash), event records, `END`. Output, per input stream: `Header{stream:
-//! Outputs}` with the same hashes, one `MEASURE_OUTPUTS` record after every event (same
-//! time as the event), a [`kind::FIRMWARE_PROFILE`] and a [`kind::FIRMWARE_STATUS`]
-//! record, `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
+//! the header's hash), measurement and force event records, `END`. The force path runs
+//! the default force configuration ([`ForceSettings::default`]): the header's
+//! `force_hash` must be its hash, or 0 for a stream without force events (the force
+//! configuration's canonical encoding is longer than one record). Output, per input
+//! stream: `Header{stream: Outputs}` with the same hashes, one `MEASURE_OUTPUTS` record
+//! after every measurement event and one force `OUTPUTS` record after every force event
+//! except a sample (model::force's convention), each at its event's time; then
+//! [`kind::FIRMWARE_PROFILE`], [`kind::FIRMWARE_FORCE_PROFILE`] and
+//! [`kind::FIRMWARE_STATUS`] records and `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
 //! `END`, and [`run`] returns the error.
 //!
 //! Board-independent: the board supplies the file [`Port`] and the [`Target`] that
 //! delivers an event through its interrupt.
 
 use crate::handlers::Counters;
-use tooltouch_model::events::MeasureEventKind;
+use tooltouch_model::force::{
+    self, decode_force_event, ForceConfig, ForceEvent, ForceOutputs, ForceSettings,
+};
 use tooltouch_model::wire::{
     self, decode_config, decode_event, encode_outputs, Header, Record, StreamKind, WireError,
     HEADER_LEN, MAX_PAYLOAD, RECORD_HEADER_LEN,
@@ -25,6 +32,9 @@ use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs};
 /// reserves for other output traces (`0x41..=0x5f`), counted down from the top so the
 /// force path can take the bottom of the range.
 pub mod kind {
+    /// Per force event kind (sample, tick, command): events u32 and SysTick ticks u32,
+    /// 24 bytes. A tick's ticks include applying the period's queued samples.
+    pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
     /// The input was rejected; payload: code u8, wire error u8, byte offset u64, detail u64.
     pub const FIRMWARE_ERROR: u8 = 0x5d;
     /// Per event kind (arm, contact, index, FES, scale): events u32 and SysTick ticks
@@ -47,15 +57,28 @@ pub trait Port {
     fn write(&mut self, bytes: &[u8]) -> Result<(), IoError>;
 }
 
+/// One input event of either path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Input {
+    /// A measurement event.
+    Measure(MeasureEvent),
+    /// A force-path event.
+    Force(ForceEvent),
+}
+
 /// The firmware under test, as the driver sees it.
 pub trait Target {
-    /// Power-on state with `config`: a fresh kernel, all input pins low.
-    fn configure(&mut self, config: &MeasureConfig);
-    /// Drives the event's pins and pends its interrupt (with the barriers that make the
-    /// pend take effect at once); returns SysTick ticks from the pend to the return.
-    fn inject(&mut self, event: MeasureEvent) -> u32;
-    /// Snapshot of the kernel's outputs.
+    /// Power-on state with `config` and `force`: fresh kernels, all input pins low, empty
+    /// sample queue.
+    fn configure(&mut self, config: &MeasureConfig, force: &ForceConfig);
+    /// Drives the event's pins (or ADC / command registers) and pends its interrupt (with
+    /// the barriers that make the pend take effect at once); returns SysTick ticks from
+    /// the pend to the return.
+    fn inject(&mut self, event: Input) -> u32;
+    /// Snapshot of the measurement kernel's outputs.
     fn outputs(&mut self) -> MeasureOutputs;
+    /// Snapshot of the force kernel's outputs.
+    fn force_outputs(&mut self) -> ForceOutputs;
     /// Lost / overflowed counters since [`Target::configure`].
     fn counters(&mut self) -> Counters;
     /// A known instruction count and the SysTick ticks it took (converts ticks to
@@ -82,6 +105,9 @@ pub enum Error {
     UnexpectedKind(u8, u64),
     /// The input holds no stream.
     Empty,
+    /// The header's force hash is neither 0 nor the firmware's force configuration's
+    /// (stream at `offset`; detail: the firmware's hash).
+    ForceHashMismatch(u64, u64),
 }
 
 impl Error {
@@ -110,6 +136,7 @@ impl Error {
             Error::HashMismatch(offset) => (5, 0, offset, 0),
             Error::UnexpectedKind(k, offset) => (6, 0, offset, k.into()),
             Error::Empty => (7, 0, 0, 0),
+            Error::ForceHashMismatch(offset, hash) => (8, 0, offset, hash),
         }
     }
 }
@@ -233,23 +260,35 @@ impl Writer {
     }
 }
 
-/// Events and SysTick ticks per event kind.
+/// Events and SysTick ticks per event kind: arm, contact, index, FES, scale, then force
+/// sample, tick, command.
 #[derive(Default)]
 struct Profile {
-    slots: [(u32, u32); 5],
+    slots: [(u32, u32); 8],
 }
 
 impl Profile {
-    fn add(&mut self, kind: MeasureEventKind, ticks: u32) {
-        if let Some((n, t)) = self.slots.get_mut(kind as usize) {
+    fn slot(input: &Input) -> usize {
+        match input {
+            Input::Measure(e) => e.kind() as usize,
+            Input::Force(ForceEvent::Sample(_)) => 5,
+            Input::Force(ForceEvent::Tick) => 6,
+            Input::Force(_) => 7,
+        }
+    }
+
+    fn add(&mut self, input: &Input, ticks: u32) {
+        if let Some((n, t)) = self.slots.get_mut(Self::slot(input)) {
             *n = n.saturating_add(1);
             *t = t.saturating_add(ticks);
         }
     }
 
-    fn encode(&self) -> [u8; 40] {
+    /// Encodes slots `from..to` as (events u32, ticks u32) pairs; returns the bytes used.
+    fn encode(&self, from: usize, to: usize) -> ([u8; 40], usize) {
         let mut out = [0u8; 40];
-        for (chunk, (n, t)) in out.chunks_exact_mut(8).zip(self.slots.iter()) {
+        let slots = self.slots.get(from..to).unwrap_or(&[]);
+        for (chunk, (n, t)) in out.chunks_exact_mut(8).zip(slots.iter()) {
             for (d, s) in chunk
                 .iter_mut()
                 .zip(n.to_le_bytes().iter().chain(&t.to_le_bytes()))
@@ -257,7 +296,7 @@ impl Profile {
                 *d = *s;
             }
         }
-        out
+        (out, slots.len().saturating_mul(8).min(40))
     }
 }
 
@@ -302,6 +341,10 @@ fn run_streams<P: Port, T: Target>(
     reader: &mut Reader,
     writer: &mut Writer,
 ) -> Result<u32, Error> {
+    let force = ForceSettings::default()
+        .validate()
+        .map_err(|_| Error::Wire(WireError::BadConfigEncoding, 0))?;
+    let force_hash = force.hash();
     let mut streams: u32 = 0;
     loop {
         reader.fill(port, HEADER_LEN)?;
@@ -322,13 +365,23 @@ fn run_streams<P: Port, T: Target>(
         if config.hash() != header.measure_hash {
             return Err(Error::HashMismatch(at));
         }
-        target.configure(&config);
+        if header.force_hash != 0 && header.force_hash != force_hash {
+            return Err(Error::ForceHashMismatch(at, force_hash));
+        }
+        target.configure(&config, &force);
         let out_header = Header {
             stream: StreamKind::Outputs,
             ..header
         };
         writer.put(port, &out_header.encode())?;
-        replay(port, target, reader, writer, first.time)?;
+        replay(
+            port,
+            target,
+            reader,
+            writer,
+            first.time,
+            header.force_hash != 0,
+        )?;
         streams = streams.saturating_add(1);
     }
     if streams == 0 {
@@ -344,6 +397,7 @@ fn replay<P: Port, T: Target>(
     reader: &mut Reader,
     writer: &mut Writer,
     start: u64,
+    force_enabled: bool,
 ) -> Result<(), Error> {
     let mut previous = start;
     let mut profile = Profile::default();
@@ -364,19 +418,34 @@ fn replay<P: Port, T: Target>(
         if record.kind == wire::kind::END {
             break;
         }
-        let event = match decode_event(&record, offset as usize) {
-            Ok(Some(event)) => event,
+        let input = match decode_event(&record, offset as usize) {
+            Ok(Some(event)) => Input::Measure(event),
+            Ok(None) if force_enabled => match decode_force_event(&record, offset as usize) {
+                Ok(Some(event)) => Input::Force(event),
+                Ok(None) => return Err(Error::UnexpectedKind(record.kind, offset)),
+                Err(e) => return Err(Error::Wire(e, offset)),
+            },
             Ok(None) => return Err(Error::UnexpectedKind(record.kind, offset)),
             Err(e) => return Err(Error::Wire(e, offset)),
         };
-        let ticks = target.inject(event);
-        profile.add(event.kind(), ticks);
+        let ticks = target.inject(input);
+        profile.add(&input, ticks);
         events = events.saturating_add(1);
-        let outputs = encode_outputs(&target.outputs());
-        writer.record(
-            port,
-            &Record::new(wire::kind::MEASURE_OUTPUTS, record.time, &outputs),
-        )?;
+        match input {
+            Input::Measure(_) => {
+                let outputs = encode_outputs(&target.outputs());
+                writer.record(
+                    port,
+                    &Record::new(wire::kind::MEASURE_OUTPUTS, record.time, &outputs),
+                )?;
+            }
+            // A sample changes no output (model::force): no record, as the model writes.
+            Input::Force(ForceEvent::Sample(_)) => {}
+            Input::Force(_) => {
+                let o = target.force_outputs();
+                writer.record(port, &force::outputs_record(record.time, &o))?;
+            }
+        }
     }
     let counters = target.counters();
     let (cal_instructions, cal_ticks) = target.calibration();
@@ -392,9 +461,19 @@ fn replay<P: Port, T: Target>(
             cal_ticks,
         ],
     );
+    let (p, n) = profile.encode(0, 5);
     writer.record(
         port,
-        &Record::new(kind::FIRMWARE_PROFILE, previous, &profile.encode()),
+        &Record::new(kind::FIRMWARE_PROFILE, previous, p.get(..n).unwrap_or(&[])),
+    )?;
+    let (p, n) = profile.encode(5, 8);
+    writer.record(
+        port,
+        &Record::new(
+            kind::FIRMWARE_FORCE_PROFILE,
+            previous,
+            p.get(..n).unwrap_or(&[]),
+        ),
     )?;
     writer.record(port, &Record::new(kind::FIRMWARE_STATUS, previous, &status))?;
     writer.record(port, &Record::new(wire::kind::END, previous, &[]))?;

@@ -1,13 +1,19 @@
-//! The interrupt handlers' bodies, shared by every board: each reads its pins through
-//! [`Board`], steps the golden model's [`Measurement`] kernel once (the event level of
-//! the model, one call per event) and drives the "register now" output.
+//! The interrupt handlers' bodies, shared by every board: each reads its inputs through
+//! [`Board`], steps a golden-model kernel once (the model's event level: one call per
+//! event) and drives the outputs.
 //!
-//! The RTIC applications call these inside a lock of the shared `Measurement`; their
-//! priorities (highest first): FES, then index / contact / scale, then the CNC command.
-//! The FES pulse is the most frequent and the one whose loss would corrupt a count, so it
-//! preempts everything; the CNC's arm line changes once per measurement cycle.
+//! Priorities (highest first; RTIC applications bind them): FES pulse; index, contact and
+//! scale edges; the CNC's commands; the 1 kHz ADC sample; the 20 Hz control period. The
+//! FES pulse is the most frequent edge and the one whose loss corrupts a count, so it
+//! preempts everything; the control period is long (tens of microseconds) and has 50 ms,
+//! so it runs below everything else. The ADC sample does not touch the force kernel: it
+//! queues the codes ([`SampleQueue`]) and the control period applies the queued samples
+//! before its tick, so the sample interrupt never waits for the control computation.
 
 use crate::board::Board;
+use heapless::spsc::{Consumer, Producer, Queue};
+use tooltouch_model::force::{ForceEvent, ForceKernel};
+use tooltouch_model::sampling::AdcCodes;
 use tooltouch_model::Measurement;
 
 /// FES pulse (rising edge): count the pulse's contact bit, charge the capacitor, decide.
@@ -46,12 +52,55 @@ pub fn cnc_command<B: Board>(m: &mut Measurement) {
     B::set_register_now(m.register_now());
 }
 
+/// Queued ADC samples: one control period holds `samples_per_period` (50 at the SPEC's
+/// 1 kHz / 20 Hz); the capacity leaves room for a control period that starts late.
+pub const SAMPLE_QUEUE: usize = 256;
+/// The ADC-to-control sample queue (single producer, single consumer, lock-free).
+pub type SampleQueue = Queue<AdcCodes, SAMPLE_QUEUE>;
+/// The ADC interrupt's end of the queue.
+pub type SampleProducer<'a> = Producer<'a, AdcCodes, SAMPLE_QUEUE>;
+/// The control period's end of the queue.
+pub type SampleConsumer<'a> = Consumer<'a, AdcCodes, SAMPLE_QUEUE>;
+
+/// ADC sample (1 kHz): queue the codes. Returns false when the queue was full and the
+/// sample is dropped (count it in [`Counters::overflowed`]).
+#[inline]
+pub fn adc_sample<B: Board>(queue: &mut SampleProducer<'_>) -> bool {
+    queue.enqueue(B::adc()).is_ok()
+}
+
+/// Control period (20 Hz): apply the queued samples in order, then the tick (estimate,
+/// control, wear), and drive the feed override and the wear alarm.
+#[inline]
+pub fn control_period<B: Board>(k: &mut ForceKernel, queue: &mut SampleConsumer<'_>) {
+    while let Some(codes) = queue.dequeue() {
+        k.apply(ForceEvent::Sample(codes));
+    }
+    k.apply(ForceEvent::Tick);
+    drive_force_outputs::<B>(k);
+}
+
+/// CNC force-path command (identify, control on/off, conditions, tool changed).
+#[inline]
+pub fn force_command<B: Board>(k: &mut ForceKernel) {
+    if let Some(event) = B::force_command() {
+        k.apply(event);
+    }
+    drive_force_outputs::<B>(k);
+}
+
+fn drive_force_outputs<B: Board>(k: &ForceKernel) {
+    let o = k.outputs();
+    B::set_feed_override(o.override_pct);
+    B::set_wear_alarm(o.wear_alarm);
+}
+
 /// Counters of events the firmware could not handle, reported with the outputs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     /// Edges lost because their interrupt was still pending when the next one came
     /// (saturating at `u32::MAX`).
     pub lost: u32,
-    /// Samples dropped because a queue was full (saturating at `u32::MAX`).
+    /// ADC samples dropped because the sample queue was full (saturating at `u32::MAX`).
     pub overflowed: u32,
 }

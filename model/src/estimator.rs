@@ -200,7 +200,7 @@ impl EstimatorSettings {
         check_range(
             "estimator.friction_f[0]",
             self.friction_f[0],
-            Fx::lit("-0.5"),
+            const { Fx::lit("-0.5") },
             ONE,
         )?;
         check_range("estimator.friction_f[1]", self.friction_f[1], -F1, F1)?;
@@ -226,9 +226,13 @@ impl EstimatorSettings {
 
 /// Largest B for which `x = Bh/J ≤ 1/2` (the series for 1/b is valid): `J/(2h)`.
 pub fn viscous_max(inertia: KilogramSquareMetres, h: Seconds) -> NmsPerRad {
-    inertia
-        .checked_div(h.saturating_mul(Fx::const_from_int(2)))
-        .unwrap_or(Fx::ZERO)
+    // An explicit positive divisor keeps the firmware free of a division-by-zero panic
+    // path the optimiser cannot see through (h > 0 for every validated configuration).
+    let two_h = h.saturating_add(h);
+    if two_h <= Fx::ZERO {
+        return Fx::ZERO;
+    }
+    inertia.checked_div(two_h).unwrap_or(Fx::ZERO)
 }
 
 /// `1/b` of F6 for viscous friction `b_visc`, inertia `j` and period `h`:
@@ -369,7 +373,7 @@ impl Estimator {
             } else {
                 i64::MAX
             }));
-            self.viscous = b.clamp(Fx::ZERO, b_max);
+            self.viscous = b.max(Fx::ZERO).min(b_max);
         }
         // T_fco = (Σy − B·Σω)/n: B has 32 fractional bits, Σω 16 → 48; Σy 16 → shift 32.
         let b_sw = i128::from(self.viscous.to_bits()).saturating_mul(s.sw);
@@ -441,7 +445,7 @@ impl Estimator {
         let c = t_t.saturating_sub(self.coulomb);
         let f = self.s.friction_f[0].saturating_add(self.s.friction_f[1].saturating_mul(omega));
         let g = self.s.friction_g[0].saturating_add(self.s.friction_g[1].saturating_mul(omega));
-        let one_f = Fx::ONE.saturating_add(f).max(Fx::lit("0.5"));
+        let one_f = Fx::ONE.saturating_add(f).max(const { Fx::lit("0.5") });
         let disc = one_f
             .saturating_mul(one_f)
             .saturating_add(g.saturating_mul(c).saturating_mul(Fx::const_from_int(4)));

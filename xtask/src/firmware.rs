@@ -1,18 +1,137 @@
-//! Firmware builds, always run from inside firmware/ so its own .cargo/config.toml applies.
-//! (Filled in by the firmware issue.)
+//! Firmware builds, always run from inside firmware/ so its own .cargo/config.toml applies
+//! (target, QEMU / probe-rs runners, link arguments).
 
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
+use std::path::Path;
+use std::process::Command;
 
-/// Builds the firmware for every board.
-pub fn build_all() -> Result<()> {
-    check_all()
+/// One board: its name, target triple and the cargo arguments that select it.
+struct Board {
+    name: &'static str,
+    target: &'static str,
+    features: &'static [&'static str],
 }
 
-/// fmt, clippy and release builds of the firmware for every board.
-pub fn check_all() -> Result<()> {
+const BOARDS: [Board; 2] = [
+    Board {
+        name: "qemu",
+        target: "thumbv7m-none-eabi",
+        features: &["--features", "qemu"],
+    },
+    Board {
+        name: "nucleo",
+        target: "thumbv7em-none-eabihf",
+        features: &["--no-default-features", "--features", "nucleo"],
+    },
+];
+
+fn cargo_args<'a>(verb: &'a str, board: &'a Board, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![verb, "--release", "--target", board.target];
+    args.extend_from_slice(board.features);
+    args.extend_from_slice(extra);
+    args
+}
+
+fn firmware_dir() -> Result<std::path::PathBuf> {
     let dir = crate::root().join("firmware");
     if !dir.join("Cargo.toml").exists() {
-        anyhow::bail!("firmware/Cargo.toml is missing");
+        bail!("firmware/Cargo.toml is missing");
     }
+    Ok(dir)
+}
+
+/// Builds the firmware for every board and prints the image sizes.
+pub fn build_all() -> Result<()> {
+    let dir = firmware_dir()?;
+    for board in &BOARDS {
+        crate::run(
+            &dir,
+            "cargo",
+            &cargo_args("build", board, &["--bin", board.name]),
+        )?;
+        print_size(&dir, board)?;
+    }
+    Ok(())
+}
+
+/// fmt, clippy (`-D warnings`) and release builds of the firmware for every board, then
+/// the no-panic link check: with the `panic-check` feature the panic handler refers to an
+/// undefined symbol, so the link fails if any panic path is left in the image.
+pub fn check_all() -> Result<()> {
+    let dir = firmware_dir()?;
+    crate::run(&dir, "cargo", &["fmt", "--", "--check"])?;
+    for board in &BOARDS {
+        crate::run(
+            &dir,
+            "cargo",
+            &cargo_args(
+                "clippy",
+                board,
+                &["--bins", "--lib", "--", "-D", "warnings"],
+            ),
+        )?;
+        crate::run(
+            &dir,
+            "cargo",
+            &cargo_args("build", board, &["--bin", board.name]),
+        )?;
+        print_size(&dir, board)?;
+    }
+    for board in &BOARDS {
+        let features = match board.name {
+            "qemu" => "qemu,panic-check",
+            _ => "nucleo,panic-check",
+        };
+        let args = [
+            "build",
+            "--release",
+            "--target",
+            board.target,
+            "--no-default-features",
+            "--features",
+            features,
+            "--bin",
+            board.name,
+        ];
+        crate::run(&dir, "cargo", &args).with_context(|| {
+            format!(
+                "the no-panic check of board `{}` failed: a panic path is linked into the \
+                 firmware (look for `tooltouch_firmware_panic_path_linked_into_the_image`)",
+                board.name
+            )
+        })?;
+        println!("board {}: no panic path linked", board.name);
+    }
+    // The check builds share the release folder: rebuild the shipped images last.
+    for board in &BOARDS {
+        crate::run(
+            &dir,
+            "cargo",
+            &cargo_args("build", board, &["--bin", board.name]),
+        )?;
+    }
+    Ok(())
+}
+
+/// Prints text/data/bss of a board's release image with llvm-size (or
+/// arm-none-eabi-size), if one is installed.
+fn print_size(dir: &Path, board: &Board) -> Result<()> {
+    let image = dir
+        .join("target")
+        .join(board.target)
+        .join("release")
+        .join(board.name);
+    for tool in ["llvm-size", "arm-none-eabi-size"] {
+        if let Ok(out) = Command::new(tool).arg(&image).output() {
+            if out.status.success() {
+                print!("{}", String::from_utf8_lossy(&out.stdout));
+                return Ok(());
+            }
+        }
+    }
+    println!(
+        "(no llvm-size or arm-none-eabi-size: size of {} not printed)",
+        image.display()
+    );
     Ok(())
 }

@@ -12,10 +12,18 @@
 //! | PB8  | D15      | linear scale A (in)            | EXTI9_5, prio 14 | both    |
 //! | PB9  | D14      | linear scale B (in)            | EXTI9_5, prio 14 | both    |
 //! | PC10 | CN7-1    | CNC arm / abort (in)           | EXTI15_10, pr 12 | both    |
+//! | PC11 | CN7-2    | CNC force control on (in)      | EXTI15_10, pr 12 | both    |
+//! | PC12 | CN7-3    | CNC no-load identification (in)| EXTI15_10, pr 12 | both    |
+//! | PC13 | B1 button| tool changed (in, active low)  | EXTI15_10, pr 12 | falling |
+//! | PC0–PC5, PB0, PB1 | A5–A0… | ADC1 IN10–IN15, IN8, IN9: speed, power, force, v_u, v_v, v_w, i_u, i_v | TIM2 1 kHz, pr 8 | — |
+//! | —    | —        | 20 Hz control period           | TIM3, prio 4     | —       |
 //! | PA5  | D13, LD2 | "register now" to the CNC (out)| —                | —       |
+//! | PA6  | D12      | wear alarm (out)               | —                | —       |
+//! | PB6  | D10      | feed override, PWM duty = % / 255 (TIM4_CH1) | — | —  |
 //!
 //! The core runs from the 16 MHz HSI (reset clock): the handlers' cost is counted in
-//! instructions, see README for the rates this allows.
+//! instructions, see README for the rates this allows. The cutting-conditions command
+//! has no pin: condition set 0 is used on this board.
 #![no_std]
 #![no_main]
 
@@ -39,8 +47,11 @@ mod null_logger {
         unsafe fn write(_bytes: &[u8]) {}
     }
 }
+use core::sync::atomic::{AtomicU32, Ordering};
 use stm32f4::stm32f446 as pac;
 use tooltouch_firmware::board::Board;
+use tooltouch_firmware::model::force::ForceEvent;
+use tooltouch_firmware::model::sampling::AdcCodes;
 
 /// GPIO bits.
 const FES: u32 = 1 << 0;
@@ -50,6 +61,16 @@ const SCALE_A: u32 = 1 << 8;
 const SCALE_B: u32 = 1 << 9;
 const ARM: u32 = 1 << 10;
 const REGISTER_NOW: u32 = 1 << 5;
+const WEAR_ALARM: u32 = 1 << 6;
+const CONTROL: u32 = 1 << 11;
+const IDENTIFY: u32 = 1 << 12;
+const TOOL_CHANGED: u32 = 1 << 13;
+const FORCE_LINES: u32 = CONTROL | IDENTIFY | TOOL_CHANGED;
+/// ADC1 channels in [`AdcCodes`] order: speed, power, force, v_u, v_v, v_w, i_u, i_v.
+const ADC_CHANNELS: [u32; 8] = [10, 11, 12, 13, 14, 15, 8, 9];
+
+/// EXTI lines of force-path commands not yet handled (set by the EXTI15_10 handler).
+static PENDING_COMMANDS: AtomicU32 = AtomicU32::new(0);
 
 /// The Nucleo-F446RE.
 pub struct Nucleo;
@@ -83,6 +104,62 @@ impl Board for Nucleo {
         // SAFETY: BSRR is write-only and atomic per bit: sets or resets PA5 alone.
         unsafe { (*pac::GPIOA::ptr()).bsrr().write(|w| w.bits(bits)) };
     }
+    fn adc() -> AdcCodes {
+        let mut c = [0u16; 8];
+        for (code, channel) in c.iter_mut().zip(ADC_CHANNELS) {
+            *code = convert(channel);
+        }
+        AdcCodes {
+            speed: c[0],
+            power: c[1],
+            force: c[2],
+            volts: [c[3], c[4], c[5]],
+            amps: [c[6], c[7]],
+        }
+    }
+    fn force_command() -> Option<ForceEvent> {
+        // One command per call, lowest line first; the task calls again while any remain.
+        let pending = PENDING_COMMANDS.load(Ordering::Relaxed);
+        let line = pending & pending.wrapping_neg();
+        PENDING_COMMANDS.fetch_and(!line, Ordering::Relaxed);
+        match line {
+            CONTROL => Some(ForceEvent::Control(idr_c() & CONTROL != 0)),
+            IDENTIFY => Some(ForceEvent::Identify(idr_c() & IDENTIFY != 0)),
+            TOOL_CHANGED => Some(ForceEvent::ToolChanged),
+            _ => None,
+        }
+    }
+    fn set_feed_override(percent: u8) {
+        // SAFETY: CCR1 of TIM4 takes any 16-bit compare value; ARR = 255.
+        unsafe {
+            (*pac::TIM4::ptr())
+                .ccr1()
+                .write(|w| w.bits(u32::from(percent)))
+        };
+    }
+    fn set_wear_alarm(on: bool) {
+        let bits = if on { WEAR_ALARM } else { WEAR_ALARM << 16 };
+        // SAFETY: as for "register now" (PA6).
+        unsafe { (*pac::GPIOA::ptr()).bsrr().write(|w| w.bits(bits)) };
+    }
+}
+
+/// One software-started ADC1 conversion of `channel` (about 2 µs at 8 MHz ADC clock);
+/// 0 if it does not complete within a bounded wait (never blocks forever).
+fn convert(channel: u32) -> u16 {
+    // SAFETY: ADC1 is owned by the 1 kHz sample task alone; SQR3 selects one channel,
+    // CR2 bit 30 starts it, SR bit 1 (EOC) is cleared by reading DR.
+    unsafe {
+        let adc = &*pac::ADC1::ptr();
+        adc.sqr3().write(|w| w.bits(channel & 0x1f));
+        adc.cr2().modify(|r, w| w.bits(r.bits() | 1 << 30));
+        for _ in 0..1000u32 {
+            if adc.sr().read().bits() & 1 << 1 != 0 {
+                return (adc.dr().read().bits() & 0x0fff) as u16;
+            }
+        }
+    }
+    0
 }
 
 /// Acknowledges EXTI lines `mask` (write 1 to clear).
@@ -93,20 +170,32 @@ fn ack(mask: u32) {
 
 #[rtic::app(device = stm32f4::stm32f446, peripherals = true)]
 mod app {
-    use super::{ack, Nucleo, ARM, CONTACT, FES, INDEX, REGISTER_NOW, SCALE_A, SCALE_B};
-    use tooltouch_firmware::handlers::{self, Counters};
+    use super::{
+        ack, pac, Nucleo, ARM, CONTACT, FES, FORCE_LINES, INDEX, PENDING_COMMANDS, REGISTER_NOW,
+        SCALE_A, SCALE_B, WEAR_ALARM,
+    };
+    use core::sync::atomic::Ordering;
+    use tooltouch_firmware::board::Board;
+    use tooltouch_firmware::handlers::{
+        self, Counters, SampleConsumer, SampleProducer, SampleQueue,
+    };
+    use tooltouch_firmware::model::force::{ForceKernel, ForceSettings};
     use tooltouch_firmware::model::{MeasureConfig, Measurement};
 
     #[shared]
     struct Shared {
         meas: Measurement,
+        force: ForceKernel,
         counters: Counters,
     }
 
     #[local]
-    struct Local {}
+    struct Local {
+        samples_in: SampleProducer<'static>,
+        samples_out: SampleConsumer<'static>,
+    }
 
-    #[init]
+    #[init(local = [queue: SampleQueue = SampleQueue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let dp = cx.device;
         // SAFETY (all `bits` writes below): values built from the reference manual's
@@ -141,14 +230,77 @@ mod app {
                 .modify(|r, w| w.bits(r.bits() | CONTACT | SCALE_A | SCALE_B | ARM));
             dp.EXTI.pr().write(|w| w.bits(lines));
             dp.EXTI.imr().modify(|r, w| w.bits(r.bits() | lines));
+            // Force-path command lines PC11, PC12 (both edges), PC13 (button, falling).
+            dp.SYSCFG
+                .exticr3()
+                .modify(|r, w| w.bits((r.bits() & !(0xf << 12)) | 0x2 << 12));
+            dp.SYSCFG
+                .exticr4()
+                .modify(|r, w| w.bits((r.bits() & !0xff) | 0x2 | 0x2 << 4));
+            dp.EXTI
+                .rtsr()
+                .modify(|r, w| w.bits(r.bits() | super::CONTROL | super::IDENTIFY));
+            dp.EXTI.ftsr().modify(|r, w| w.bits(r.bits() | FORCE_LINES));
+            dp.EXTI.pr().write(|w| w.bits(FORCE_LINES));
+            dp.EXTI.imr().modify(|r, w| w.bits(r.bits() | FORCE_LINES));
+            // PA6 wear alarm: output, low.
+            dp.GPIOA.bsrr().write(|w| w.bits(WEAR_ALARM << 16));
+            dp.GPIOA
+                .moder()
+                .modify(|r, w| w.bits((r.bits() & !(0b11 << 12)) | 0b01 << 12));
+            // ADC inputs analog: PC0–PC5, PB0, PB1. ADC1 on, clock PCLK2/2 = 8 MHz (reset).
+            dp.GPIOC.moder().modify(|r, w| w.bits(r.bits() | 0xfff));
+            dp.GPIOB.moder().modify(|r, w| w.bits(r.bits() | 0xf));
+            dp.RCC.apb2enr().modify(|r, w| w.bits(r.bits() | 1 << 8));
+            dp.ADC1.cr2().modify(|r, w| w.bits(r.bits() | 1));
+            // TIM2: 1 kHz sample tick; TIM3: 20 Hz control period; TIM4: override PWM.
+            dp.RCC.apb1enr().modify(|r, w| w.bits(r.bits() | 0b111));
+            dp.TIM2.psc().write(|w| w.bits(16 - 1));
+            dp.TIM2.arr().write(|w| w.bits(1000 - 1));
+            dp.TIM3.psc().write(|w| w.bits(1600 - 1));
+            dp.TIM3.arr().write(|w| w.bits(500 - 1));
+            // PB6 alternate function 2 (TIM4_CH1), PWM mode 1, ARR 255 (62.7 kHz).
+            dp.GPIOB
+                .moder()
+                .modify(|r, w| w.bits((r.bits() & !(0b11 << 12)) | 0b10 << 12));
+            dp.GPIOB
+                .afrl()
+                .modify(|r, w| w.bits((r.bits() & !(0xf << 24)) | 0x2 << 24));
+            dp.TIM4.arr().write(|w| w.bits(255));
+            dp.TIM4
+                .ccmr1_output()
+                .write(|w| w.bits(0b110 << 4 | 1 << 3));
+            dp.TIM4.ccer().write(|w| w.bits(1));
+            dp.TIM4.cr1().write(|w| w.bits(1 << 7 | 1));
+            dp.TIM2.dier().write(|w| w.bits(1));
+            dp.TIM3.dier().write(|w| w.bits(1));
+            dp.TIM2.cr1().write(|w| w.bits(1));
+            dp.TIM3.cr1().write(|w| w.bits(1));
         }
         defmt::info!("tooltouch firmware on Nucleo-F446RE: waiting for the CNC's arm line (PC10)");
+        let (samples_in, samples_out) = cx.local.queue.split();
+        // The default force configuration is valid (model::force tests it); should it
+        // ever not be, the board halts here with a log line rather than run unconfigured.
+        let force = match ForceSettings::default().validate() {
+            Ok(c) => ForceKernel::new(&c),
+            Err(_) => {
+                defmt::error!("the default force configuration does not validate");
+                loop {
+                    rtic::export::wfi();
+                }
+            }
+        };
+        Nucleo::set_feed_override(force.outputs().override_pct);
         (
             Shared {
                 meas: Measurement::new(&MeasureConfig::default()),
+                force,
                 counters: Counters::default(),
             },
-            Local {},
+            Local {
+                samples_in,
+                samples_out,
+            },
         )
     }
 
@@ -203,10 +355,41 @@ mod app {
         cx.shared.meas.lock(handlers::scale::<Nucleo>);
     }
 
-    /// CNC command (arm / abort).
-    #[task(binds = EXTI15_10, priority = 12, shared = [meas, counters])]
+    /// CNC commands: arm / abort (PC10) and the force path's lines (PC11–PC13).
+    #[task(binds = EXTI15_10, priority = 12, shared = [meas, force])]
     fn cnc_command(mut cx: cnc_command::Context) {
-        ack(ARM);
-        cx.shared.meas.lock(handlers::cnc_command::<Nucleo>);
+        // SAFETY: a read of the pending register.
+        let pr = unsafe { (*pac::EXTI::ptr()).pr().read().bits() };
+        ack(pr & (ARM | FORCE_LINES));
+        if pr & ARM != 0 {
+            cx.shared.meas.lock(handlers::cnc_command::<Nucleo>);
+        }
+        PENDING_COMMANDS.fetch_or(pr & FORCE_LINES, Ordering::Relaxed);
+        while PENDING_COMMANDS.load(Ordering::Relaxed) != 0 {
+            cx.shared.force.lock(handlers::force_command::<Nucleo>);
+        }
+    }
+
+    /// 1 kHz ADC sample (TIM2 update): convert the eight channels, queue them.
+    #[task(binds = TIM2, priority = 8, shared = [counters], local = [samples_in])]
+    fn adc_sample(mut cx: adc_sample::Context) {
+        // SAFETY: clears TIM2's update flag (write 0 to UIF; other flags unused).
+        unsafe { (*pac::TIM2::ptr()).sr().write(|w| w.bits(0)) };
+        if !handlers::adc_sample::<Nucleo>(cx.local.samples_in) {
+            cx.shared
+                .counters
+                .lock(|c| c.overflowed = c.overflowed.saturating_add(1));
+        }
+    }
+
+    /// 20 Hz control period (TIM3 update): samples, estimate, control, wear.
+    #[task(binds = TIM3, priority = 4, shared = [force], local = [samples_out])]
+    fn control_period(mut cx: control_period::Context) {
+        // SAFETY: clears TIM3's update flag.
+        unsafe { (*pac::TIM3::ptr()).sr().write(|w| w.bits(0)) };
+        let queue = cx.local.samples_out;
+        cx.shared
+            .force
+            .lock(|k| handlers::control_period::<Nucleo>(k, queue));
     }
 }

@@ -3,12 +3,16 @@
 //! interrupt, exactly as an edge on a real pin would. The handlers are the shared ones.
 //!
 //! Interrupt map (the LM3S6965's GPIO port interrupts stand in for the pins' edges):
-//! GPIOA = FES, GPIOB = index, GPIOC = contact, GPIOD = scale A/B, GPIOE = CNC arm/abort.
+//! GPIOA = FES, GPIOB = index, GPIOC = contact, GPIOD = scale A/B, GPIOE = CNC arm/abort,
+//! GPIOF = CNC force-path command, ADC0 sequence 0 = 1 kHz ADC sample, TIMER0A = 20 Hz
+//! control period. The ADC's result registers and the command lines are virtual too.
 #![no_std]
 #![no_main]
 
-use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 use tooltouch_firmware::board::Board;
+use tooltouch_firmware::model::force::ForceEvent;
+use tooltouch_firmware::model::sampling::AdcCodes;
 
 /// Virtual pin bits in [`PINS`].
 const ARM: u8 = 1;
@@ -20,6 +24,60 @@ const SCALE_B: u8 = 8;
 static PINS: AtomicU8 = AtomicU8::new(0);
 /// The "register now" output.
 static REGISTER_NOW: AtomicBool = AtomicBool::new(false);
+/// The virtual ADC's result registers: speed, power, force, v_u, v_v, v_w, i_u, i_v,
+/// two 16-bit codes per word.
+static ADC: [AtomicU32; 4] = [
+    AtomicU32::new(0),
+    AtomicU32::new(0),
+    AtomicU32::new(0),
+    AtomicU32::new(0),
+];
+/// The pending CNC force-path command: 0 none, else `1 + index` of [`encode_command`].
+static COMMAND: AtomicU32 = AtomicU32::new(0);
+/// The feed override output, %.
+static FEED_OVERRIDE: AtomicU8 = AtomicU8::new(0);
+/// The wear alarm output.
+static WEAR_ALARM: AtomicBool = AtomicBool::new(false);
+
+/// A CNC command as the command register holds it: kind in bits 8..16, argument in 0..8,
+/// bit 16 set (so 0 means "none").
+fn encode_command(event: ForceEvent) -> u32 {
+    let (kind, arg) = match event {
+        ForceEvent::Identify(on) => (1, u32::from(on)),
+        ForceEvent::Control(on) => (2, u32::from(on)),
+        ForceEvent::Conditions(i) => (3, u32::from(i)),
+        ForceEvent::ToolChanged => (4, 0),
+        // Samples and ticks have their own interrupts.
+        ForceEvent::Sample(_) | ForceEvent::Tick => (0, 0),
+    };
+    1 << 16 | kind << 8 | arg
+}
+
+fn decode_command(word: u32) -> Option<ForceEvent> {
+    if word & 1 << 16 == 0 {
+        return None;
+    }
+    let arg = (word & 0xff) as u8;
+    match (word >> 8) & 0xff {
+        1 => Some(ForceEvent::Identify(arg != 0)),
+        2 => Some(ForceEvent::Control(arg != 0)),
+        3 => Some(ForceEvent::Conditions(arg)),
+        4 => Some(ForceEvent::ToolChanged),
+        _ => None,
+    }
+}
+
+fn set_adc(codes: &AdcCodes) {
+    let words = [
+        (codes.speed, codes.power),
+        (codes.force, codes.volts[0]),
+        (codes.volts[1], codes.volts[2]),
+        (codes.amps[0], codes.amps[1]),
+    ];
+    for (reg, (lo, hi)) in ADC.iter().zip(words) {
+        reg.store(u32::from(lo) | u32::from(hi) << 16, Ordering::Relaxed);
+    }
+}
 
 /// The QEMU board.
 pub struct Qemu;
@@ -37,6 +95,32 @@ impl Board for Qemu {
     }
     fn set_register_now(on: bool) {
         REGISTER_NOW.store(on, Ordering::Relaxed);
+    }
+    fn adc() -> AdcCodes {
+        let w: [u32; 4] = [
+            ADC[0].load(Ordering::Relaxed),
+            ADC[1].load(Ordering::Relaxed),
+            ADC[2].load(Ordering::Relaxed),
+            ADC[3].load(Ordering::Relaxed),
+        ];
+        let lo = |x: u32| (x & 0xffff) as u16;
+        let hi = |x: u32| (x >> 16) as u16;
+        AdcCodes {
+            speed: lo(w[0]),
+            power: hi(w[0]),
+            force: lo(w[1]),
+            volts: [hi(w[1]), lo(w[2]), hi(w[2])],
+            amps: [lo(w[3]), hi(w[3])],
+        }
+    }
+    fn force_command() -> Option<ForceEvent> {
+        decode_command(COMMAND.swap(0, Ordering::Relaxed))
+    }
+    fn set_feed_override(percent: u8) {
+        FEED_OVERRIDE.store(percent, Ordering::Relaxed);
+    }
+    fn set_wear_alarm(on: bool) {
+        WEAR_ALARM.store(on, Ordering::Relaxed);
     }
 }
 
@@ -63,28 +147,39 @@ fn calibrate() -> (u32, u32) {
 
 #[rtic::app(device = lm3s6965, peripherals = false)]
 mod app {
-    use super::{Qemu, ARM, CONTACT, PINS, REGISTER_NOW, SCALE_A, SCALE_B};
+    use super::{
+        encode_command, set_adc, Qemu, ARM, COMMAND, CONTACT, FEED_OVERRIDE, PINS, REGISTER_NOW,
+        SCALE_A, SCALE_B, WEAR_ALARM,
+    };
     use core::sync::atomic::Ordering;
     use cortex_m::peripheral::{syst::SystClkSource, NVIC, SYST};
     use cortex_m_semihosting::debug;
     use lm3s6965::Interrupt;
-    use tooltouch_firmware::cosim::{self, Target};
-    use tooltouch_firmware::handlers::{self, Counters};
+    use tooltouch_firmware::cosim::{self, Input, Target};
+    use tooltouch_firmware::handlers::{
+        self, Counters, SampleConsumer, SampleProducer, SampleQueue,
+    };
+    use tooltouch_firmware::model::force::{
+        ForceConfig, ForceEvent, ForceKernel, ForceOutputs, ForceSettings,
+    };
     use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
     use tooltouch_firmware::{semihosting, stack};
 
     #[shared]
     struct Shared {
         meas: Measurement,
+        force: ForceKernel,
         counters: Counters,
     }
 
     #[local]
     struct Local {
         calibration: (u32, u32),
+        samples_in: SampleProducer<'static>,
+        samples_out: SampleConsumer<'static>,
     }
 
-    #[init]
+    #[init(local = [queue: SampleQueue = SampleQueue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         stack::paint(256);
         let mut syst = cx.core.SYST;
@@ -93,35 +188,65 @@ mod app {
         syst.clear_current();
         syst.enable_counter();
         let calibration = super::calibrate();
+        let (samples_in, samples_out) = cx.local.queue.split();
+        // The default force configuration is valid (model::force tests it); a failure
+        // would only leave the force kernel at the smallest valid state.
+        let force = match ForceSettings::default().validate() {
+            Ok(c) => ForceKernel::new(&c),
+            Err(_) => loop {
+                debug::exit(debug::EXIT_FAILURE);
+            },
+        };
         (
             Shared {
                 meas: Measurement::new(&MeasureConfig::default()),
+                force,
                 counters: Counters::default(),
             },
-            Local { calibration },
+            Local {
+                calibration,
+                samples_in,
+                samples_out,
+            },
         )
     }
 
     /// Drives the firmware from idle (priority 0): every pend preempts it at once.
-    struct Driver<M, C> {
+    struct Driver<M, F, C> {
         meas: M,
+        force: F,
         counters: C,
         calibration: (u32, u32),
     }
 
-    impl<M, C> Target for Driver<M, C>
+    impl<M, F, C> Target for Driver<M, F, C>
     where
         M: rtic::Mutex<T = Measurement>,
+        F: rtic::Mutex<T = ForceKernel>,
         C: rtic::Mutex<T = Counters>,
     {
-        fn configure(&mut self, config: &MeasureConfig) {
+        fn configure(&mut self, config: &MeasureConfig, force: &ForceConfig) {
             PINS.store(0, Ordering::Relaxed);
             REGISTER_NOW.store(false, Ordering::Relaxed);
+            COMMAND.store(0, Ordering::Relaxed);
             self.meas.lock(|m| *m = Measurement::new(config));
+            // A previous stream may have left samples queued after its last control
+            // period: run one period into the old kernel to drain them, then replace it.
+            rtic::pend(Interrupt::TIMER_0A);
+            cortex_m::asm::dsb();
+            cortex_m::asm::isb();
+            let kernel = ForceKernel::new(force);
+            self.force.lock(|k| *k = kernel);
+            FEED_OVERRIDE.store(kernel.outputs().override_pct, Ordering::Relaxed);
+            WEAR_ALARM.store(false, Ordering::Relaxed);
             self.counters.lock(|c| *c = Counters::default());
         }
 
-        fn inject(&mut self, event: MeasureEvent) -> u32 {
+        fn inject(&mut self, input: Input) -> u32 {
+            let event = match input {
+                Input::Measure(event) => event,
+                Input::Force(event) => return self.inject_force(event),
+            };
             let pins = PINS.load(Ordering::Relaxed);
             let (irq, pins) = match event {
                 MeasureEvent::Arm(on) => (Interrupt::GPIOE, set(pins, ARM, on)),
@@ -133,22 +258,17 @@ mod app {
                 }
             };
             PINS.store(pins, Ordering::Relaxed);
-            if NVIC::is_pending(irq) {
-                // The previous edge of this line has not been served: it is lost.
-                self.counters.lock(|c| c.lost = c.lost.saturating_add(1));
-            }
-            let t0 = SYST::get_current();
-            rtic::pend(irq);
             // QEMU takes a pended interrupt only between translated blocks: without the
-            // barriers, back-to-back pends merge into one interrupt.
-            cortex_m::asm::dsb();
-            cortex_m::asm::isb();
-            let t1 = SYST::get_current();
-            t0.wrapping_sub(t1) & 0x00ff_ffff
+            // barriers (in pend_and_time), back-to-back pends merge into one interrupt.
+            self.pend_and_time(irq)
         }
 
         fn outputs(&mut self) -> MeasureOutputs {
             self.meas.lock(|m| m.outputs())
+        }
+
+        fn force_outputs(&mut self) -> ForceOutputs {
+            self.force.lock(|k| k.outputs())
         }
 
         fn counters(&mut self) -> Counters {
@@ -164,6 +284,41 @@ mod app {
         }
     }
 
+    impl<M, F, C> Driver<M, F, C>
+    where
+        M: rtic::Mutex<T = Measurement>,
+        F: rtic::Mutex<T = ForceKernel>,
+        C: rtic::Mutex<T = Counters>,
+    {
+        fn inject_force(&mut self, event: ForceEvent) -> u32 {
+            let irq = match event {
+                ForceEvent::Sample(codes) => {
+                    set_adc(&codes);
+                    Interrupt::ADC0_SEQUENCE_0
+                }
+                ForceEvent::Tick => Interrupt::TIMER_0A,
+                command => {
+                    COMMAND.store(encode_command(command), Ordering::Relaxed);
+                    Interrupt::GPIOF
+                }
+            };
+            self.pend_and_time(irq)
+        }
+
+        /// Pends `irq` and returns the SysTick ticks until it has run.
+        fn pend_and_time(&mut self, irq: Interrupt) -> u32 {
+            if NVIC::is_pending(irq) {
+                self.counters.lock(|c| c.lost = c.lost.saturating_add(1));
+            }
+            let t0 = SYST::get_current();
+            rtic::pend(irq);
+            cortex_m::asm::dsb();
+            cortex_m::asm::isb();
+            let t1 = SYST::get_current();
+            t0.wrapping_sub(t1) & 0x00ff_ffff
+        }
+    }
+
     fn set(pins: u8, bit: u8, on: bool) -> u8 {
         if on {
             pins | bit
@@ -172,10 +327,11 @@ mod app {
         }
     }
 
-    #[idle(shared = [meas, counters], local = [calibration])]
+    #[idle(shared = [meas, force, counters], local = [calibration])]
     fn idle(cx: idle::Context) -> ! {
         let mut driver = Driver {
             meas: cx.shared.meas,
+            force: cx.shared.force,
             counters: cx.shared.counters,
             calibration: *cx.local.calibration,
         };
@@ -225,5 +381,30 @@ mod app {
     #[task(binds = GPIOE, priority = 5, shared = [meas])]
     fn cnc_command(mut cx: cnc_command::Context) {
         cx.shared.meas.lock(handlers::cnc_command::<Qemu>);
+    }
+
+    /// CNC force-path command (identify, control on/off, conditions, tool changed).
+    #[task(binds = GPIOF, priority = 5, shared = [force])]
+    fn cnc_force_command(mut cx: cnc_force_command::Context) {
+        cx.shared.force.lock(handlers::force_command::<Qemu>);
+    }
+
+    /// 1 kHz ADC sample: queue the codes, count a full queue.
+    #[task(binds = ADC0_SEQUENCE_0, priority = 4, shared = [counters], local = [samples_in])]
+    fn adc_sample(mut cx: adc_sample::Context) {
+        if !handlers::adc_sample::<Qemu>(cx.local.samples_in) {
+            cx.shared
+                .counters
+                .lock(|c| c.overflowed = c.overflowed.saturating_add(1));
+        }
+    }
+
+    /// 20 Hz control period: the queued samples, then estimate, control, wear.
+    #[task(binds = TIMER_0A, priority = 2, shared = [force], local = [samples_out])]
+    fn control_period(mut cx: control_period::Context) {
+        let queue = cx.local.samples_out;
+        cx.shared
+            .force
+            .lock(|k| handlers::control_period::<Qemu>(k, queue));
     }
 }

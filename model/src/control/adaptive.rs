@@ -92,7 +92,7 @@ impl Adaptive {
     }
 
     fn gain_for(&self, k_hat: Fx) -> Fx {
-        let k_hat = k_hat.clamp(self.s.gain_min, self.s.gain_max);
+        let k_hat = k_hat.max(self.s.gain_min).min(self.s.gain_max);
         self.s.open_loop_gain.checked_div(k_hat).unwrap_or(Fx::ZERO)
     }
 
@@ -119,13 +119,13 @@ impl ForceController for Adaptive {
         let (u, saturated) = clamp_override(demand);
         if self.feed >= self.s.min_override && force >= self.s.min_force {
             if let Some(raw) = force.checked_div(self.feed) {
-                let raw = raw.clamp(self.s.gain_min, self.s.gain_max);
+                let raw = raw.max(self.s.gain_min).min(self.s.gain_max);
                 let delta =
                     raw.saturating_sub(self.gain_estimate) >> u32::from(self.s.gain_filter_shift);
                 self.gain_estimate = self
                     .gain_estimate
                     .saturating_add(delta)
-                    .clamp(self.s.gain_min, self.s.gain_max);
+                    .max(self.s.gain_min).min(self.s.gain_max);
             }
         }
         self.controller_gain = self.gain_for(self.gain_estimate);

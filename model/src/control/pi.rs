@@ -91,7 +91,7 @@ impl ForceController for Pi {
             self.integral = self
                 .integral
                 .saturating_add(self.ki_h.saturating_mul(e))
-                .clamp(self.i_min, self.i_max);
+                .max(self.i_min).min(self.i_max);
         }
         ControlOutput {
             override_pct: quantize(u),
@@ -101,7 +101,7 @@ impl ForceController for Pi {
 
     /// Integrator to `override_pct` (clamped), so the first output with zero error is it.
     fn reset(&mut self, override_pct: u8) {
-        self.integral = Fx::from_num(override_pct).clamp(self.i_min, self.i_max);
+        self.integral = Fx::from_num(override_pct).max(self.i_min).min(self.i_max);
     }
 }
 
