@@ -1,10 +1,474 @@
-//! `tooltouch measure`: Simulate in-process diameter measurements on a lathe with the golden model. (Being built: issue 2.)
+//! `tooltouch measure`: simulate in-process diameter measurements on a lathe with the
+//! golden model (SPEC 2), print a table, and write plots, vectors and a JSON summary.
 
-/// Arguments of `tooltouch measure`.
+use crate::lathe::RetractAt;
+use crate::measurement_cycle::{self, CycleRun};
+use crate::settings::{Settings, SettingsError};
+use crate::vectors::{self, binary, vcd};
+use anyhow::Context;
+use clap::ValueEnum;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::MeasureConfig;
+
+/// Decision method.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Method {
+    /// First contact (measures near the largest diameter).
+    Single,
+    /// Pulse counter: count > i_def (50 % → the mean diameter).
+    Counter,
+    /// Contact-density detector (digital capacitor).
+    Density,
+}
+
+/// Contact bit rule.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Rule {
+    /// Contact level at the FES edge.
+    Sampled,
+    /// Contact at any time since the previous FES pulse.
+    Sticky,
+}
+
+/// Capacitor law.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Law {
+    /// Linear steps.
+    Linear,
+    /// RC-like, by shifts.
+    Exponential,
+}
+
+/// When to retract.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Retract {
+    /// CNC reaction time after "register now".
+    Decision,
+    /// After a whole revolution of permanent contact (records the full burst pattern).
+    PermanentContact,
+}
+
+/// Which part of the run goes into the VCD.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum VcdSpan {
+    /// The first measurement only (power-on to its Z step; a few MB).
+    First,
+    /// Every measurement (tens of MB at the defaults).
+    All,
+    /// No VCD.
+    None,
+}
+
+/// Arguments of `tooltouch measure`. Every setting has a flag; flags override `--config`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// Output folder (created): plots, VCD, binary vectors, summary.json.
+    #[arg(long, default_value = "out")]
+    pub out: PathBuf,
+    /// Settings file (TOML: [measure] and [lathe] tables; see README).
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Part of the run written as VCD.
+    #[arg(long, value_enum, default_value = "first")]
+    pub vcd: VcdSpan,
+    /// No progress bar.
+    #[arg(long)]
+    pub no_progress: bool,
+
+    // [measure]
+    /// Decision method.
+    #[arg(long, value_enum, help_heading = "Golden model [measure]")]
+    pub method: Option<Method>,
+    /// Decide when the window's contact-pulse count exceeds this (50 % of 1024 = 512).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub i_def: Option<u32>,
+    /// FES pulses per revolution (16..=16384).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub pulses_per_rev: Option<u16>,
+    /// Revolutions per counting window (1..=16).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub window_revs: Option<u8>,
+    /// Contact bit rule.
+    #[arg(long, value_enum, help_heading = "Golden model [measure]")]
+    pub contact_rule: Option<Rule>,
+    /// Capacitor charge register width, bits (4..=24).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub charge_bits: Option<u8>,
+    /// Capacitor law (its steps/shifts default to the file's or 2048/1024, 5/6).
+    #[arg(long, value_enum, help_heading = "Golden model [measure]")]
+    pub charge_law: Option<Law>,
+    /// Linear law: charge per contact pulse, LSBs.
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub charge_step: Option<u32>,
+    /// Linear law: discharge per pulse without contact, LSBs.
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub discharge_step: Option<u32>,
+    /// Exponential law: charging time constant, pulses, as a power of two.
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub charge_shift: Option<u8>,
+    /// Exponential law: discharging time constant, pulses, as a power of two.
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub discharge_shift: Option<u8>,
+    /// Density detector fire threshold, LSBs.
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub fire_threshold: Option<u32>,
+    /// Density detector re-arm threshold, LSBs (< fire threshold).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub rearm_threshold: Option<u32>,
+    /// Glitch filter length, clocks (0..=255).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub glitch_cycles: Option<u8>,
+    /// Scale position counter width, bits (8..=32).
+    #[arg(long, help_heading = "Golden model [measure]")]
+    pub scale_bits: Option<u8>,
+
+    // [lathe]
+    /// FPGA clock, Hz (divides 1e9).
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub clock_hz: Option<u32>,
+    /// Spindle speed, rpm.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub rpm: Option<f64>,
+    /// Nominal diameter, mm.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub diameter_mm: Option<f64>,
+    /// Radial approach feed f_r, mm/rev.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub feed_mm_per_rev: Option<f64>,
+    /// Linear scale resolution, µm per count.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub scale_resolution_um: Option<f64>,
+    /// Multiply every profile (form error) amplitude by this.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub profile_gain: Option<f64>,
+    /// Multiply every slow (period > 1 rev) spindle error amplitude by this (0: none).
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub slow_gain: Option<f64>,
+    /// Random radius error (roughness), µm standard deviation.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub random_um: Option<f64>,
+    /// Fraction of the per-revolution spindle errors that does not cancel (0..=1).
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub repeating_mismatch: Option<f64>,
+    /// Seed of every random stream.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub seed: Option<u64>,
+    /// Bounce pulses at first touch.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub bounce_pulses: Option<u32>,
+    /// Non-conduction after first touch, µs.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub non_conduction_us: Option<f64>,
+    /// Noise spikes on the contact line, per second.
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub spike_rate_hz: Option<f64>,
+    /// Longest noise spike, clocks (capped at glitch_cycles).
+    #[arg(long, help_heading = "Lathe [lathe]")]
+    pub spike_max_cycles: Option<u32>,
+
+    // [lathe.cycle]
+    /// Measurements (each at a new Z).
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub repeats: Option<u32>,
+    /// Approach start above the nominal radius, µm.
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub clearance_um: Option<f64>,
+    /// Retract speed, mm/s.
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub retract_mm_per_s: Option<f64>,
+    /// Z step between measurements, mm (> nose radius).
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub z_step_mm: Option<f64>,
+    /// Tool nose radius, mm.
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub nose_radius_mm: Option<f64>,
+    /// Z step time, ms.
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub z_dwell_ms: Option<f64>,
+    /// CNC reaction from "register now" to feed stop, µs.
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub cnc_reaction_us: Option<f64>,
+    /// When to retract.
+    #[arg(long, value_enum, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub retract_at: Option<Retract>,
+    /// Give up an approach after this many revolutions.
+    #[arg(long, help_heading = "Measurement cycle [lathe.cycle]")]
+    pub max_approach_revs: Option<u32>,
+}
+
+fn set<T: Copy>(target: &mut T, flag: Option<T>) {
+    if let Some(v) = flag {
+        *target = v;
+    }
+}
+
+impl Args {
+    /// The settings: defaults, then the `--config` file, then the flags.
+    pub fn settings(&self) -> Result<Settings, SettingsError> {
+        let mut s = match &self.config {
+            Some(path) => Settings::load(path)?,
+            None => Settings::default(),
+        };
+        let m = &mut s.measure;
+        if let Some(method) = self.method {
+            m.method = match method {
+                Method::Single => DecisionMethod::SinglePulse,
+                Method::Counter => DecisionMethod::Counter,
+                Method::Density => DecisionMethod::Density,
+            };
+        }
+        if let Some(rule) = self.contact_rule {
+            m.contact_rule = match rule {
+                Rule::Sampled => ContactRule::Sampled,
+                Rule::Sticky => ContactRule::Sticky,
+            };
+        }
+        set(&mut m.i_def, self.i_def);
+        set(&mut m.pulses_per_rev, self.pulses_per_rev);
+        set(&mut m.window_revs, self.window_revs);
+        set(&mut m.charge_bits, self.charge_bits);
+        set(&mut m.fire_threshold, self.fire_threshold);
+        set(&mut m.rearm_threshold, self.rearm_threshold);
+        set(&mut m.glitch_cycles, self.glitch_cycles);
+        set(&mut m.scale_bits, self.scale_bits);
+        match self.charge_law {
+            Some(Law::Linear) if !matches!(m.charge_law, ChargeLaw::Linear { .. }) => {
+                m.charge_law = ChargeLaw::Linear {
+                    charge_step: 2048,
+                    discharge_step: 1024,
+                }
+            }
+            Some(Law::Exponential) if !matches!(m.charge_law, ChargeLaw::Exponential { .. }) => {
+                m.charge_law = ChargeLaw::Exponential {
+                    charge_shift: 5,
+                    discharge_shift: 6,
+                }
+            }
+            _ => {}
+        }
+        match &mut m.charge_law {
+            ChargeLaw::Linear {
+                charge_step,
+                discharge_step,
+            } => {
+                if self.charge_shift.is_some() || self.discharge_shift.is_some() {
+                    return Err(SettingsError::Conflict(
+                        "--charge-shift/--discharge-shift need --charge-law exponential".into(),
+                    ));
+                }
+                set(charge_step, self.charge_step);
+                set(discharge_step, self.discharge_step);
+            }
+            ChargeLaw::Exponential {
+                charge_shift,
+                discharge_shift,
+            } => {
+                if self.charge_step.is_some() || self.discharge_step.is_some() {
+                    return Err(SettingsError::Conflict(
+                        "--charge-step/--discharge-step need --charge-law linear".into(),
+                    ));
+                }
+                set(charge_shift, self.charge_shift);
+                set(discharge_shift, self.discharge_shift);
+            }
+        }
+        let l = &mut s.lathe;
+        set(&mut l.clock_hz, self.clock_hz);
+        set(&mut l.rpm, self.rpm);
+        set(&mut l.diameter_mm, self.diameter_mm);
+        set(&mut l.feed_mm_per_rev, self.feed_mm_per_rev);
+        set(&mut l.scale_resolution_um, self.scale_resolution_um);
+        set(&mut l.random_um, self.random_um);
+        set(&mut l.repeating_mismatch, self.repeating_mismatch);
+        set(&mut l.seed, self.seed);
+        if let Some(g) = self.profile_gain {
+            l.profile.iter_mut().for_each(|h| h.amplitude_um *= g);
+        }
+        if let Some(g) = self.slow_gain {
+            l.slow.iter_mut().for_each(|h| h.amplitude_um *= g);
+        }
+        let e = &mut l.electrics;
+        set(&mut e.bounce_pulses, self.bounce_pulses);
+        set(&mut e.non_conduction_us, self.non_conduction_us);
+        set(&mut e.spike_rate_hz, self.spike_rate_hz);
+        set(&mut e.spike_max_cycles, self.spike_max_cycles);
+        let c = &mut l.cycle;
+        set(&mut c.repeats, self.repeats);
+        set(&mut c.clearance_um, self.clearance_um);
+        set(&mut c.retract_mm_per_s, self.retract_mm_per_s);
+        set(&mut c.z_step_mm, self.z_step_mm);
+        set(&mut c.nose_radius_mm, self.nose_radius_mm);
+        set(&mut c.z_dwell_ms, self.z_dwell_ms);
+        set(&mut c.cnc_reaction_us, self.cnc_reaction_us);
+        set(&mut c.max_approach_revs, self.max_approach_revs);
+        if let Some(r) = self.retract_at {
+            c.retract_at = match r {
+                Retract::Decision => RetractAt::Decision,
+                Retract::PermanentContact => RetractAt::PermanentContact,
+            };
+        }
+        Ok(s)
+    }
+}
+
+fn opt(v: Option<f64>, decimals: usize) -> String {
+    v.map_or_else(|| "—".to_string(), |x| format!("{x:.decimals$}"))
+}
+
+/// The readable table of a run.
+pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
+    let mut s = String::new();
+    let method = match config.settings().method {
+        DecisionMethod::SinglePulse => "single pulse (first contact)".to_string(),
+        DecisionMethod::Counter => format!(
+            "pulse counter, count > i_def = {} of {} pulses",
+            config.settings().i_def,
+            config.window_pulses()
+        ),
+        DecisionMethod::Density => "contact-density detector".to_string(),
+    };
+    s.push_str(&format!("method: {method}\n"));
+    s.push_str(
+        "  #   first-contact Ø   decided Ø       vs mean   vs largest   revs to     revs to\n\
+         \x20     mm                mm              µm        µm           decision    permanent\n",
+    );
+    for m in &run.measurements {
+        s.push_str(&format!(
+            "{:>3}   {:>14}   {:>13}   {:>8}   {:>10}   {:>8}   {:>9}\n",
+            m.index + 1,
+            opt(m.first_contact_diameter_mm, 4),
+            opt(m.diameter_mm, 4),
+            opt(m.error_vs_mean_um, 2),
+            opt(m.error_vs_largest_um, 2),
+            opt(m.revs_to_decision, 2),
+            opt(m.revs_to_permanent, 2),
+        ));
+    }
+    let t = &run.summary;
+    s.push_str(&format!(
+        "decided {}/{}; diameter {:.4} mm ± {:.2} µm (1σ, range {:.2} µm, one count = {:.2} µm)\n",
+        t.decided,
+        t.measurements,
+        t.diameter_mm.mean,
+        t.diameter_mm.std * 1000.0,
+        (t.diameter_mm.max - t.diameter_mm.min) * 1000.0,
+        t.diameter_quantum_um
+    ));
+    s.push_str(&format!(
+        "error vs true mean {:+.2} ± {:.2} µm; vs true largest {:+.2} ± {:.2} µm\n",
+        t.error_vs_mean_um.mean,
+        t.error_vs_mean_um.std,
+        t.error_vs_largest_um.mean,
+        t.error_vs_largest_um.std
+    ));
+    s.push_str(&format!(
+        "revolutions from first contact: to decision {:.2} ± {:.2}, to permanent contact {:.2} ± {:.2}\n",
+        t.revs_to_decision.mean,
+        t.revs_to_decision.std,
+        t.revs_to_permanent.mean,
+        t.revs_to_permanent.std
+    ));
+    s
+}
 
 /// Runs `tooltouch measure`.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("`tooltouch measure` is not built yet (issue 2)")
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let started = Instant::now();
+    let settings = args.settings()?;
+    let (config, scenario) = settings.resolve()?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating the output folder {}", args.out.display()))?;
+
+    let bar = if args.no_progress {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(scenario.cycle.repeats.into())
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("measuring {bar:30} {pos}/{len} {elapsed}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let run = measurement_cycle::run(&scenario, &config, &mut |n| bar.set_position(n as u64))?;
+    bar.finish_and_clear();
+    let simulated = started.elapsed();
+
+    print!("{}", table(&run, &config));
+
+    let out = &args.out;
+    let file = |name: &str| out.join(name);
+    crate::plot::contact_density(
+        &file("contact_density.svg"),
+        &run.measurements,
+        config.window_pulses(),
+        config.settings().i_def,
+    )?;
+    crate::plot::diameters(
+        &file("diameters.svg"),
+        &run.measurements,
+        scenario.diameter_mm,
+    )?;
+
+    let vcd_end = match args.vcd {
+        VcdSpan::None => None,
+        VcdSpan::First => Some(run.measurements.first().map_or(0, |m| m.end_cycle)),
+        VcdSpan::All => Some(run.stimulus.total_cycles()),
+    };
+    if let Some(end) = vcd_end {
+        let path = file("measure.vcd");
+        let f =
+            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
+        let mut w = std::io::BufWriter::new(f);
+        vcd::write_golden(&mut w, &run.stimulus, &config, Some(end))
+            .and_then(|_| w.flush())
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+
+    let events = vectors::events_from_stimulus(&run.stimulus, &config);
+    let outputs = vectors::outputs_after_each_event(&events, &config);
+    let write = |name: &str, bytes: Vec<u8>| {
+        std::fs::write(file(name), bytes)
+            .with_context(|| format!("writing {}", file(name).display()))
+    };
+    write(
+        "events.ttv",
+        binary::encode_events(&events, &config, scenario.clock_hz),
+    )?;
+    write(
+        "expected_outputs.ttv",
+        binary::encode_outputs(&outputs, &config, scenario.clock_hz),
+    )?;
+
+    let summary = serde_json::json!({
+        "measure_hash": format!("{:016x}", config.hash()),
+        "settings": settings,
+        "summary": run.summary,
+        "measurements": run.measurements,
+        "home_count": run.home_count,
+        "simulated_cycles": run.stimulus.total_cycles(),
+        "simulated_seconds": run.stimulus.total_cycles() as f64 / f64::from(scenario.clock_hz),
+        "clocked_cycles": run.clocked_cycles,
+        "stimulus_segments": run.stimulus.segments.len(),
+        "events": events.len(),
+        "vcd": format!("{:?}", args.vcd).to_lowercase(),
+        "wall_seconds_simulation": simulated.as_secs_f64(),
+        "wall_seconds_total": started.elapsed().as_secs_f64(),
+    });
+    write(
+        "summary.json",
+        serde_json::to_vec_pretty(&summary).context("encoding summary.json")?,
+    )?;
+    println!(
+        "simulated {:.2} s of lathe time ({} clocks, {} clocked, {} events) in {:.2} s; wrote {}",
+        run.stimulus.total_cycles() as f64 / f64::from(scenario.clock_hz),
+        run.stimulus.total_cycles(),
+        run.clocked_cycles,
+        events.len(),
+        started.elapsed().as_secs_f64(),
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }

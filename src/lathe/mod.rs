@@ -104,7 +104,8 @@ impl Default for CycleSettings {
 pub struct LatheScenario {
     /// FPGA clock, Hz, `1000..=1e9`, dividing 1e9 (VCD contract).
     pub clock_hz: u32,
-    /// Spindle speed, rpm, `1..=20000` (and at least 8 clocks per FES period).
+    /// Spindle speed, rpm, `1..=1e6` and at least 8 clocks per FES period (fast, coarse
+    /// scenarios are for tests).
     pub rpm: f64,
     /// Nominal machined diameter D_M, mm, `0.1..=2000`.
     pub diameter_mm: f64,
@@ -207,7 +208,7 @@ impl LatheScenario {
             });
         }
         let ppr = f64::from(config.pulses_per_rev());
-        let max_rpm = (f64::from(self.clock_hz) * 60.0 / (ppr * 8.0)).min(20000.0);
+        let max_rpm = (f64::from(self.clock_hz) * 60.0 / (ppr * 8.0)).min(1e6);
         check("rpm", self.rpm, 1.0, max_rpm.floor())?;
         check("diameter_mm", self.diameter_mm, 0.1, 2000.0)?;
         check("feed_mm_per_rev", self.feed_mm_per_rev, 1e-6, 1.0)?;

@@ -1,0 +1,138 @@
+//! Settings of `tooltouch measure`: a TOML file with a `[measure]` table (the golden
+//! model's [`MeasureSettings`], integers only) and a `[lathe]` table (the simulated
+//! [`LatheScenario`], floats allowed), then command-line flags on top (flags win).
+//!
+//! ```toml
+//! [measure]
+//! i_def = 512
+//! method = "counter"              # single_pulse | counter | density
+//! contact_rule = "sticky"         # sampled | sticky
+//! charge_law = { law = "linear", charge_step = 2048, discharge_step = 1024 }
+//!
+//! [lathe]
+//! rpm = 800.0
+//! seed = 1
+//! [lathe.cycle]
+//! repeats = 10
+//! [[lathe.slow]]
+//! amplitude_um = 0.4
+//! period_revs = 2.7
+//! ```
+//! Every field is optional (defaults: [`MeasureSettings::default`],
+//! [`LatheScenario::default`]); unknown fields are errors. [`Settings::resolve`] checks
+//! every value and names the first bad field with its allowed range.
+
+use crate::lathe::{LatheScenario, ScenarioError};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use tooltouch_model::config::ConfigError;
+use tooltouch_model::{MeasureConfig, MeasureSettings};
+
+/// The whole settings file.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Settings {
+    /// The golden model's configuration.
+    pub measure: MeasureSettings,
+    /// The simulated lathe and measurement cycle.
+    pub lathe: LatheScenario,
+}
+
+/// Bad settings.
+#[derive(Debug, thiserror::Error)]
+pub enum SettingsError {
+    /// The file could not be read.
+    #[error("{file}: {source}")]
+    Io {
+        /// The file.
+        file: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The file is not valid TOML for these settings.
+    #[error("{file}: {message}")]
+    Parse {
+        /// The file.
+        file: String,
+        /// The parser's message (names the key and line).
+        message: String,
+    },
+    /// A `[measure]` field out of range.
+    #[error("[measure] {0}")]
+    Measure(ConfigError),
+    /// A `[lathe]` field out of range.
+    #[error("[lathe] {0}")]
+    Lathe(ScenarioError),
+    /// A flag that does not fit the other settings.
+    #[error("{0}")]
+    Conflict(String),
+}
+
+impl Settings {
+    /// Reads a settings file.
+    pub fn load(path: &Path) -> Result<Settings, SettingsError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| SettingsError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        Settings::parse(&text, &file)
+    }
+
+    /// Parses settings from TOML text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Settings, SettingsError> {
+        toml::from_str(text).map_err(|e| SettingsError::Parse {
+            file: file.to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Validates both tables: the model's configuration, then the scenario against it.
+    pub fn resolve(&self) -> Result<(MeasureConfig, LatheScenario), SettingsError> {
+        let config = self.measure.validate().map_err(SettingsError::Measure)?;
+        self.lathe.validate(&config).map_err(SettingsError::Lathe)?;
+        Ok((config, self.lathe.clone()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::config::{ChargeLaw, DecisionMethod};
+
+    #[test]
+    fn a_partial_file_keeps_the_other_defaults() {
+        let s = Settings::parse(
+            "[measure]\ni_def = 300\nmethod = \"density\"\ncharge_law = { law = \"exponential\", charge_shift = 3, discharge_shift = 4 }\n[lathe]\nrpm = 600.0\n[lathe.cycle]\nrepeats = 3\n",
+            "t.toml",
+        )
+        .unwrap();
+        assert_eq!(s.measure.i_def, 300);
+        assert_eq!(s.measure.method, DecisionMethod::Density);
+        assert!(matches!(
+            s.measure.charge_law,
+            ChargeLaw::Exponential {
+                charge_shift: 3,
+                ..
+            }
+        ));
+        assert_eq!(s.lathe.rpm, 600.0);
+        assert_eq!(s.lathe.cycle.repeats, 3);
+        assert_eq!(s.lathe.diameter_mm, 40.0);
+        s.resolve().unwrap();
+    }
+
+    #[test]
+    fn bad_fields_are_named() {
+        let s = Settings::parse("[measure]\ni_def = 5000\n", "t.toml").unwrap();
+        let e = s.resolve().unwrap_err().to_string();
+        assert!(e.contains("`i_def`") && e.contains("0..=1023"), "{e}");
+        let s = Settings::parse("[lathe]\nrpm = 0.0\n", "t.toml").unwrap();
+        let e = s.resolve().unwrap_err().to_string();
+        assert!(e.contains("`rpm`"), "{e}");
+        let e = Settings::parse("[lathe]\nrmp = 1.0\n", "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.toml") && e.contains("rmp"), "{e}");
+    }
+}
