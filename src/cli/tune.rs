@@ -1,10 +1,239 @@
-//! `tooltouch tune`: Fixed-point tuning sweeps. (Being built: issue 6.)
+//! `tooltouch tune`: fixed-point tuning sweeps of the measurement front end — every point's
+//! error against the float reference and its FPGA cost, the Pareto front, CSV/JSON/SVG in
+//! `--out DIR`; `--shard K/N` runs one slice, `tooltouch tune merge DIR...` joins slices.
+
+use crate::tune::{self, output, Overrides, Shard, SweepSpec};
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
 
 /// Arguments of `tooltouch tune`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+#[command(args_conflicts_with_subcommands = true)]
+pub struct Args {
+    #[command(subcommand)]
+    command: Option<Command>,
+    // Boxed: the flags are many, and `cli::Command` holds every subcommand's `Args`.
+    #[command(flatten)]
+    sweep: Box<SweepArgs>,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum Command {
+    /// Join the slices of a sharded sweep (each DIR holds a `results.json` written with
+    /// `--shard K/N`) into one result, equal to the unsharded run.
+    Merge {
+        /// Slice directories (or their results.json files).
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output directory.
+        #[arg(long, default_value = "out/tune")]
+        out: PathBuf,
+    },
+}
+
+/// The sweep's flags. Value lists: `8,12,16`, `16`, `8..=16` or `8..=16:4`.
+#[derive(clap::Args, Debug)]
+struct SweepArgs {
+    /// Sweep spec, TOML (parameters not given keep the default sweep's values).
+    #[arg(long)]
+    spec: Option<PathBuf>,
+    /// Output directory for results.json, results.csv, pareto.svg.
+    #[arg(long, default_value = "out/tune")]
+    out: PathBuf,
+    /// Run only slice K of N (0-based): points whose index % N == K.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+    /// Scenarios (seeds 1..=N) per point.
+    #[arg(long)]
+    scenarios: Option<u32>,
+    /// Revolutions of approach per scenario.
+    #[arg(long)]
+    revolutions: Option<u32>,
+    /// Decision methods: counter, density, single_pulse.
+    #[arg(long)]
+    method: Option<String>,
+    /// Contact rules: sticky, sampled.
+    #[arg(long)]
+    contact_rule: Option<String>,
+    /// Charge laws: linear, exponential.
+    #[arg(long)]
+    law: Option<String>,
+    /// Capacitor widths, bits.
+    #[arg(long)]
+    charge_bits: Option<String>,
+    /// Scale position widths, bits.
+    #[arg(long)]
+    scale_bits: Option<String>,
+    /// Glitch filter lengths, clocks.
+    #[arg(long)]
+    glitch_cycles: Option<String>,
+    /// Counter thresholds, contact pulses per window.
+    #[arg(long)]
+    i_def: Option<String>,
+    /// Counting windows, revolutions.
+    #[arg(long)]
+    window_revs: Option<String>,
+    /// Linear law: pulses from empty to full.
+    #[arg(long)]
+    charge_pulses: Option<String>,
+    /// Linear law: pulses from full to empty.
+    #[arg(long)]
+    discharge_pulses: Option<String>,
+    /// Exponential law: charge shifts.
+    #[arg(long)]
+    charge_shift: Option<String>,
+    /// Exponential law: discharge shifts.
+    #[arg(long)]
+    discharge_shift: Option<String>,
+    /// Fire thresholds, percent of full scale.
+    #[arg(long)]
+    fire_percent: Option<String>,
+    /// Re-arm thresholds, percent of full scale.
+    #[arg(long)]
+    rearm_percent: Option<String>,
+}
+
+impl SweepArgs {
+    fn overrides(&self) -> Overrides {
+        let pairs = [
+            ("method", &self.method),
+            ("contact_rule", &self.contact_rule),
+            ("law", &self.law),
+            ("charge_bits", &self.charge_bits),
+            ("scale_bits", &self.scale_bits),
+            ("glitch_cycles", &self.glitch_cycles),
+            ("i_def", &self.i_def),
+            ("window_revs", &self.window_revs),
+            ("charge_pulses", &self.charge_pulses),
+            ("discharge_pulses", &self.discharge_pulses),
+            ("charge_shift", &self.charge_shift),
+            ("discharge_shift", &self.discharge_shift),
+            ("fire_percent", &self.fire_percent),
+            ("rearm_percent", &self.rearm_percent),
+        ];
+        Overrides {
+            scenarios: self.scenarios,
+            revolutions: self.revolutions,
+            values: pairs
+                .iter()
+                .filter_map(|(k, v)| v.as_ref().map(|v| (k.to_string(), v.clone())))
+                .collect(),
+        }
+    }
+}
 
 /// Runs `tooltouch tune`.
-pub fn run(_args: Args) -> anyhow::Result<std::process::ExitCode> {
-    anyhow::bail!("`tooltouch tune` is not built yet (issue 6)")
+pub fn run(args: Args) -> Result<ExitCode> {
+    match args.command {
+        Some(Command::Merge { dirs, out }) => merge(&dirs, &out),
+        None => sweep(&args.sweep),
+    }
+}
+
+fn sweep(a: &SweepArgs) -> Result<ExitCode> {
+    let mut spec = match &a.spec {
+        Some(p) => {
+            let text =
+                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+            SweepSpec::from_toml(&text).with_context(|| format!("sweep spec {}", p.display()))?
+        }
+        None => SweepSpec::default(),
+    };
+    spec.apply(&a.overrides())?;
+    let shard: Option<Shard> = a.shard.as_deref().map(str::parse).transpose()?;
+    let n = tune::points_in(&spec, shard)?;
+    let bar = ProgressBar::new(n as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} points, {elapsed} elapsed, ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let t = Instant::now();
+    let results = tune::run(&spec, shard, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    let wall = t.elapsed().as_secs_f64();
+    output::write(&results, &a.out)?;
+    let scenarios = spec.scenarios;
+    match shard {
+        Some(s) => println!(
+            "tune: slice {}/{}: {} of {} points × {scenarios} scenarios in {wall:.1} s → {}",
+            s.k,
+            s.n,
+            results.rows.len(),
+            results.points,
+            a.out.display()
+        ),
+        None => {
+            println!(
+                "tune: {} points × {scenarios} scenarios of {} revolutions in {wall:.1} s ({} threads)",
+                results.points,
+                spec.approach.revolutions,
+                rayon::current_num_threads()
+            );
+            summary(&results);
+            println!("wrote {}", a.out.display());
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn summary(r: &tune::Results) {
+    let mut front: Vec<&tune::Row> = r.rows.iter().filter(|r| r.pareto).collect();
+    front.sort_by_key(|r| r.logic_cells);
+    println!("Pareto front (mean |diameter error| vs float reference against logic cells):");
+    println!(
+        "{:>5} {:>12} {:>7} {:>6} {:>6} {:>6} {:>11} {:>9} {:>4} {:>4} {:>10} {:>8}",
+        "index",
+        "method",
+        "rule",
+        "chargeb",
+        "scaleb",
+        "glitch",
+        "law",
+        "steps",
+        "FF",
+        "LC",
+        "diam_um",
+        "revs"
+    );
+    for x in front {
+        println!(
+            "{:>5} {:>12} {:>7} {:>6} {:>6} {:>6} {:>11} {:>9} {:>4} {:>4} {:>10.3} {:>8.2}",
+            x.index,
+            x.method,
+            x.contact_rule,
+            x.charge_bits,
+            x.scale_bits,
+            x.glitch_cycles,
+            x.law,
+            format!("{}/{}", x.charge, x.discharge),
+            x.flip_flops,
+            x.logic_cells,
+            x.diameter_error_um.unwrap_or(f64::NAN),
+            x.revolution_error.unwrap_or(f64::NAN)
+        );
+    }
+    let misses = r.rows.iter().filter(|r| r.misses > 0).count();
+    if misses > 0 {
+        println!("{misses} points missed a decision the reference took (or the reverse)");
+    }
+}
+
+fn merge(dirs: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
+    let parts = dirs
+        .iter()
+        .map(|d| output::read(d))
+        .collect::<Result<Vec<_>>>()?;
+    let merged = tune::merge(&parts)?;
+    output::write(&merged, out)?;
+    println!(
+        "tune merge: {} slices, {} points → {}",
+        parts.len(),
+        merged.points,
+        out.display()
+    );
+    summary(&merged);
+    Ok(ExitCode::SUCCESS)
 }
