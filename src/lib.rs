@@ -12,6 +12,7 @@ pub mod milling;
 pub mod plot;
 pub mod reference;
 pub mod settings;
+pub mod speed;
 pub mod stimulus;
 pub mod tune;
 pub mod vectors;
