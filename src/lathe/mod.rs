@@ -209,7 +209,7 @@ impl LatheScenario {
         }
         let ppr = f64::from(config.pulses_per_rev());
         let max_rpm = (f64::from(self.clock_hz) * 60.0 / (ppr * 8.0)).min(1e6);
-        check("rpm", self.rpm, 1.0, max_rpm.floor())?;
+        check("rpm", self.rpm, 1.0, max_rpm)?;
         check("diameter_mm", self.diameter_mm, 0.1, 2000.0)?;
         check("feed_mm_per_rev", self.feed_mm_per_rev, 1e-6, 1.0)?;
         check(
