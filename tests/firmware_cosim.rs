@@ -10,6 +10,7 @@ use proptest::test_runner::{Config, TestRunner};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use tooltouch::cosim::{self, trace::EVENT_KIND_NAMES, Case, CosimError, Fault};
+use tooltouch_model::force::ForceEvent;
 
 /// Builds the QEMU firmware once per test binary.
 fn image() -> PathBuf {
@@ -93,6 +94,7 @@ fn firmware_matches_the_golden_model_on_random_scenarios() {
         Fault::SpindleStopped,
         Fault::EncoderGlitches,
         Fault::ContactChatter,
+        Fault::AdcSaturation,
     ];
     let cases: Vec<Case> = proptest_seeds(case_count(), "random scenarios")
         .into_iter()
@@ -107,6 +109,20 @@ fn firmware_matches_the_golden_model_on_random_scenarios() {
     assert!(
         decided * 2 >= cases.len(),
         "only {decided} of {} cases reach a decision",
+        cases.len()
+    );
+    // …and the force path: control on, the override moved away from the manual value.
+    let controlled = cases
+        .iter()
+        .filter(|c| {
+            cosim::golden_force(c)
+                .iter()
+                .any(|(_, o)| o.control_enabled && o.override_pct != 100)
+        })
+        .count();
+    assert!(
+        controlled * 2 >= cases.len(),
+        "only {controlled} of {} cases control the force",
         cases.len()
     );
     let report = run(&cases);
@@ -128,6 +144,12 @@ fn firmware_and_model_agree_on_every_fault_case() {
         if case.name.contains("SpindleStopped") {
             // The spindle stops before the contact is dense enough: the CNC aborts.
             assert!(!last.armed, "{}: the CNC aborts", case.name);
+        }
+        if case.name.contains("AdcSaturation") {
+            let clipped = case.force_events.iter().any(|(_, e)| {
+                matches!(e, ForceEvent::Sample(c) if c.force == 4095 || c.amps.contains(&0) || c.volts.contains(&4095))
+            });
+            assert!(clipped, "{}: the ADC clips", case.name);
         }
         if case.name.contains("BrokenFesLine") {
             assert_eq!(last.revolutions, u16::MAX, "{}: saturates", case.name);

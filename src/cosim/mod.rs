@@ -8,11 +8,13 @@
 //! with [`tooltouch_model::Measurement::apply`], reporting the first difference with the
 //! case, event index, time, signal and both values.
 
+pub mod force_scenario;
 pub mod qemu;
 pub mod scenario;
 pub mod trace;
 
 use std::time::Duration;
+use tooltouch_model::force::{encode_force_event, ForceEvent, ForceKernel, ForceOutputs};
 use tooltouch_model::wire::{self, encode_config, encode_event, Header, Record, StreamKind};
 use tooltouch_model::{MeasureOutputs, Measurement};
 
@@ -57,7 +59,8 @@ pub struct Mismatch {
     pub case: usize,
     /// The case's name (seed, fault…).
     pub name: String,
-    /// Event index within the case (`None`: the trace's shape differs).
+    /// Event index within the case's measurement (or, for a `force.` signal, force) events
+    /// (`None`: the trace's shape differs).
     pub event: Option<usize>,
     /// The event's time, ticks.
     pub time: u64,
@@ -104,13 +107,50 @@ pub fn signals(o: &MeasureOutputs) -> [(&'static str, i64); 15] {
     ]
 }
 
+/// Every force output as `(name, value)`; fixed-point values as their raw I32F32 bits.
+pub fn force_signals(o: &ForceOutputs) -> [(&'static str, i64); 14] {
+    [
+        ("override_pct", o.override_pct.into()),
+        ("saturated", o.saturated.into()),
+        ("fast_estimate", o.fast_estimate.into()),
+        ("control_enabled", o.control_enabled.into()),
+        ("identifying", o.identifying.into()),
+        ("identified", o.identified.into()),
+        ("wear_over", o.wear_over.into()),
+        ("wear_alarm", o.wear_alarm.into()),
+        ("bad_events", o.bad_events.into()),
+        ("force_estimate (I32F32 bits)", o.force_estimate.to_bits()),
+        ("force_measured (I32F32 bits)", o.force_measured.to_bits()),
+        ("wear_power (I32F32 bits)", o.wear_power.to_bits()),
+        ("wear_allowed (I32F32 bits)", o.wear_allowed.to_bits()),
+        ("coulomb (I32F32 bits)", o.coulomb.to_bits()),
+    ]
+}
+
+/// The golden force model's outputs after each force event except samples, with the
+/// event's index in `case.force_events`.
+pub fn golden_force(case: &Case) -> Vec<(usize, ForceOutputs)> {
+    let Some(config) = &case.force else {
+        return Vec::new();
+    };
+    let mut k = ForceKernel::new(config);
+    let mut out = Vec::new();
+    for (i, (_, e)) in case.force_events.iter().enumerate() {
+        k.apply(*e);
+        if !matches!(e, ForceEvent::Sample(_)) {
+            out.push((i, k.outputs()));
+        }
+    }
+    out
+}
+
 /// Appends `case` as one event stream to `out`.
 pub fn encode_case(case: &Case, out: &mut Vec<u8>) {
     let header = Header {
         stream: StreamKind::Events,
         tick_hz: case.tick_hz,
         measure_hash: case.config.hash(),
-        force_hash: 0,
+        force_hash: case.force.as_ref().map_or(0, |f| f.hash()),
     };
     out.extend_from_slice(&header.encode());
     let mut buf = [0u8; wire::RECORD_HEADER_LEN + wire::MAX_PAYLOAD];
@@ -119,10 +159,27 @@ pub fn encode_case(case: &Case, out: &mut Vec<u8>) {
         out.extend_from_slice(&buf[..n]);
     };
     put(&encode_config(&case.config), out);
+    // Merge the two paths by time; on equal times measurement events first (the two
+    // kernels are independent, so any tie order gives the same outputs).
     let mut last = 0;
-    for e in &case.events {
-        put(&encode_event(e.time, e.event), out);
-        last = e.time;
+    let (mut i, mut j) = (0, 0);
+    while i < case.events.len() || j < case.force_events.len() {
+        let m = case.events.get(i);
+        let f = case.force_events.get(j);
+        let take_measure = match (m, f) {
+            (Some(m), Some(f)) => m.time <= f.0,
+            (Some(_), None) => true,
+            _ => false,
+        };
+        if let (true, Some(m)) = (take_measure, m) {
+            put(&encode_event(m.time, m.event), out);
+            last = m.time;
+            i += 1;
+        } else if let Some((time, e)) = f {
+            put(&encode_force_event(*time, e), out);
+            last = *time;
+            j += 1;
+        }
     }
     put(&Record::new(wire::kind::END, last, &[]), out);
 }
@@ -194,7 +251,33 @@ pub fn compare(index: usize, case: &Case, stream: &StreamTrace) -> Result<(), Bo
             }
         }
     }
+    let expected_force = golden_force(case);
+    for ((i, model), got) in expected_force.iter().zip(&stream.force_outputs) {
+        let time = case.force_events.get(*i).map_or(0, |e| e.0);
+        let (fw_time, fw) = got;
+        if *fw_time != time {
+            return Err(mismatch(
+                Some(*i),
+                time,
+                "force event time",
+                time.to_string(),
+                fw_time.to_string(),
+            ));
+        }
+        for ((name, want), (_, got)) in force_signals(model).iter().zip(force_signals(fw).iter()) {
+            if want != got {
+                return Err(mismatch(
+                    Some(*i),
+                    time,
+                    &format!("force.{name}"),
+                    want.to_string(),
+                    got.to_string(),
+                ));
+            }
+        }
+    }
     let p = &stream.profile;
+    let all_events = (case.events.len() + case.force_events.len()) as u64;
     let checks = [
         (
             "outputs records",
@@ -202,10 +285,11 @@ pub fn compare(index: usize, case: &Case, stream: &StreamTrace) -> Result<(), Bo
             stream.outputs.len() as u64,
         ),
         (
-            "events replayed",
-            expected.len() as u64,
-            u64::from(p.events),
+            "force outputs records",
+            expected_force.len() as u64,
+            stream.force_outputs.len() as u64,
         ),
+        ("events replayed", all_events, u64::from(p.events)),
         ("lost events", 0, u64::from(p.lost)),
         ("overflowed events", 0, u64::from(p.overflowed)),
     ];
@@ -283,7 +367,10 @@ pub fn run_batch(image: &std::path::Path, cases: &[Case]) -> Result<Report, Cosi
     }
     Ok(Report {
         cases: cases.len(),
-        events: cases.iter().map(|c| c.events.len() as u64).sum(),
+        events: cases
+            .iter()
+            .map(|c| (c.events.len() + c.force_events.len()) as u64)
+            .sum(),
         qemu_time,
         profiles: streams.iter().map(|s| s.profile).collect(),
     })

@@ -14,6 +14,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::force::{ForceConfig, ForceEvent, ForceSettings};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureSettings, Measurement, TimedEvent};
 
 /// Tick rate of generated streams: the FPGA clock, 50 MHz (20 ns per tick).
@@ -35,17 +36,20 @@ pub enum Fault {
     /// The FES line is broken: index pulses only, 65 536 + of them, so the revolution
     /// counter saturates (16 bits).
     BrokenFesLine,
+    /// The spindle-drive ADC channels clip at 0 and 4095 for part of the cut.
+    AdcSaturation,
 }
 
 impl Fault {
     /// Every fault, for cases that must cover each.
-    pub const ALL: [Fault; 6] = [
+    pub const ALL: [Fault; 7] = [
         Fault::None,
         Fault::MissingIndex,
         Fault::SpindleStopped,
         Fault::EncoderGlitches,
         Fault::ContactChatter,
         Fault::BrokenFesLine,
+        Fault::AdcSaturation,
     ];
 }
 
@@ -60,6 +64,11 @@ pub struct Case {
     pub tick_hz: u32,
     /// The events, in time order (same-time events in canonical order).
     pub events: Vec<TimedEvent>,
+    /// The force path's configuration (the firmware runs the default one); `None` for a
+    /// stream without force events.
+    pub force: Option<ForceConfig>,
+    /// Force-path events, in time order (a sample before a same-time tick).
+    pub force_events: Vec<(u64, ForceEvent)>,
 }
 
 /// A random valid configuration: every field drawn across its allowed range (pulses per
@@ -380,6 +389,26 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
         }
         cnc_upto = b.apply_until(&mut cnc, cnc_upto, t + 1);
     }
+    let events = b.finish();
+    // The force path runs beside the measurement for the same time span (at least 40
+    // control periods, at most 200 so the broken-FES case stays short).
+    let (force, force_events) = match ForceSettings::default().validate() {
+        Ok(fc) => {
+            let span = events.last().map_or(0, |e| e.time);
+            let period_ticks = u64::from(TICK_HZ) / 20;
+            let periods = (span / period_ticks).clamp(40, 200) as u32;
+            let fe = super::force_scenario::force_events(
+                &mut rng,
+                &fc,
+                TICK_HZ,
+                0,
+                periods,
+                fault == Fault::AdcSaturation,
+            );
+            (Some(fc), fe)
+        }
+        Err(_) => (None, Vec::new()),
+    };
     Case {
         name: format!(
             "seed {seed:#018x}, fault {fault:?}, {rpm} rpm, {ppr} ppr, {:?}",
@@ -387,6 +416,8 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
         ),
         config,
         tick_hz: TICK_HZ,
-        events: b.finish(),
+        events,
+        force,
+        force_events,
     }
 }

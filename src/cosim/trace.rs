@@ -3,11 +3,14 @@
 //! or an error record that says why the firmware rejected its input.
 
 use super::CosimError;
+use tooltouch_model::force::{self, decode_force_outputs, ForceOutputs};
 use tooltouch_model::wire::{self, decode_outputs, Header, Record, StreamKind, HEADER_LEN};
 use tooltouch_model::MeasureOutputs;
 
 /// Record kinds the firmware adds (firmware/src/cosim.rs `kind`, same values).
 pub mod kind {
+    /// Events and SysTick ticks of the force path (sample, tick, command).
+    pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
     /// The firmware rejected its input.
     pub const FIRMWARE_ERROR: u8 = 0x5d;
     /// Events and SysTick ticks per event kind.
@@ -17,14 +20,24 @@ pub mod kind {
 }
 
 /// Names of the event kinds in [`Profile::per_kind`]'s order.
-pub const EVENT_KIND_NAMES: [&str; 5] = ["arm", "contact", "index", "fes", "scale"];
+pub const EVENT_KIND_NAMES: [&str; 8] = [
+    "arm",
+    "contact",
+    "index",
+    "fes",
+    "scale",
+    "adc sample",
+    "control period",
+    "force command",
+];
 
 /// What the firmware measured about itself during one stream.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Profile {
-    /// Per event kind (arm, contact, index, FES, scale): events delivered and SysTick
-    /// ticks spent from the pend to the return (interrupt entry, handler, exit).
-    pub per_kind: [(u32, u32); 5],
+    /// Per event kind (arm, contact, index, FES, scale, ADC sample, control period, force
+    /// command): events delivered and SysTick ticks spent from the pend to the return
+    /// (interrupt entry, handler, exit; a control period includes applying its samples).
+    pub per_kind: [(u32, u32); 8],
     /// Events replayed.
     pub events: u32,
     /// Edges lost (interrupt still pending at the next edge).
@@ -59,8 +72,10 @@ impl Profile {
 pub struct StreamTrace {
     /// The header's configuration hash.
     pub measure_hash: u64,
-    /// Outputs after each event, with the event's time.
+    /// Measurement outputs after each measurement event, with the event's time.
     pub outputs: Vec<(u64, MeasureOutputs)>,
+    /// Force outputs after each force event except samples, with the event's time.
+    pub force_outputs: Vec<(u64, ForceOutputs)>,
     /// The firmware's profile and status.
     pub profile: Profile,
 }
@@ -111,6 +126,9 @@ pub fn describe_firmware_error(p: &[u8]) -> String {
         5 => "configuration record does not match the header's hash".to_string(),
         6 => format!("unexpected record kind {detail:#04x} in an event stream"),
         7 => "input holds no stream".to_string(),
+        8 => format!(
+            "the stream's force hash is not the firmware's force configuration ({detail:#018x}) nor 0"
+        ),
         _ => format!("error code {code}"),
     };
     format!("{what} at byte {offset} of the event file")
@@ -149,8 +167,19 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<StreamTrace>, CosimError> {
                         .ok_or_else(|| bad(at, format!("outputs record of {} bytes", p.len())))?;
                     stream.outputs.push((record.time, o));
                 }
+                force::kind::OUTPUTS => {
+                    let o = decode_force_outputs(p).ok_or_else(|| {
+                        bad(at, format!("force outputs record of {} bytes", p.len()))
+                    })?;
+                    stream.force_outputs.push((record.time, o));
+                }
                 kind::FIRMWARE_PROFILE => {
-                    for (k, slot) in stream.profile.per_kind.iter_mut().enumerate() {
+                    for (k, slot) in stream.profile.per_kind.iter_mut().take(5).enumerate() {
+                        *slot = (u32_at(p, 8 * k), u32_at(p, 8 * k + 4));
+                    }
+                }
+                kind::FIRMWARE_FORCE_PROFILE => {
+                    for (k, slot) in stream.profile.per_kind.iter_mut().skip(5).enumerate() {
                         *slot = (u32_at(p, 8 * k), u32_at(p, 8 * k + 4));
                     }
                 }

@@ -125,7 +125,8 @@ impl ForceController for Adaptive {
                 self.gain_estimate = self
                     .gain_estimate
                     .saturating_add(delta)
-                    .max(self.s.gain_min).min(self.s.gain_max);
+                    .max(self.s.gain_min)
+                    .min(self.s.gain_max);
             }
         }
         self.controller_gain = self.gain_for(self.gain_estimate);

@@ -91,7 +91,8 @@ impl ForceController for Pi {
             self.integral = self
                 .integral
                 .saturating_add(self.ki_h.saturating_mul(e))
-                .max(self.i_min).min(self.i_max);
+                .max(self.i_min)
+                .min(self.i_max);
         }
         ControlOutput {
             override_pct: quantize(u),
