@@ -26,6 +26,9 @@ fn small_spec() -> SweepSpec {
             ("scale_bits".into(), "16".into()),
             ("i_def".into(), "32".into()),
             ("law".into(), "linear".into()),
+            ("force.controller".into(), "pi".into()),
+            ("force.kp_percent".into(), "100".into()),
+            ("force.ki_percent".into(), "50,100".into()),
         ],
         ..Default::default()
     })
@@ -39,11 +42,17 @@ fn sharded_and_merged_equals_unsharded() {
     let whole = tune::run(&spec, None, &|| {}).unwrap();
     assert_eq!(whole.points, 8);
     assert_eq!(whole.rows.len(), 8);
+    assert_eq!(whole.force_points, 2);
+    assert_eq!(whole.force.len(), 2);
+    for f in &whole.force {
+        assert!(f.iae_model > 0.0 && f.iae_reference > 0.0, "{f:?}");
+    }
     assert!(whole.rows.iter().any(|r| r.pareto), "a front exists");
     let parts: Vec<_> = (0..3)
         .map(|k| tune::run(&spec, Some(Shard { k, n: 3 }), &|| {}).unwrap())
         .collect();
     assert_eq!(parts.iter().map(|p| p.rows.len()).sum::<usize>(), 8);
+    assert_eq!(parts.iter().map(|p| p.force.len()).sum::<usize>(), 2);
     // Through the files, as a batch system would.
     let dir = tempfile::tempdir().unwrap();
     let mut dirs = Vec::new();
@@ -58,7 +67,7 @@ fn sharded_and_merged_equals_unsharded() {
     let (a, b) = (dir.path().join("whole"), dir.path().join("merged"));
     output::write(&whole, &a).unwrap();
     output::write(&merged, &b).unwrap();
-    for f in [output::JSON, output::CSV, output::SVG] {
+    for f in [output::JSON, output::CSV, output::FORCE_CSV, output::SVG] {
         let x = std::fs::read(a.join(f)).unwrap();
         assert!(!x.is_empty(), "{f}");
         assert_eq!(x, std::fs::read(b.join(f)).unwrap(), "{f} differs");
@@ -84,7 +93,7 @@ fn the_cli_merges_shards_like_the_library() {
         &spec,
         "scenarios = 1\nmethod = [\"counter\"]\ncontact_rule = \"sticky,sampled\"\n\
          charge_bits = [8]\nscale_bits = \"16\"\nglitch_cycles = \"0..=4:2\"\ni_def = 32\n\
-         law = [\"exponential\"]\ndischarge_shift = [4]\n\
+         law = [\"exponential\"]\ndischarge_shift = [4]\n[force]\ncontroller = []\n\
          [approach]\nrpm = 6000.0\npulses_per_rev = 64\nrevolutions = 10\n",
     )
     .unwrap();
@@ -168,6 +177,14 @@ fn bad_specs_are_errors_naming_the_parameter() {
         (&["--shard", "1-2"][..], "`shard`: `1-2` is not K/N"),
         (&["--i-def", "2000"][..], "`i_def`"),
         (&["--rearm-percent", "80"][..], "`rearm_percent`"),
+        (
+            &["--force-controller", "pd"][..],
+            "`force.controller`: unknown value `pd`",
+        ),
+        (
+            &["--kp-percent", "0"][..],
+            "`force.kp_percent`: value 0 is out of range",
+        ),
     ] {
         let e = cli_error(args);
         assert!(e.contains(names), "{args:?}: {e}");

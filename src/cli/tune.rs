@@ -94,6 +94,18 @@ struct SweepArgs {
     /// Re-arm thresholds, percent of full scale.
     #[arg(long)]
     rearm_percent: Option<String>,
+    /// Force controllers: pi, adaptive, fuzzy, or `none` to skip the force sweep.
+    #[arg(long)]
+    force_controller: Option<String>,
+    /// Force controllers' proportional gain, percent of the Ziegler–Nichols design.
+    #[arg(long)]
+    kp_percent: Option<String>,
+    /// Force controllers' integral gain, percent of the design.
+    #[arg(long)]
+    ki_percent: Option<String>,
+    /// Force feedback: estimated, measured.
+    #[arg(long)]
+    force_source: Option<String>,
 }
 
 impl SweepArgs {
@@ -113,6 +125,10 @@ impl SweepArgs {
             ("discharge_shift", &self.discharge_shift),
             ("fire_percent", &self.fire_percent),
             ("rearm_percent", &self.rearm_percent),
+            ("force.controller", &self.force_controller),
+            ("force.kp_percent", &self.kp_percent),
+            ("force.ki_percent", &self.ki_percent),
+            ("force.force_source", &self.force_source),
         ];
         Overrides {
             scenarios: self.scenarios,
@@ -167,9 +183,11 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
         ),
         None => {
             println!(
-                "tune: {} points × {scenarios} scenarios of {} revolutions in {wall:.1} s ({} threads)",
+                "tune: {} measurement points × {scenarios} scenarios of {} revolutions and {} \
+                 force-control points × 2 engines in {wall:.1} s ({} threads)",
                 results.points,
                 spec.approach.revolutions,
+                results.force_points,
                 rayon::current_num_threads()
             );
             summary(&results);
@@ -214,6 +232,35 @@ fn summary(r: &tune::Results) {
             x.diameter_error_um.unwrap_or(f64::NAN),
             x.revolution_error.unwrap_or(f64::NAN)
         );
+    }
+    if !r.force.is_empty() {
+        println!("Force control (depth-step scenario, IAE of |F_r − F| in N·s):");
+        println!(
+            "{:>5} {:>9} {:>10} {:>5} {:>5} {:>10} {:>10} {:>9} {:>9}",
+            "index",
+            "ctrl",
+            "source",
+            "kp%",
+            "ki%",
+            "IAE model",
+            "IAE float",
+            "|diff|",
+            "overshoot%"
+        );
+        for x in &r.force {
+            println!(
+                "{:>5} {:>9} {:>10} {:>5} {:>5} {:>10.2} {:>10.2} {:>9.3} {:>9.1}",
+                x.index,
+                x.controller,
+                x.force_source,
+                x.kp_percent,
+                x.ki_percent,
+                x.iae_model,
+                x.iae_reference,
+                x.iae_error,
+                x.overshoot_pct
+            );
+        }
     }
     let misses = r.rows.iter().filter(|r| r.misses > 0).count();
     if misses > 0 {

@@ -2,13 +2,16 @@
 //! lengths, charge laws and their steps or shifts, thresholds, glitch filter, decision
 //! method) over a set of seeded approach [`scenario`]s, measure each point's error against
 //! the float [`reference`] and its FPGA [`cost`], and mark the Pareto front of accuracy
-//! (latched-diameter error) against cost (logic cells).
+//! (latched-diameter error) against cost (logic cells). The [`force`] part sweeps the
+//! force controllers' gains and compares the fixed-point kernels' IAE with the float
+//! references'.
 //!
 //! A sweep is deterministic: every point is computed on its own from the spec, so a sweep
 //! split with [`Shard`]s and joined with [`merge`] gives exactly the unsharded result.
 
 pub mod cost;
 pub mod evaluate;
+pub mod force;
 pub mod output;
 pub mod reference;
 pub mod scenario;
@@ -83,10 +86,14 @@ pub struct Results {
     pub spec: SweepSpec,
     /// The slice, for a sharded run; `None` for a whole sweep (or a merge).
     pub shard: Option<Shard>,
-    /// Points in the whole sweep.
+    /// Measurement points in the whole sweep (indices `0..points`).
     pub points: usize,
-    /// Rows, by index.
+    /// Force points in the whole sweep (indices `points..points + force_points`).
+    pub force_points: usize,
+    /// Measurement rows, by index.
     pub rows: Vec<Row>,
+    /// Force-control rows, by index.
+    pub force: Vec<force::ForceRow>,
 }
 
 /// Errors of a sweep.
@@ -191,6 +198,7 @@ pub fn run(
     progress: &(dyn Fn() + Sync),
 ) -> Result<Results, TuneError> {
     let points = spec.points()?;
+    let force_points = spec.force.points()?;
     let approaches: Vec<Approach> = (1..=u64::from(spec.scenarios))
         .into_par_iter()
         .map(|seed| scenario::approach(&spec.approach, seed))
@@ -213,18 +221,36 @@ pub fn run(
     if shard.is_none() {
         mark_pareto(&mut rows);
     }
+    let base = points.len();
+    let mine: Vec<(usize, &force::ForcePoint)> = force_points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (base + i, p))
+        .filter(|(i, _)| shard.is_none_or(|s| s.contains(*i)))
+        .collect();
+    let mut force_rows: Vec<force::ForceRow> = mine
+        .par_iter()
+        .map(|&(i, p)| {
+            let r = force::row(i, p);
+            progress();
+            r
+        })
+        .collect();
+    force_rows.sort_by_key(|r| r.index);
     Ok(Results {
         format: FORMAT.into(),
         spec: spec.clone(),
         shard,
         points: points.len(),
+        force_points: force_points.len(),
         rows,
+        force: force_rows,
     })
 }
 
 /// Number of points `spec` runs in `shard`.
 pub fn points_in(spec: &SweepSpec, shard: Option<Shard>) -> Result<usize, TuneError> {
-    let n = spec.points()?.len();
+    let n = spec.points()?.len() + spec.force.points()?.len();
     Ok((0..n)
         .filter(|&i| shard.is_none_or(|s| s.contains(i)))
         .count())
@@ -237,6 +263,7 @@ pub fn merge(parts: &[Results]) -> Result<Results, TuneError> {
         .first()
         .ok_or_else(|| TuneError::Merge("no results to merge".into()))?;
     let mut rows: Vec<Row> = Vec::with_capacity(first.points);
+    let mut force_rows: Vec<force::ForceRow> = Vec::with_capacity(first.force_points);
     for (i, p) in parts.iter().enumerate() {
         if p.format != FORMAT {
             return Err(TuneError::Merge(format!(
@@ -244,28 +271,39 @@ pub fn merge(parts: &[Results]) -> Result<Results, TuneError> {
                 p.format
             )));
         }
-        if p.spec != first.spec || p.points != first.points {
+        if p.spec != first.spec || p.points != first.points || p.force_points != first.force_points
+        {
             return Err(TuneError::Merge(format!(
                 "part {i} comes from a different sweep spec than part 0"
             )));
         }
         rows.extend(p.rows.iter().cloned());
+        force_rows.extend(p.force.iter().cloned());
     }
     rows.sort_by_key(|r| r.index);
-    for (i, r) in rows.iter().enumerate() {
-        if r.index != i {
-            let what = if r.index < i { "twice" } else { "missing" };
-            let which = if r.index < i { r.index } else { i };
+    force_rows.sort_by_key(|r| r.index);
+    let indices = rows
+        .iter()
+        .map(|r| r.index)
+        .chain(force_rows.iter().map(|r| r.index));
+    let mut n = 0;
+    for (i, index) in indices.enumerate() {
+        if index != i {
+            let (what, which) = if index < i {
+                ("twice", index)
+            } else {
+                ("missing", i)
+            };
             return Err(TuneError::Merge(format!(
                 "point {which} is {what} (is a shard missing or given twice?)"
             )));
         }
+        n += 1;
     }
-    if rows.len() != first.points {
+    if n != first.points + first.force_points || rows.len() != first.points {
         return Err(TuneError::Merge(format!(
-            "{} of {} points present (is a shard missing?)",
-            rows.len(),
-            first.points
+            "{n} of {} points present (is a shard missing?)",
+            first.points + first.force_points
         )));
     }
     mark_pareto(&mut rows);
@@ -274,6 +312,8 @@ pub fn merge(parts: &[Results]) -> Result<Results, TuneError> {
         spec: first.spec.clone(),
         shard: None,
         points: first.points,
+        force_points: first.force_points,
         rows,
+        force: force_rows,
     })
 }

@@ -1,6 +1,7 @@
 //! Files of a sweep in `--out DIR`: `results.json` (everything, re-readable by `tune
-//! merge`), `results.csv` (one row per point) and `pareto.svg` (diameter error against
-//! logic cells, the Pareto front highlighted).
+//! merge`), `results.csv` (one row per measurement point), `force.csv` (one row per
+//! force-control gain point) and `pareto.svg` (diameter error against logic cells, each
+//! method's Pareto front highlighted).
 
 use super::{Results, Row};
 use anyhow::{Context, Result};
@@ -14,6 +15,31 @@ pub const JSON: &str = "results.json";
 pub const CSV: &str = "results.csv";
 /// `pareto.svg`.
 pub const SVG: &str = "pareto.svg";
+/// `force.csv`.
+pub const FORCE_CSV: &str = "force.csv";
+
+/// The CSV text of the force rows.
+pub fn force_csv(rows: &[super::force::ForceRow]) -> String {
+    let mut out = String::from(
+        "index,controller,force_source,kp_percent,ki_percent,iae_model,iae_reference,iae_error,overshoot_pct\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{:.4},{:.4},{:.4},{:.2}",
+            r.index,
+            r.controller,
+            r.force_source,
+            r.kp_percent,
+            r.ki_percent,
+            r.iae_model,
+            r.iae_reference,
+            r.iae_error,
+            r.overshoot_pct
+        );
+    }
+    out
+}
 
 const COLUMNS: &str = "index,method,contact_rule,charge_bits,scale_bits,glitch_cycles,i_def,\
 window_revs,law,charge,discharge,fire_threshold,rearm_threshold,flip_flops,logic_cells,\
@@ -65,6 +91,9 @@ pub fn write(results: &Results, dir: &Path) -> Result<()> {
     std::fs::write(&p, json + "\n").with_context(|| format!("writing {}", p.display()))?;
     let p = dir.join(CSV);
     std::fs::write(&p, csv(&results.rows)).with_context(|| format!("writing {}", p.display()))?;
+    let p = dir.join(FORCE_CSV);
+    std::fs::write(&p, force_csv(&results.force))
+        .with_context(|| format!("writing {}", p.display()))?;
     if results.shard.is_none() {
         plot(&results.rows, &dir.join(SVG))?;
     }

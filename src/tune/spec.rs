@@ -125,7 +125,12 @@ pub enum Names {
 }
 
 impl Names {
-    fn expand<T: Copy>(&self, parameter: &str, known: &[(&str, T)]) -> Result<Vec<T>, SpecError> {
+    /// The named values, each looked up in `known`.
+    pub fn expand<T: Copy>(
+        &self,
+        parameter: &str,
+        known: &[(&str, T)],
+    ) -> Result<Vec<T>, SpecError> {
         let names: Vec<String> = match self {
             Names::List(v) => v.clone(),
             Names::Text(t) => t
@@ -233,6 +238,8 @@ pub struct SweepSpec {
     pub fire_percent: Values,
     /// Re-arm threshold, percent of full scale (`0..=99`, below the fire threshold).
     pub rearm_percent: Values,
+    /// The force-control gain sweep (`[force]`; `controller = []` skips it).
+    pub force: super::force::ForceSpec,
 }
 
 impl Default for SweepSpec {
@@ -263,6 +270,7 @@ impl Default for SweepSpec {
             discharge_shift: Values::List(vec![4, 6]),
             fire_percent: Values::One(75),
             rearm_percent: Values::One(25),
+            force: super::force::ForceSpec::default(),
         }
     }
 }
@@ -316,6 +324,10 @@ impl SweepSpec {
                 "discharge_shift" => self.discharge_shift = Values::text(t),
                 "fire_percent" => self.fire_percent = Values::text(t),
                 "rearm_percent" => self.rearm_percent = Values::text(t),
+                "force.controller" => self.force.controller = Names::Text(t.clone()),
+                "force.kp_percent" => self.force.kp_percent = Values::text(t),
+                "force.ki_percent" => self.force.ki_percent = Values::text(t),
+                "force.force_source" => self.force.force_source = Names::Text(t.clone()),
                 other => return Err(err(other, "no such sweep parameter")),
             }
         }

@@ -4,6 +4,7 @@
 //! `.cargo/config.toml` from the current directory, so firmware commands run inside
 //! firmware/.
 
+mod bench;
 mod firmware;
 mod hdl;
 mod setup;
@@ -22,6 +23,8 @@ verbs:
   test         setup, then fmt, clippy, host tests, thumb builds, firmware, lockfile check
   firmware     build the firmware for both boards
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax
+  bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
+               (--criterion: also every criterion bench)
 ";
 
 fn main() -> Result<()> {
@@ -32,6 +35,7 @@ fn main() -> Result<()> {
         "test" | "ci" => test(),
         "firmware" => firmware::build_all(),
         "hdl-report" => hdl::report(),
+        "bench" => bench::run(&args[1..]),
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
             Ok(())
