@@ -417,12 +417,21 @@ impl Dump {
             .find(|s| s.name == name && s.scope.last().is_some_and(|l| l == scope_suffix))
     }
 
-    /// The shallowest signal with leaf name `name`.
+    /// The DUT signal compared with golden output `name`: one in a scope named `outputs`
+    /// if there is one, else the shallowest not in a scope named `inputs` (the input pin
+    /// `contact` and the output `contact` share a leaf name), else the shallowest.
     pub fn find_shallowest(&self, name: &str) -> Option<&Signal> {
-        self.signals
-            .iter()
-            .filter(|s| s.name == name)
+        let named = || self.signals.iter().filter(move |s| s.name == name);
+        let in_scope = |s: &Signal, scope: &str| s.scope.last().is_some_and(|l| l == scope);
+        named()
+            .filter(|s| in_scope(s, "outputs"))
             .min_by_key(|s| s.scope.len())
+            .or_else(|| {
+                named()
+                    .filter(|s| !in_scope(s, "inputs"))
+                    .min_by_key(|s| s.scope.len())
+            })
+            .or_else(|| named().min_by_key(|s| s.scope.len()))
     }
 
     /// `(measure_hash, clock_hz)` from a golden file's `$comment`.

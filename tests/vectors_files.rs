@@ -1,0 +1,283 @@
+//! Vector files: the golden VCD reads back as the model's values on every clock, `check`
+//! finds a flipped bit and names cycle, signal and both values, and corrupt binary files
+//! give errors that say what is wrong.
+
+use tooltouch::cli::check::{compare_binary, compare_vcd, Verdict};
+use tooltouch::lathe::{CycleSettings, LatheScenario};
+use tooltouch::measurement_cycle;
+use tooltouch::stimulus::Stimulus;
+use tooltouch::vectors::vcd::{output_values, period_ns, write_golden, Dump};
+use tooltouch::vectors::{
+    binary, clock_every_cycle, events_from_stimulus, outputs_after_each_event,
+};
+use tooltouch_model::frontend::pin;
+use tooltouch_model::wire::{self, Header, StreamKind};
+use tooltouch_model::{MeasureConfig, MeasureSettings};
+
+fn small() -> (MeasureConfig, Stimulus) {
+    let config = MeasureSettings {
+        pulses_per_rev: 64,
+        i_def: 32,
+        glitch_cycles: 2,
+        ..Default::default()
+    }
+    .validate()
+    .unwrap();
+    let scenario = LatheScenario {
+        clock_hz: 1_000_000,
+        rpm: 1_000_000.0 * 60.0 / (64.0 * 20.0),
+        feed_mm_per_rev: 0.001,
+        cycle: CycleSettings {
+            repeats: 1,
+            retract_mm_per_s: 1.0,
+            z_dwell_ms: 1.0,
+            cnc_reaction_us: 100.0,
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let run = measurement_cycle::run(&scenario, &config, &mut |_| {}).unwrap();
+    assert_eq!(run.summary.decided, 1);
+    (config, run.stimulus)
+}
+
+fn golden_text(config: &MeasureConfig, stimulus: &Stimulus) -> String {
+    let mut buf = Vec::new();
+    write_golden(&mut buf, stimulus, config, None).unwrap();
+    String::from_utf8(buf).unwrap()
+}
+
+#[test]
+fn golden_vcd_reads_back_as_the_model_on_every_clock() {
+    let (config, stimulus) = small();
+    let text = golden_text(&config, &stimulus);
+    let dump = Dump::parse(&text, "golden.vcd").unwrap();
+    assert_eq!(dump.golden_stamp(), Some((config.hash(), 1_000_000)));
+    let p_fs = period_ns(1_000_000) * 1_000_000;
+    let outs: Vec<_> = tooltouch::vectors::vcd::output_signals(&config)
+        .iter()
+        .map(|(name, _)| dump.find_in_scope("outputs", name).unwrap().id.clone())
+        .collect();
+    let ins: Vec<_> = pin::NAMES
+        .iter()
+        .map(|name| dump.find_in_scope("inputs", name).unwrap().id.clone())
+        .collect();
+    let pins: Vec<_> = stimulus.cycles().collect();
+    let mut checked = 0u64;
+    clock_every_cycle(&stimulus, &config, |k, fe, _| {
+        let t = k * p_fs + p_fs / 2;
+        let expected = output_values(&fe.outputs(), &config);
+        for (i, id) in outs.iter().enumerate() {
+            let v = dump.value_at(id, t).unwrap();
+            assert!(!v.unknown);
+            assert_eq!(v.bits, expected[i], "clock {k} output {i}");
+        }
+        for (i, id) in ins.iter().enumerate() {
+            let level = pins[k as usize].get(1 << i);
+            assert_eq!(
+                dump.value_at(id, t).unwrap().bits,
+                u64::from(level),
+                "clock {k} pin {i}"
+            );
+        }
+        checked += 1;
+    });
+    assert_eq!(checked, stimulus.total_cycles());
+}
+
+#[test]
+fn check_accepts_a_dut_dump_with_other_scopes_and_timescale() {
+    let (config, stimulus) = small();
+    let text = golden_text(&config, &stimulus);
+    let e = Dump::parse(&text, "e.vcd").unwrap();
+    // The same values as a testbench would dump them: ps, another hierarchy, no comment.
+    let dut: String = text
+        .lines()
+        .filter(|l| !l.starts_with("$comment"))
+        .map(|l| {
+            if let Some(t) = l.strip_prefix('#') {
+                format!("#{}", t.parse::<u64>().unwrap() * 1000)
+            } else {
+                l.replace("$timescale 1ns", "$timescale 1ps")
+                    .replace("module tooltouch", "module tb")
+                    .replace("module outputs", "module dut")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let d = Dump::parse(&dut, "d.vcd").unwrap();
+    match compare_vcd(&e, "e.vcd", &d, "d.vcd").unwrap() {
+        Verdict::Match(line) => assert!(line.starts_with("OK"), "{line}"),
+        v => panic!("{v:?}"),
+    }
+}
+
+#[test]
+fn check_names_the_first_flipped_bit() {
+    let (config, stimulus) = small();
+    let text = golden_text(&config, &stimulus);
+    let e = Dump::parse(&text, "e.vcd").unwrap();
+    let count_id = e.find_in_scope("outputs", "count").unwrap().id.clone();
+    // Flip bit 0 of the 5th change of `count`.
+    let mut seen = 0;
+    let mut time = 0u64;
+    let mut flipped_at = None;
+    let dut: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if let Some(t) = l.strip_prefix('#') {
+                time = t.parse().unwrap();
+            }
+            let parts: Vec<&str> = l.split(' ').collect();
+            if parts.len() == 2 && parts[1] == count_id && parts[0].starts_with('b') {
+                seen += 1;
+                if seen == 5 {
+                    let v = u64::from_str_radix(&parts[0][1..], 2).unwrap() ^ 1;
+                    flipped_at = Some((time, v ^ 1, v));
+                    return format!("b{v:b} {count_id}");
+                }
+            }
+            l.to_string()
+        })
+        .collect();
+    let (t, expected, got) = flipped_at.unwrap();
+    let d = Dump::parse(&dut.join("\n"), "d.vcd").unwrap();
+    let v = compare_vcd(&e, "e.vcd", &d, "d.vcd").unwrap();
+    let want = format!(
+        "cycle {} (time {t} ns): signal count expected 0x{expected:x} got 0x{got:x}",
+        t / 1000
+    );
+    assert_eq!(v, Verdict::Mismatch(want));
+}
+
+#[test]
+fn check_names_a_missing_dut_signal() {
+    let (config, stimulus) = small();
+    let text = golden_text(&config, &stimulus);
+    let e = Dump::parse(&text, "e.vcd").unwrap();
+    let d = Dump::parse(&text.replace(" charge ", " chrg "), "d.vcd").unwrap();
+    let err = compare_vcd(&e, "e.vcd", &d, "d.vcd")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("d.vcd") && err.contains("`charge`"), "{err}");
+}
+
+fn streams() -> (MeasureConfig, Vec<u8>, Vec<u8>) {
+    let (config, stimulus) = small();
+    let events = events_from_stimulus(&stimulus, &config);
+    let outputs = outputs_after_each_event(&events, &config);
+    (
+        config,
+        binary::encode_events(&events, &config, 1_000_000),
+        binary::encode_outputs(&outputs, &config, 1_000_000),
+    )
+}
+
+#[test]
+fn binary_streams_round_trip() {
+    let (config, stimulus) = small();
+    let events = events_from_stimulus(&stimulus, &config);
+    let (_, ev, _) = streams();
+    let back = binary::decode_events(&ev, "events.ttv", Some(config.hash())).unwrap();
+    assert_eq!(back.events, events);
+    assert_eq!(back.config, config);
+    assert_eq!(back.header.tick_hz, 1_000_000);
+}
+
+#[test]
+fn corrupt_binary_files_give_clear_errors() {
+    let (config, ev, _) = streams();
+    let err = |bytes: &[u8], hash: Option<u64>| {
+        binary::decode_events(bytes, "events.ttv", hash)
+            .unwrap_err()
+            .to_string()
+    };
+    // Truncated in a record, and cut at a record boundary (no END).
+    let e = err(&ev[..ev.len() - 15], None);
+    assert!(e.contains("events.ttv") && e.contains("truncated"), "{e}");
+    let e = err(&ev[..wire::HEADER_LEN + 41], None);
+    assert!(e.contains("END") || e.contains("truncated"), "{e}");
+    let e = err(&ev[..10], None);
+    assert!(e.contains("truncated at byte 0"), "{e}");
+    // Wrong magic, wrong version.
+    let mut bad = ev.clone();
+    bad[0] = b'X';
+    assert!(err(&bad, None).contains("wrong magic"));
+    let mut bad = ev.clone();
+    bad[4] = 9;
+    let e = err(&bad, None);
+    assert!(e.contains("unsupported format version 9"), "{e}");
+    // Configuration: another configuration's hash expected, and a header that lies.
+    let e = err(&ev, Some(config.hash() ^ 1));
+    assert!(
+        e.contains("configuration hash") && e.contains("does not match"),
+        "{e}"
+    );
+    let mut bad = ev.clone();
+    bad[12] ^= 0xff;
+    let e = err(&bad, None);
+    assert!(e.contains("configuration hash"), "{e}");
+    // Time going backwards: set the second event's time below the first's.
+    let mut bad = ev.clone();
+    let first_event = wire::HEADER_LEN + wire::RECORD_HEADER_LEN + wire::CANONICAL_CONFIG_LEN;
+    let second = first_event + wire::RECORD_HEADER_LEN + usize::from(ev[first_event + 1]);
+    bad[second + 2..second + 10].copy_from_slice(&0u64.to_le_bytes());
+    let e = err(&bad, None);
+    assert!(e.contains("time goes backwards"), "{e}");
+    // An Outputs stream where Events are expected.
+    let h = Header {
+        stream: StreamKind::Outputs,
+        tick_hz: 1,
+        measure_hash: config.hash(),
+        force_hash: 0,
+    };
+    let e = err(&h.encode(), None);
+    assert!(
+        e.contains("Outputs") && e.contains("expected Events"),
+        "{e}"
+    );
+}
+
+#[test]
+fn binary_check_names_record_field_and_values() {
+    let (config, _, out) = streams();
+    assert!(matches!(
+        compare_binary(&out, "e.ttv", &out, "d.ttv").unwrap(),
+        Verdict::Match(_)
+    ));
+    let (_, records) = binary::decode_outputs(&out, "e.ttv", None).unwrap();
+    let i = records.len() / 2;
+    let mut changed = records.clone();
+    changed[i].1.charge ^= 4;
+    let dut = binary::encode_outputs(&changed, &config, 1_000_000);
+    let v = compare_binary(&out, "e.ttv", &dut, "d.ttv").unwrap();
+    let want = format!(
+        "record {i} (time {}): field charge expected 0x{:x} got 0x{:x}",
+        records[i].0,
+        records[i].1.charge,
+        records[i].1.charge ^ 4
+    );
+    assert_eq!(v, Verdict::Mismatch(want));
+    let short = binary::encode_outputs(&records[..i], &config, 1_000_000);
+    let v = compare_binary(&out, "e.ttv", &short, "d.ttv").unwrap();
+    assert!(
+        matches!(v, Verdict::Mismatch(ref s) if s.contains(&format!("record {i}"))),
+        "{v:?}"
+    );
+    let other = MeasureSettings {
+        i_def: 33,
+        pulses_per_rev: 64,
+        glitch_cycles: 2,
+        ..Default::default()
+    }
+    .validate()
+    .unwrap();
+    let dut = binary::encode_outputs(&records, &other, 1_000_000);
+    let e = compare_binary(&out, "e.ttv", &dut, "d.ttv")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("d.ttv") && e.contains("configuration hash"),
+        "{e}"
+    );
+}
