@@ -78,6 +78,14 @@ fn print_report(what: &str, r: &cosim::Report) {
         r.events_per_second(),
         r.stack_bytes()
     );
+    if let Some(p) = r.profiles.first() {
+        eprintln!(
+            "  SysTick calibration: {} instructions in {} ticks ({:.2} instructions per tick)",
+            p.calibration_instructions,
+            p.calibration_ticks,
+            p.instructions_per_tick()
+        );
+    }
     for (k, name) in EVENT_KIND_NAMES.iter().enumerate() {
         if let Some(i) = r.instructions_per_event(k) {
             eprintln!("  {name:8} {i:7.1} instructions per event (pend to return, QEMU -icount)");
