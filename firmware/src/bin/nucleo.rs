@@ -15,7 +15,7 @@
 //! | PC11 | CN7-2    | CNC force control on (in)      | EXTI15_10, pr 12 | both    |
 //! | PC12 | CN7-3    | CNC no-load identification (in)| EXTI15_10, pr 12 | both    |
 //! | PC13 | B1 button| tool changed (in, active low)  | EXTI15_10, pr 12 | falling |
-//! | PC0–PC5, PB0, PB1 | A5–A0… | ADC1 IN10–IN15, IN8, IN9: speed, power, force, v_u, v_v, v_w, i_u, i_v | TIM2 1 kHz, pr 8 | — |
+//! | PC0–PC5, PB0, PB1 | A5, A4, CN7-35, CN7-37, CN10-34, CN10-6, A3, CN10-24 | ADC1 IN10–IN15, IN8, IN9: speed, power, force, v_u, v_v, v_w, i_u, i_v | TIM2 1 kHz, pr 8 | — |
 //! | —    | —        | 20 Hz control period           | TIM3, prio 4     | —       |
 //! | PA5  | D13, LD2 | "register now" to the CNC (out)| —                | —       |
 //! | PA6  | D12      | wear alarm (out)               | —                | —       |
