@@ -86,3 +86,21 @@ fn the_hdl_timing_path_runs_the_bit_for_bit_testbench() {
     assert_eq!(t.cycles, stim.total_cycles());
     assert!(t.seconds > 0.0);
 }
+
+#[test]
+fn the_bare_verilator_loop_ends_with_the_models_outputs() {
+    let config = MeasureConfig::default();
+    let stim = speed::prefix(&speed::realistic_stimulus(&config, 1).unwrap(), 2_000_000);
+    let plain = speed::run_plain(&stim, &config);
+    let dir = tempfile::tempdir().unwrap();
+    let t = speed::verilator::time_bare_verilator(&config, &stim, &plain.outputs, dir.path())
+        .unwrap_or_else(|e| panic!("{e:#} (is Verilator installed? run `cargo xtask setup`)"));
+    assert_eq!(t.cycles, stim.total_cycles());
+    // A wrong expectation must be caught: the harness checks the outputs it times.
+    let mut wrong = plain.outputs;
+    wrong.pulses = wrong.pulses.wrapping_add(1);
+    let e = speed::verilator::time_bare_verilator(&config, &stim, &wrong, dir.path())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("signal pulses expected"), "{e}");
+}

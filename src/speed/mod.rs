@@ -7,13 +7,15 @@
 //! - the **event level**: the events the cycle level's kernel acted on, replayed with
 //!   [`Measurement::apply`] ([`run_events`]);
 //! - the **Verilator** and **Icarus** models of the generated Verilog, through the
-//!   co-simulation runner of [`crate::hdl`] ([`hdl`]).
+//!   co-simulation runner of [`crate::hdl`] ([`hdl`]: its self-checking testbench), and
+//!   Verilator once more as a bare C++ clock loop without a testbench ([`verilator`]).
 //!
 //! Every model run returns a [`Trace`] (a digest of every clock's detected edges and the
 //! final state) so the harness can check that the runs it times did the same work.
 //! Speeds are reported by the bench, never asserted by tests.
 
 pub mod hdl;
+pub mod verilator;
 
 use crate::lathe::LatheScenario;
 use crate::stimulus::Stimulus;
