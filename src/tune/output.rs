@@ -116,23 +116,26 @@ pub fn read(path: &Path) -> Result<Results> {
 /// Scatter of diameter error against logic cells, one colour per decision method, each
 /// method's Pareto front joined by a line.
 pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
+    // Log scale: errors span a scale count's fraction to whole revolutions of feed; an
+    // error below 1 nm is drawn at 1 nm.
     let pts: Vec<(&str, u32, f64, bool)> = rows
         .iter()
         .filter(|r| r.misses == 0)
         .filter_map(|r| {
             r.diameter_error_um
-                .map(|e| (r.method.as_str(), r.logic_cells, e, r.pareto))
+                .map(|e| (r.method.as_str(), r.logic_cells, e.max(1e-3), r.pareto))
         })
         .collect();
     let (mut x0, mut x1) = (u32::MAX, 0u32);
-    let mut y1 = 0.0f64;
+    let (mut y0, mut y1) = (f64::MAX, 0.0f64);
     for &(_, x, y, _) in &pts {
         x0 = x0.min(x);
         x1 = x1.max(x);
+        y0 = y0.min(y);
         y1 = y1.max(y);
     }
     if pts.is_empty() {
-        (x0, x1, y1) = (0, 1, 1.0);
+        (x0, x1, y0, y1) = (0, 1, 1e-3, 1.0);
     }
     let mut methods: Vec<&str> = pts.iter().map(|p| p.0).collect();
     methods.sort_unstable();
@@ -149,11 +152,14 @@ pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
             .margin(15)
             .x_label_area_size(45)
             .y_label_area_size(60)
-            .build_cartesian_2d(x0.saturating_sub(10)..(x1 + 10), 0.0..(y1 * 1.1).max(1e-3))?;
+            .build_cartesian_2d(
+                x0.saturating_sub(10)..(x1 + 10),
+                (y0 / 1.5..(y1 * 1.5).max(y0 * 2.0)).log_scale(),
+            )?;
         chart
             .configure_mesh()
             .x_desc("logic cells (iCE40 LUT4, estimated)")
-            .y_desc("mean |diameter error| vs float reference, µm")
+            .y_desc("mean |diameter error| vs float reference, µm (log)")
             .draw()?;
         for (i, m) in methods.iter().enumerate() {
             let colour = palette[i % palette.len()];
