@@ -199,3 +199,40 @@ fn a_truncated_stream_is_rejected_with_its_offset() {
         other => panic!("expected the firmware to reject the stream, got {other:?}"),
     }
 }
+
+/// The lathe simulator's closed-loop measurement cycles (spindle, surface with form errors
+/// and spindle wander, contact electrics, the CNC retracting on "register now"), as the
+/// cycle-level front end extracts their events: the firmware agrees on every event.
+#[test]
+fn firmware_matches_the_golden_model_on_lathe_simulator_streams() {
+    use tooltouch::lathe::LatheScenario;
+    let config = tooltouch_model::MeasureConfig::default();
+    let cases: Vec<Case> = proptest_seeds(4, "lathe streams")
+        .into_iter()
+        .map(|seed| {
+            let scenario = LatheScenario {
+                seed,
+                ..Default::default()
+            };
+            let stimulus = tooltouch::measurement_cycle::closed_loop_stimulus(&scenario, &config)
+                .unwrap_or_else(|e| panic!("lathe scenario (seed {seed:#x}): {e}"));
+            Case {
+                name: format!("lathe simulator, seed {seed:#018x}"),
+                config,
+                tick_hz: stimulus.clock_hz,
+                events: tooltouch::vectors::events_from_stimulus(&stimulus, &config),
+                force: None,
+                force_events: Vec::new(),
+            }
+        })
+        .collect();
+    for case in &cases {
+        assert!(
+            cosim::golden(case).iter().any(|o| o.register_now),
+            "{}: the cycle decides",
+            case.name
+        );
+    }
+    let report = run(&cases);
+    print_report("lathe simulator streams", &report);
+}
