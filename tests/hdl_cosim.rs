@@ -58,14 +58,3 @@ fn hdl_random_configs_match_the_model_in_verilator_and_icarus() {
         failures.join("\n")
     );
 }
-
-#[test]
-#[ignore]
-fn hdl_debug_dump() {
-    use tooltouch::hdl::hex::{golden_vectors, write_vectors};
-    let c = tooltouch_model::MeasureConfig::default();
-    let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let s = random_stimulus(&mut rng, &c, 50_000_000, 2000);
-    let v = golden_vectors(&c, &s).unwrap();
-    write_vectors(std::path::Path::new("/tmp/hx/d1"), &v).unwrap();
-}

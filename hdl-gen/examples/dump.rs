@@ -11,8 +11,8 @@ fn main() -> std::io::Result<()> {
     let d = generate(&c, &Options::default());
     let spec = TestbenchSpec {
         clock_hz: 50_000_000,
-        stim_depth: 1024,
-        expect_depth: 1024,
+        stim_depth: 1 << 16,
+        expect_depth: 1 << 16,
     };
     let tb = testbench(&c, &spec).into_iter();
     for f in d.files.iter().cloned().chain(tb) {

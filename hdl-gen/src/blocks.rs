@@ -235,15 +235,37 @@ endmodule
     wire [${CB1}:0]  count_p    = window_end ? ${CZERO} : count_f;
 "#
         } else {
-            r#"    // on_index: the window's last index pulse moves the count to last_window_count.
-    wire             window_end = index && ({1'b0, revs_a} + ${RONE1} >= WINDOW_REVS);
-    wire [${CB1}:0]  count_i    = window_end ? ${CZERO} : count_a;
+            r#"    // The composition clear -> on_index -> on_pulse, flattened so that every
+    // comparison and increment works on the registers alone, in parallel with the edge
+    // logic (the same values as applying the three steps one after the other):
+    //   count after clear and index is 0 (`from_zero`) or count_q;
+    //   0 < WINDOW_PULSES always, 0 + 1 > I_DEF iff I_DEF = 0,
+    //   count_q + 1 > I_DEF iff count_q >= I_DEF.
+    // count_q never exceeds WINDOW_PULSES (it saturates there), so
+    // count_q < WINDOW_PULSES iff count_q != WINDOW_PULSES: an equality, no carry chain.
+    wire             below_full = count_q != WINDOW_PULSES;
+    wire [${CB1}:0]  count_inc  = count_q + ${CONE};
+    wire             inc_exceeds = ${Q_GE_IDEF};
+    wire             q_exceeds  = count_q > I_DEF;
+    wire             last_rev   = ({1'b0, revs_q} + ${RONE1} >= WINDOW_REVS);
+    wire [${RB1}:0]  revs_inc   = revs_q + ${RONE};
+
+    // on_index: the window's last index pulse moves the count to last_window_count.
+    wire             window_end = index && (clear ? ${ONE_REV} : last_rev);
+    wire             from_zero  = clear || window_end;
     wire [${CB1}:0]  lwc_i      = window_end ? count_a : lwc_a;
-    wire [${RB1}:0]  revs_i     = window_end ? ${RZERO} : (index ? revs_a + ${RONE} : revs_a);
+    wire [${RB1}:0]  revs_i     = window_end ? ${RZERO} :
+                                  index ? (clear ? ${RONE} : revs_inc) : revs_a;
     // on_pulse: +1 per contact pulse, saturating at window_pulses.
-    wire             inc        = pulse && contact_bit && (count_i < WINDOW_PULSES);
-    wire [${CB1}:0]  count_p    = inc ? count_i + ${CONE} : count_i;
+    wire             inc        = pulse && contact_bit && (from_zero || below_full);
+    wire [${CB1}:0]  count_p    = from_zero ? {${CB_1}'d0, inc} : (inc ? count_inc : count_q);
+    wire             exceeds    = from_zero ? (inc && ${IDEF_ZERO}) : (inc ? inc_exceeds : q_exceeds);
 "#
+        };
+        let decide = if self.fault == Fault::FesBeforeIndex {
+            "    assign decide = pulse && !reached_a && (count_p > I_DEF);\n"
+        } else {
+            "    assign decide = pulse && !reached_a && exceeds;\n"
         };
         let body = fill(
             &(r#"// Device 1, the pulse counter (SPEC 2.3): contact pulses per window of
@@ -277,7 +299,8 @@ module tt_pulse_counter (
 "#
             .to_string()
                 + order
-                + r#"    assign decide = pulse && !reached_a && (count_p > I_DEF);
+                + decide
+                + r#"
 
     always @(posedge clk) begin
         if (rst) begin
@@ -311,6 +334,17 @@ endmodule
                 ("RZERO", lit(rb, 0)),
                 ("RONE", lit(rb, 1)),
                 ("RONE1", lit(rb + 1, 1)),
+                ("CB_1", (cb - 1).to_string()),
+                ("ONE_REV", bool_lit(s.window_revs == 1)),
+                ("IDEF_ZERO", bool_lit(s.i_def == 0)),
+                (
+                    "Q_GE_IDEF",
+                    if s.i_def == 0 {
+                        "1'b1".to_string()
+                    } else {
+                        format!("count_q >= {}", lit(cb, s.i_def.into()))
+                    },
+                ),
             ],
         );
         self.file("tt_pulse_counter", "device 1, the pulse counter", &body)
@@ -325,24 +359,84 @@ endmodule
         if self.fault == Fault::FireThresholdPlusOne {
             fire = (fire + 1).min(full);
         }
+        let rearm = u64::from(s.rearm_threshold);
+        // `charge_q >= c` and `charge_q < c` for a constant c, folded when constant
+        // (so no comparison is trivially true or false).
+        let ge = |c: u64| -> String {
+            if c == 0 {
+                "1'b1".into()
+            } else if c > full {
+                "1'b0".into()
+            } else {
+                format!("(charge_q >= {})", lit(qb, c))
+            }
+        };
+        let lt = |c: u64| -> String {
+            if c == 0 {
+                "1'b0".into()
+            } else if c > full {
+                "1'b1".into()
+            } else {
+                format!("(charge_q < {})", lit(qb, c))
+            }
+        };
         let law = match s.charge_law {
             ChargeLaw::Linear {
                 charge_step,
                 discharge_step,
-            } => fill(
-                r#"    // Linear law: +${UP} per contact pulse (saturating at full scale),
-    // -${DOWN} per pulse without (saturating at 0).
-    wire [${QB}:0]  sum         = {1'b0, charge_a} + ${UPL1};
-    wire [${QB1}:0] charge_up   = (sum > {1'b0, FULL}) ? FULL : sum[${QB1}:0];
-    wire [${QB1}:0] charge_down = (charge_a < ${DOWNL}) ? ${QZERO} : charge_a - ${DOWNL};
+            } => {
+                let (up, down) = (u64::from(charge_step), u64::from(discharge_step));
+                fill(
+                    r#"    // Linear law: +${UP} per contact pulse (saturating at full scale),
+    // -${DOWN} per pulse without (saturating at 0). The threshold tests of the new charge
+    // are rewritten as constant comparisons of charge_q (fire <= full, so
+    // min(q + up, full) >= fire iff q >= fire - up; q - down >= fire iff q >= fire + down;
+    // min(q + up, full) < rearm iff q < rearm - up; sat(q - down) < rearm iff
+    // q < rearm + down, rearm > 0).
+    wire [${QB}:0]  sum          = {1'b0, charge_q} + ${UPL1};
+    wire [${QB}:0]  diff         = {1'b0, charge_q} - ${DOWNL1};
+    wire [${QB1}:0] up_q         = sum[${QB}] ? FULL : sum[${QB1}:0];
+    wire [${QB1}:0] down_q       = diff[${QB}] ? ${QZERO} : diff[${QB1}:0];
+    wire        up_fires     = ${UP_FIRES};
+    wire        down_fires   = ${DOWN_FIRES};
+    wire        up_rearms    = ${UP_REARMS};
+    wire        down_rearms  = ${DOWN_REARMS};
+    // From an empty capacitor (the same clock's clear).
+    localparam [${QB1}:0] UP_FROM_EMPTY = ${UP0};
+    localparam        UP0_FIRES     = ${UP0_FIRES};
+    localparam        UP0_REARMS    = ${UP0_REARMS};
+    localparam        DOWN0_REARMS  = ${DOWN0_REARMS};
 "#,
-                &[
-                    ("UP", charge_step.to_string()),
-                    ("DOWN", discharge_step.to_string()),
-                    ("UPL1", lit(qb + 1, charge_step.into())),
-                    ("DOWNL", lit(qb, discharge_step.into())),
-                ],
-            ),
+                    &[
+                        ("UP", up.to_string()),
+                        ("DOWN", down.to_string()),
+                        ("UPL1", lit(qb + 1, up)),
+                        ("DOWNL1", lit(qb + 1, down)),
+                        ("UP_FIRES", ge(fire.saturating_sub(up))),
+                        ("DOWN_FIRES", ge(fire + down)),
+                        (
+                            "UP_REARMS",
+                            if up >= rearm {
+                                "1'b0".into()
+                            } else {
+                                lt(rearm - up)
+                            },
+                        ),
+                        (
+                            "DOWN_REARMS",
+                            if rearm == 0 {
+                                "1'b0".into()
+                            } else {
+                                lt(rearm + down)
+                            },
+                        ),
+                        ("UP0", lit(qb, up.min(full))),
+                        ("UP0_FIRES", bool_lit(up.min(full) >= fire)),
+                        ("UP0_REARMS", bool_lit(up.min(full) < rearm)),
+                        ("DOWN0_REARMS", bool_lit(0 < rearm)),
+                    ],
+                )
+            }
             ChargeLaw::Exponential {
                 charge_shift,
                 discharge_shift,
@@ -357,37 +451,66 @@ endmodule
                         format!("({x} >> {sh})")
                     }
                 };
+                let exp_step = |d: u64, sh: u8| -> u64 {
+                    if d == 0 {
+                        0
+                    } else {
+                        (d >> sh.min(63)).max(1)
+                    }
+                };
+                let up0 = exp_step(full, charge_shift);
+                let cmp = |x: &str, op: &str, c: u64| -> String {
+                    match (op, c) {
+                        (">=", 0) => "1'b1".into(),
+                        ("<", 0) => "1'b0".into(),
+                        _ => format!("({x} {op} {})", lit(qb, c)),
+                    }
+                };
                 fill(
                     r#"    // Exponential law: +max(1, (full - q) >> ${CS}) per contact pulse,
     // -max(1, q >> ${DS}) per pulse without; a zero distance steps by 0.
-    wire [${QB1}:0] room        = FULL - charge_a;
-    wire [${QB1}:0] room_shift  = ${ROOM_SHIFT};
-    wire [${QB1}:0] q_shift     = ${Q_SHIFT};
-    wire [${QB1}:0] step_up     = (room == ${QZERO}) ? ${QZERO} :
-                              (room_shift == ${QZERO}) ? ${QONE} : room_shift;
-    wire [${QB1}:0] step_down   = (charge_a == ${QZERO}) ? ${QZERO} :
-                              (q_shift == ${QZERO}) ? ${QONE} : q_shift;
-    wire [${QB1}:0] charge_up   = charge_a + step_up;
-    wire [${QB1}:0] charge_down = charge_a - step_down;
+    wire [${QB1}:0] room         = FULL - charge_q;
+    wire [${QB1}:0] room_shift   = ${ROOM_SHIFT};
+    wire [${QB1}:0] q_shift      = ${Q_SHIFT};
+    wire [${QB1}:0] step_up      = (room == ${QZERO}) ? ${QZERO} :
+                               (room_shift == ${QZERO}) ? ${QONE} : room_shift;
+    wire [${QB1}:0] step_down    = (charge_q == ${QZERO}) ? ${QZERO} :
+                               (q_shift == ${QZERO}) ? ${QONE} : q_shift;
+    wire [${QB1}:0] up_q         = charge_q + step_up;
+    wire [${QB1}:0] down_q       = charge_q - step_down;
+    wire        up_fires     = ${UP_FIRES};
+    wire        down_fires   = ${DOWN_FIRES};
+    wire        up_rearms    = ${UP_REARMS};
+    wire        down_rearms  = ${DOWN_REARMS};
+    // From an empty capacitor (the same clock's clear).
+    localparam [${QB1}:0] UP_FROM_EMPTY = ${UP0};
+    localparam        UP0_FIRES     = ${UP0_FIRES};
+    localparam        UP0_REARMS    = ${UP0_REARMS};
+    localparam        DOWN0_REARMS  = ${DOWN0_REARMS};
 "#,
                     &[
                         ("CS", charge_shift.to_string()),
                         ("DS", discharge_shift.to_string()),
                         ("ROOM_SHIFT", shifted("room", charge_shift)),
-                        ("Q_SHIFT", shifted("charge_a", discharge_shift)),
+                        ("Q_SHIFT", shifted("charge_q", discharge_shift)),
+                        ("UP_FIRES", cmp("up_q", ">=", fire)),
+                        ("DOWN_FIRES", cmp("down_q", ">=", fire)),
+                        ("UP_REARMS", cmp("up_q", "<", rearm)),
+                        ("DOWN_REARMS", cmp("down_q", "<", rearm)),
+                        ("UP0", lit(qb, up0)),
+                        ("UP0_FIRES", bool_lit(up0 >= fire)),
+                        ("UP0_REARMS", bool_lit(up0 < rearm)),
+                        ("DOWN0_REARMS", bool_lit(0 < rearm)),
                     ],
                 )
             }
-        };
-        let rearm = if s.rearm_threshold == 0 {
-            "1'b0 /* rearm_threshold = 0: never below */".to_string()
-        } else {
-            format!("(charge_p < {})", lit(qb, s.rearm_threshold.into()))
         };
         let body = fill(
             &(r#"// Device 2, the contact-density detector (SPEC 2.4): a digital capacitor of
 // ${QB} bits (UQ0.${QB} of full scale) updated once per FES pulse; fires when armed and the
 // charge reaches ${FIRE}, re-arms below ${REARM}. Same-clock order: clear (arm) -> pulse.
+// The next charge and both threshold tests are computed from charge_q alone and from an
+// empty capacitor, then selected by the clock's clear / pulse / contact bit.
 module tt_density_detector (
     input  wire        clk,
     input  wire        rst,
@@ -405,19 +528,21 @@ module tt_density_detector (
     reg        armed_q  = 1'b1;   // power-on state: empty and armed (DensityDetector::new)
     reg        fired_q  = 1'b0;
 
-    // reset(): arm rising edge.
-    wire [${QB1}:0] charge_a = clear ? ${QZERO} : charge_q;
-    wire        armed_a  = clear ? 1'b1 : armed_q;
-    wire        fired_a  = clear ? 1'b0 : fired_q;
-
 "#
             .to_string()
                 + &law
                 + r#"
-    // on_pulse(): new charge, then fire (if armed) or re-arm (if not).
-    wire [${QB1}:0] charge_p = pulse ? (contact_bit ? charge_up : charge_down) : charge_a;
-    assign fire        = pulse && armed_a && (charge_p >= ${FIREL});
-    wire        rearm  = pulse && !armed_a && ${REARM_EXPR};
+    // reset() on clear, then on_pulse(): new charge, then fire (if armed) or re-arm.
+    wire        armed_a  = clear | armed_q;
+    wire [${QB1}:0] charge_p = pulse ? (contact_bit ? (clear ? UP_FROM_EMPTY : up_q)
+                                                : (clear ? ${QZERO} : down_q))
+                                 : (clear ? ${QZERO} : charge_q);
+    wire        fires    = contact_bit ? (clear ? UP0_FIRES : up_fires)
+                                       : (clear ? 1'b0 : down_fires);
+    wire        rearms   = contact_bit ? (clear ? UP0_REARMS : up_rearms)
+                                       : (clear ? DOWN0_REARMS : down_rearms);
+    assign fire        = pulse && armed_a && fires;
+    wire        rearm  = pulse && !armed_a && rearms;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -427,7 +552,7 @@ module tt_density_detector (
         end else begin
             charge_q <= charge_p;
             armed_q  <= fire ? 1'b0 : (rearm ? 1'b1 : armed_a);
-            fired_q  <= fired_a | fire;
+            fired_q  <= (fired_q && !clear) || fire;
         end
     end
 
@@ -441,9 +566,7 @@ endmodule
                 ("QB1", (qb - 1).to_string()),
                 ("FULL", lit(qb, full)),
                 ("FIRE", fire.to_string()),
-                ("FIREL", lit(qb, fire)),
                 ("REARM", s.rearm_threshold.to_string()),
-                ("REARM_EXPR", rearm),
                 ("QZERO", lit(qb, 0)),
                 ("QONE", lit(qb, 1)),
             ],
@@ -477,6 +600,8 @@ module tt_quadrature_decoder (
 
     wire [1:0] phase = {b, a ^ b};
     wire [1:0] step  = phase - phase_q;
+    // +1 (step 1) or -1 (step 3) through one adder.
+    wire [${SB1}:0] delta = {{${SB_1}{step[1]}}, 1'b1};
 
     always @(posedge clk) begin
         if (rst) begin
@@ -485,10 +610,8 @@ module tt_quadrature_decoder (
             errors_q   <= 8'd0;
         end else if (change) begin
             phase_q <= phase;
-            if (step == 2'd1)
-                position_q <= position_q + ${SONE};
-            else if (step == 2'd3)
-                position_q <= position_q - ${SONE};
+            if (step[0])
+                position_q <= position_q + delta;
             else if (step == 2'd2 && errors_q != 8'd255)
                 errors_q <= errors_q + 8'd1;
         end
@@ -502,7 +625,7 @@ endmodule
                 ("SB", sb.to_string()),
                 ("SB1", (sb - 1).to_string()),
                 ("SZERO", lit(sb, 0)),
-                ("SONE", lit(sb, 1)),
+                ("SB_1", (sb - 1).to_string()),
             ],
         );
         self.file(
@@ -529,16 +652,19 @@ module tt_position_latch (
     reg        valid_q    = 1'b0;
     reg [${SB1}:0] position_q = ${SZERO};
 
-    wire        valid_a    = clear ? 1'b0 : valid_q;
-    wire [${SB1}:0] position_a = clear ? ${SZERO} : position_q;
+    // clear, then capture: captures when empty after the clear.
+    wire takes = capture && (clear || !valid_q);
 
     always @(posedge clk) begin
         if (rst) begin
             valid_q    <= 1'b0;
             position_q <= ${SZERO};
         end else begin
-            valid_q    <= valid_a | capture;
-            position_q <= (capture && !valid_a) ? position_in : position_a;
+            valid_q <= (valid_q && !clear) || capture;
+            if (takes)
+                position_q <= position_in;
+            else if (clear)
+                position_q <= ${SZERO};
         end
     end
 
@@ -611,17 +737,20 @@ module tt_measurement (
 
     // on_index (while armed).
     wire        index         = changed[${INDEX}] && levels[${INDEX}] && armed_a;
-    wire [15:0] revolutions_a = clear ? 16'd0 : revolutions_q;
-    wire [15:0] revolutions_i = (index && revolutions_a != 16'hffff) ? revolutions_a + 16'd1
-                                                                      : revolutions_a;
+    // (clear, then +1 saturating at 65535: written as reset / enable below.)
+    wire        revolutions_steps = index && (revolutions_q != 16'hffff);
 
     // on_fes: the pulse's contact bit, then the sticky bit reloads with the contact level.
     wire        fes_rise    = changed[${FES}] && levels[${FES}];
     wire        pulse       = fes_rise && armed_a;
     wire        contact_bit = ${BIT};
     wire        sticky_p    = fes_rise ? contact_c : sticky_c;
-    wire [31:0] pulses_a    = clear ? 32'd0 : pulses_q;
-    wire [31:0] pulses_p    = pulse ? pulses_a + 32'd1 : pulses_a;
+    // pulses_q + 1 in two 16-bit halves (the upper steps when the lower wraps), so no
+    // carry chain is longer than 16 bits.
+    wire [15:0] pulses_lo_inc = pulses_q[15:0] + 16'd1;
+    wire [15:0] pulses_hi_inc = pulses_q[31:16] + 16'd1;
+    wire [31:0] pulses_inc  = {(&pulses_q[15:0]) ? pulses_hi_inc : pulses_q[31:16],
+                               pulses_lo_inc};
 
     // on_scale.
     wire scale_change = changed[${SA}] | changed[${SB_PIN}];
@@ -664,15 +793,30 @@ module tt_measurement (
             armed_q       <= 1'b0;
             contact_q     <= 1'b0;
             sticky_q      <= 1'b0;
-            revolutions_q <= 16'd0;
-            pulses_q      <= 32'd0;
         end else begin
             armed_q       <= armed_a;
             contact_q     <= contact_c;
             sticky_q      <= sticky_p;
-            revolutions_q <= revolutions_i;
-            pulses_q      <= pulses_p;
         end
+    end
+
+    // Counters since arm: clear, then count (clear and an edge in one clock give 1).
+    always @(posedge clk) begin
+        if (rst)
+            revolutions_q <= 16'd0;
+        else if (clear)
+            revolutions_q <= {15'd0, index};
+        else if (revolutions_steps)
+            revolutions_q <= revolutions_q + 16'd1;
+    end
+
+    always @(posedge clk) begin
+        if (rst)
+            pulses_q <= 32'd0;
+        else if (clear)
+            pulses_q <= {31'd0, pulse};
+        else if (pulse)
+            pulses_q <= pulses_inc;
     end
 
     assign armed       = armed_q;
@@ -784,6 +928,98 @@ endmodule
         );
         self.file(TOP, "top of the FPGA measurement front end", &body)
     }
+}
+
+impl Gen {
+    /// The chip top for synthesis: only the pins, the MCU bus and the strobe leave the
+    /// FPGA; the read data is registered (valid the clock after `mcu_addr`).
+    pub(crate) fn fpga_top(&self) -> VerilogFile {
+        let fields = output_fields(&self.config);
+        let mut wires = String::new();
+        let mut conns = String::new();
+        for f in &fields {
+            let range = if f.width == 1 {
+                String::new()
+            } else {
+                format!("[{}:0] ", f.width - 1)
+            };
+            wires.push_str(&format!("    wire {range}{};\n", f.name));
+            conns.push_str(&format!("        .{0}({0}),\n", f.name));
+        }
+        let pin_ports: String = pin::NAMES
+            .iter()
+            .map(|n| format!("    input  wire         pin_{n},\n"))
+            .collect();
+        let pin_conns: String = pin::NAMES
+            .iter()
+            .map(|n| format!("        .pin_{n}(pin_{n}),\n"))
+            .collect();
+        let body = fill(
+            r#"// The FPGA's top for synthesis: the six input pins, the MCU's register bus and the
+// register-now strobe to the CNC and MCU. Address and read data are registered: the
+// word addressed at clock k is on mcu_rdata after clock k+1.
+module ${FPGA} (
+    input  wire         clk,
+    input  wire         rst,
+${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
+    output reg  [${DB1}:0] mcu_rdata,
+    output wire         register_now_out   // to the CNC: position reached, register now
+);
+    // Every output is read through the register file; the ports are kept for simulation.
+    /* verilator lint_off UNUSEDSIGNAL */
+${WIRES}    /* verilator lint_on UNUSEDSIGNAL */
+    wire [${DB1}:0] rdata;
+    wire        irq;
+    reg  [${AB1}:0]  addr_q = ${AZERO};
+    reg         rst_meta = 1'b0;  // the reset pin, synchronized (2 flip-flops)
+    reg         rst_q    = 1'b0;
+
+    always @(posedge clk) begin
+        rst_meta <= rst;
+        rst_q    <= rst_meta;
+    end
+
+    initial mcu_rdata = ${DZERO};
+
+    ${TOP} u_frontend (
+        .clk(clk), .rst(rst_q),
+${PIN_CONNS}        .mcu_addr(addr_q), .mcu_rdata(rdata),
+${CONNS}        .irq(irq)
+    );
+
+    always @(posedge clk) begin
+        if (rst_q) begin
+            addr_q    <= ${AZERO};
+            mcu_rdata <= ${DZERO};
+        end else begin
+            addr_q    <= mcu_addr;
+            mcu_rdata <= rdata;
+        end
+    end
+
+    assign register_now_out = irq;
+endmodule
+"#,
+            &[
+                ("FPGA", crate::FPGA_TOP.to_string()),
+                ("TOP", TOP.to_string()),
+                ("PIN_PORTS", pin_ports),
+                ("PIN_CONNS", pin_conns),
+                ("AB1", (crate::MCU_ADDR_BITS - 1).to_string()),
+                ("DB1", (crate::MCU_DATA_BITS - 1).to_string()),
+                ("WIRES", wires),
+                ("CONNS", conns),
+                ("DZERO", lit(crate::MCU_DATA_BITS, 0)),
+                ("AZERO", lit(crate::MCU_ADDR_BITS, 0)),
+            ],
+        );
+        self.file(crate::FPGA_TOP, "the FPGA's top for synthesis", &body)
+    }
+}
+
+/// `1'b1` or `1'b0`.
+fn bool_lit(b: bool) -> String {
+    if b { "1'b1" } else { "1'b0" }.to_string()
 }
 
 /// Bit position of a pin bit mask.

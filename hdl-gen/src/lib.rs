@@ -14,7 +14,8 @@
 //! | `tt_quadrature_decoder` | `QuadratureDecoder` (SPEC 1) | phase, position, errors |
 //! | `tt_position_latch` | `PositionLatch` | valid, position |
 //! | `tt_measurement` | `Measurement` | armed, contact, sticky, revolutions, pulses |
-//! | `tt_frontend` (top) | `FrontEnd` + MCU register file | none of its own |
+//! | `tt_frontend` (simulation top) | `FrontEnd` + MCU register file | none of its own |
+//! | `tt_fpga` (chip top) | — | the registered MCU read data |
 //!
 //! Every register has the model's power-on value both as a Verilog initializer and as
 //! the value a synchronous `rst` loads; every update is a non-blocking assignment. The
@@ -37,8 +38,11 @@ use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 pub use testbench::{testbench, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH};
 
-/// Name of the top module (and of its file, `tt_frontend.v`).
+/// Name of the simulation top module (and of its file, `tt_frontend.v`): every output a
+/// port, compared by the testbench.
 pub const TOP: &str = "tt_frontend";
+/// Name of the chip top for synthesis (file `tt_fpga.v`): pins, MCU bus and strobe only.
+pub const FPGA_TOP: &str = "tt_fpga";
 
 /// Width of the MCU read-data bus, bits.
 pub const MCU_DATA_BITS: u32 = 32;
@@ -80,7 +84,8 @@ pub struct VerilogFile {
 /// The generated design: one file per module, the top last.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Design {
-    /// Source files, leaves first, the top ([`TOP`]) last.
+    /// Source files, leaves first, then the simulation top ([`TOP`]) and the chip top
+    /// ([`FPGA_TOP`]).
     pub files: Vec<VerilogFile>,
     /// Hash of the configuration the design was made from.
     pub config_hash: u64,
@@ -106,6 +111,7 @@ pub fn generate(config: &MeasureConfig, options: &Options) -> Design {
         g.position_latch(),
         g.measurement(),
         g.top(),
+        g.fpga_top(),
     ];
     Design {
         files,
@@ -317,8 +323,9 @@ mod tests {
         let c = MeasureConfig::default();
         let d = generate(&c, &Options::default());
         let hash = format!("{:016x}", c.hash());
-        assert_eq!(d.files.len(), 9);
-        assert_eq!(d.files.last().unwrap().name, format!("{TOP}.v"));
+        assert_eq!(d.files.len(), 10);
+        assert_eq!(d.files[8].name, format!("{TOP}.v"));
+        assert_eq!(d.files[9].name, format!("{FPGA_TOP}.v"));
         for f in &d.files {
             assert!(f.text.contains(&hash), "{} lacks the hash", f.name);
             let module = f.name.trim_end_matches(".v");

@@ -57,14 +57,14 @@ fn run_checked(tool: &str, cmd: &mut Command) -> Result<Output> {
 }
 
 /// `verilator --lint-only -Wall` on the design files (not the testbench), top
-/// `tooltouch_hdl_gen::TOP`. Any warning is an error.
+/// `tooltouch_hdl_gen::FPGA_TOP` (which instantiates every module). Any warning is an error.
 pub fn lint_verilator(files: &[PathBuf]) -> Result<()> {
     let mut cmd = Command::new("verilator");
     cmd.args([
         "--lint-only",
         "-Wall",
         "--top-module",
-        tooltouch_hdl_gen::TOP,
+        tooltouch_hdl_gen::FPGA_TOP,
     ])
     .args(files);
     let out = run_checked("verilator", &mut cmd)?;
@@ -99,10 +99,10 @@ pub fn yosys_check(files: &[PathBuf], work: &Path) -> Result<YosysCheck> {
          proc\n\
          flatten\n\
          opt_clean\n\
-         check -assert -noinit\n\
+         check -assert\n\
          select -assert-none t:$dlatch t:$adlatch t:$dlatchsr t:$sr\n\
          stat\n",
-        top = tooltouch_hdl_gen::TOP
+        top = tooltouch_hdl_gen::FPGA_TOP
     ));
     let ys = work.join("check.ys");
     std::fs::write(&ys, script).map_err(io_err(&ys))?;
@@ -111,7 +111,11 @@ pub fn yosys_check(files: &[PathBuf], work: &Path) -> Result<YosysCheck> {
     run_checked("yosys", &mut cmd)?;
     let log_path = work.join("check.log");
     let log = std::fs::read_to_string(&log_path).map_err(io_err(&log_path))?;
-    if log.to_lowercase().contains("latch inferred") {
+    // proc logs "Latch inferred for signal …" (and "No latch inferred …" otherwise).
+    if log
+        .lines()
+        .any(|l| l.trim_start().starts_with("Latch inferred"))
+    {
         return Err(HdlError::Check {
             check: "yosys proc".into(),
             details: "a latch was inferred".into(),
