@@ -365,12 +365,17 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
         t.error_vs_largest_um.mean,
         t.error_vs_largest_um.std
     ));
+    let pm = |x: &crate::measurement_cycle::Spread| {
+        if x.n == 0 {
+            "—".to_string()
+        } else {
+            format!("{:.2} ± {:.2}", x.mean, x.std)
+        }
+    };
     s.push_str(&format!(
-        "revolutions from first contact: to decision {:.2} ± {:.2}, to permanent contact {:.2} ± {:.2}\n",
-        t.revs_to_decision.mean,
-        t.revs_to_decision.std,
-        t.revs_to_permanent.mean,
-        t.revs_to_permanent.std
+        "revolutions from first contact: to decision {}, to permanent contact {}\n",
+        pm(&t.revs_to_decision),
+        pm(&t.revs_to_permanent)
     ));
     s
 }
