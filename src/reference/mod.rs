@@ -56,13 +56,13 @@ impl SamplerF {
             vu * vu + vv * vv + vw * vw,
             iu * iu + iv * iv + iw * iw,
         ];
-        for i in 0..5 {
+        for ((y, s), x) in self.filtered.iter_mut().zip(self.sums.iter_mut()).zip(x) {
             if self.primed {
-                self.filtered[i] += self.alpha * (x[i] - self.filtered[i]);
+                *y += self.alpha * (x - *y);
             } else {
-                self.filtered[i] = x[i];
+                *y = x;
             }
-            self.sums[i] += self.filtered[i];
+            *s += *y;
         }
         self.primed = true;
         self.count += 1;
@@ -71,8 +71,9 @@ impl SamplerF {
     /// Period averages `[speed, power, force, Σv², Σi²]` in codes.
     pub fn on_tick(&mut self) -> [f64; 5] {
         if self.count > 0 {
-            for i in 0..5 {
-                self.last[i] = self.sums[i] / f64::from(self.count);
+            let n = f64::from(self.count);
+            for (l, s) in self.last.iter_mut().zip(self.sums) {
+                *l = s / n;
             }
         }
         self.sums = [0.0; 5];

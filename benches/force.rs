@@ -1,0 +1,70 @@
+//! Criterion benches of the force path: ns per control period for each controller
+//! (the 20 Hz `step`), the estimator's period, and one whole control period of the kernel
+//! (50 ADC samples + the tick).
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use tooltouch_model::control::{Controller, ControllerSettings, ForceController};
+use tooltouch_model::force::{
+    ForceEvent, ForceKernel, ForceSettings, Fx, DEFAULT_ADAPTIVE, DEFAULT_FUZZY, DEFAULT_PI,
+};
+use tooltouch_model::sampling::AdcCodes;
+
+fn controllers(c: &mut Criterion) {
+    let h = Fx::lit("0.05");
+    for settings in [
+        ControllerSettings::Pi(DEFAULT_PI),
+        ControllerSettings::Adaptive(DEFAULT_ADAPTIVE),
+        ControllerSettings::Fuzzy(DEFAULT_FUZZY),
+    ] {
+        // a force sequence that exercises the whole rule table / gain update
+        let forces: Vec<Fx> = (0..64i32)
+            .map(|i| Fx::from_num(500 + (i * 37) % 120 - 60 + if i % 16 < 8 { 150 } else { -150 }))
+            .collect();
+        c.bench_function(&format!("control_period_{}", settings.name()), |b| {
+            let mut ctl = Controller::new(&settings, h, 100);
+            let mut i = 0usize;
+            b.iter(|| {
+                i = (i + 1) % forces.len();
+                black_box(ctl.step(black_box(Fx::from_num(500)), black_box(forces[i])))
+            })
+        });
+    }
+}
+
+fn kernel_period(c: &mut Criterion) {
+    for (name, settings) in [
+        ("pi", ControllerSettings::Pi(DEFAULT_PI)),
+        ("adaptive", ControllerSettings::Adaptive(DEFAULT_ADAPTIVE)),
+        ("fuzzy", ControllerSettings::Fuzzy(DEFAULT_FUZZY)),
+    ] {
+        let config = ForceSettings {
+            controller: settings,
+            ..Default::default()
+        }
+        .validate()
+        .unwrap();
+        c.bench_function(&format!("kernel_tick_{name}"), |b| {
+            let mut k = ForceKernel::new(&config);
+            k.apply(ForceEvent::Control(true));
+            let codes = AdcCodes {
+                speed: 1676,
+                power: 480,
+                force: 2548,
+                volts: [3000, 1500, 1600],
+                amps: [2500, 1700],
+            };
+            b.iter(|| {
+                k.apply(ForceEvent::Sample(black_box(codes)));
+                k.apply(ForceEvent::Tick);
+                black_box(k.outputs())
+            })
+        });
+    }
+    c.bench_function("kernel_sample", |b| {
+        let mut k = ForceKernel::new(&ForceSettings::default().validate().unwrap());
+        let codes = AdcCodes::default();
+        b.iter(|| k.apply(ForceEvent::Sample(black_box(codes))))
+    });
+}
+
+criterion_group!(benches, controllers, kernel_period);
+criterion_main!(benches);
