@@ -78,7 +78,14 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    /// The settings' flags.
+    #[command(flatten)]
+    pub flags: Box<SettingFlags>,
+}
 
+/// One flag per setting (boxed in [`Args`]: forty options are a large value).
+#[derive(clap::Args, Debug, Default)]
+pub struct SettingFlags {
     // [measure]
     /// Decision method.
     #[arg(long, value_enum, help_heading = "Golden model [measure]")]
@@ -209,7 +216,14 @@ fn set<T: Copy>(target: &mut T, flag: Option<T>) {
 impl Args {
     /// The settings: defaults, then the `--config` file, then the flags.
     pub fn settings(&self) -> Result<Settings, SettingsError> {
-        let mut s = match &self.config {
+        self.flags.settings(self.config.as_deref())
+    }
+}
+
+impl SettingFlags {
+    /// The settings: defaults, then the file `config`, then these flags.
+    pub fn settings(&self, config: Option<&std::path::Path>) -> Result<Settings, SettingsError> {
+        let mut s = match config {
             Some(path) => Settings::load(path)?,
             None => Settings::default(),
         };

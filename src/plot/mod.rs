@@ -144,11 +144,8 @@ pub fn diameters(
         .y_desc("diameter − nominal, µm")
         .draw()
         .map_err(|e| err(path, e))?;
-    let series: [(
-        &str,
-        RGBColor,
-        Box<dyn Fn(&MeasurementReport) -> Option<f64>>,
-    ); 4] = [
+    type Reading = Box<dyn Fn(&MeasurementReport) -> Option<f64>>;
+    let series: [(&str, RGBColor, Reading); 4] = [
         (
             "true largest",
             COLORS[3],
