@@ -39,7 +39,8 @@ fn hdl_injected_faults_fail_the_self_checking_testbench() {
         (Fault::FireThresholdPlusOne, Some("density_")),
     ] {
         let dir = work.path().join(format!("{fault:?}"));
-        let report = cosim(&config, &[s.clone()], &dir, &plan(fault, &[])).expect("cosim runs");
+        let report =
+            cosim(&config, std::slice::from_ref(&s), &dir, &plan(fault, &[])).expect("cosim runs");
         let run = &report.runs[0];
         match signal {
             None => assert!(run.passed, "the correct design failed: {}", run.output),
@@ -91,7 +92,7 @@ fn hdl_tooltouch_check_catches_a_broken_verilog_from_its_vcd() {
         let dir = work.path().join(format!("{fault:?}"));
         let report = cosim(
             &config,
-            &[s.clone()],
+            std::slice::from_ref(&s),
             &dir,
             &plan(fault, &["+vcd", "+nostop"]),
         )

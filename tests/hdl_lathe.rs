@@ -16,9 +16,14 @@ fn scenario() -> LatheScenario {
         rpm: 6000.0,
         ..LatheScenario::default()
     };
-    s.cycle.repeats = 2;
+    // More measurements (a longer stimulus, for speed figures) via TOOLTOUCH_LATHE_REPEATS.
+    s.cycle.repeats = std::env::var("TOOLTOUCH_LATHE_REPEATS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(2);
     s.cycle.clearance_um = 3.0;
     s.cycle.z_dwell_ms = 0.2;
+    s.cycle.retract_mm_per_s = 2.0;
     s
 }
 

@@ -111,20 +111,22 @@ pub fn report() -> Result<()> {
     let pnr = std::fs::read_to_string(&pnr_log).context("reading pnr.log")?;
     let fmax = pnr
         .lines()
+        .rev()
         .filter(|l| l.contains("Max frequency for clock"))
         .filter_map(|l| {
             let after = l.split("': ").nth(1)?;
             after.split_whitespace().next()?.parse::<f64>().ok()
         })
-        .last();
+        .next();
     let lcs = pnr
         .lines()
+        .rev()
         .filter(|l| l.contains("ICESTORM_LC:"))
         .filter_map(|l| {
             let after = l.split("ICESTORM_LC:").nth(1)?;
             after.split('/').next()?.trim().parse::<u64>().ok()
         })
-        .last();
+        .next();
     let (Some(fmax), Some(lcs)) = (fmax, lcs) else {
         bail!(
             "nextpnr-ice40 ({status}) gave no fmax or cell count; see {}",
