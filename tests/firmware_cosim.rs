@@ -159,6 +159,17 @@ fn firmware_and_model_agree_on_every_fault_case() {
             });
             assert!(clipped, "{}: the ADC clips", case.name);
         }
+        if case.name.contains("CounterWrap") {
+            let outputs = cosim::golden(case);
+            let wrapped = outputs
+                .windows(2)
+                .any(|w| w[0].pulses == u32::MAX && w[1].pulses == 0);
+            assert!(
+                wrapped,
+                "{}: the pulse count wraps from 2^32 - 1 to 0",
+                case.name
+            );
+        }
         if case.name.contains("BrokenFesLine") {
             assert_eq!(last.revolutions, u16::MAX, "{}: saturates", case.name);
             assert_eq!(last.pulses, 0, "{}: no FES pulse", case.name);

@@ -270,6 +270,8 @@ struct Profile {
 impl Profile {
     fn slot(input: &Input) -> usize {
         match input {
+            // The test event is not profiled (no slot).
+            Input::Measure(MeasureEvent::PresetPulses(_)) => usize::MAX,
             Input::Measure(e) => e.kind() as usize,
             Input::Force(ForceEvent::Sample(_)) => 5,
             Input::Force(ForceEvent::Tick) => 6,

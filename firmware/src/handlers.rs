@@ -52,6 +52,13 @@ pub fn cnc_command<B: Board>(m: &mut Measurement) {
     B::set_register_now(m.register_now());
 }
 
+/// Test event (co-simulation only, no pin): the FES pulse count since arm becomes
+/// `pulses`, so the count's 2^32 wrap is reached without 2^32 interrupts.
+#[inline]
+pub fn preset_pulses(m: &mut Measurement, pulses: u32) {
+    m.apply(tooltouch_model::MeasureEvent::PresetPulses(pulses));
+}
+
 /// Queued ADC samples: one control period holds `samples_per_period` (50 at the SPEC's
 /// 1 kHz / 20 Hz); the capacity leaves room for a control period that starts late.
 pub const SAMPLE_QUEUE: usize = 256;

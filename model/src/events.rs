@@ -26,6 +26,10 @@ pub enum MeasureEvent {
         /// Line B.
         b: bool,
     },
+    /// Test event, no pin (the cycle level never produces it): sets the count of FES
+    /// pulses since arm to this value, as if that many pulses had passed, and changes
+    /// nothing else. It lets a test reach the count's 2^32 wrap without 2^32 events.
+    PresetPulses(u32),
 }
 
 /// The kinds of [`MeasureEvent`], in the order same-clock edges are applied.
@@ -41,6 +45,8 @@ pub enum MeasureEventKind {
     Fes,
     /// [`MeasureEvent::Scale`].
     Scale,
+    /// [`MeasureEvent::PresetPulses`] (a test event; after every pin event of its time).
+    PresetPulses,
 }
 
 impl MeasureEvent {
@@ -64,6 +70,7 @@ impl MeasureEvent {
             MeasureEvent::Index => MeasureEventKind::Index,
             MeasureEvent::Fes => MeasureEventKind::Fes,
             MeasureEvent::Scale { .. } => MeasureEventKind::Scale,
+            MeasureEvent::PresetPulses(_) => MeasureEventKind::PresetPulses,
         }
     }
 }
@@ -87,6 +94,7 @@ impl Measurement {
             MeasureEvent::Index => self.on_index(),
             MeasureEvent::Fes => self.on_fes(),
             MeasureEvent::Scale { a, b } => self.on_scale(a, b),
+            MeasureEvent::PresetPulses(n) => self.preset_pulses(n),
         }
     }
 }

@@ -157,6 +157,12 @@ impl Measurement {
         self.scale.on_ab(a, b);
     }
 
+    /// Test hook ([`crate::events::MeasureEvent::PresetPulses`]): the FES pulse count
+    /// since arm becomes `pulses`; nothing else changes.
+    pub fn preset_pulses(&mut self, pulses: u32) {
+        self.pulses = pulses;
+    }
+
     /// Whether "register now" is raised.
     pub fn register_now(&self) -> bool {
         self.decision.valid()

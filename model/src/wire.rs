@@ -43,6 +43,8 @@ pub mod kind {
     pub const FES: u8 = 0x05;
     /// Scale lines changed; payload: bit 0 = A, bit 1 = B.
     pub const SCALE: u8 = 0x06;
+    /// Test event: preset the FES pulse count; payload: the count (u32).
+    pub const PRESET_PULSES: u8 = 0x07;
     /// First kind reserved for the force path.
     pub const FORCE_FIRST: u8 = 0x20;
     /// Last kind reserved for the force path.
@@ -363,6 +365,7 @@ pub fn encode_event(time: u64, event: MeasureEvent) -> Record {
         MeasureEvent::Scale { a, b } => {
             Record::new(kind::SCALE, time, &[(a as u8) | ((b as u8) << 1)])
         }
+        MeasureEvent::PresetPulses(n) => Record::new(kind::PRESET_PULSES, time, &n.to_le_bytes()),
     }
 }
 
@@ -388,6 +391,10 @@ pub fn decode_event(record: &Record, offset: usize) -> Result<Option<MeasureEven
                 a: b & 1 != 0,
                 b: b & 2 != 0,
             },
+            _ => return Err(bad),
+        },
+        kind::PRESET_PULSES => match p {
+            [a, b, c, d] => MeasureEvent::PresetPulses(u32::from_le_bytes([*a, *b, *c, *d])),
             _ => return Err(bad),
         },
         kind::INDEX | kind::FES => return Err(bad),

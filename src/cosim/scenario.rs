@@ -38,11 +38,14 @@ pub enum Fault {
     BrokenFesLine,
     /// The spindle-drive ADC channels clip at 0 and 4095 for part of the cut.
     AdcSaturation,
+    /// The FES pulse count (32 bits, wrapping) passes 2^32 during the measurement: a
+    /// `PresetPulses` test event right after arm sets it a few pulses short of the wrap.
+    CounterWrap,
 }
 
 impl Fault {
     /// Every fault, for cases that must cover each.
-    pub const ALL: [Fault; 7] = [
+    pub const ALL: [Fault; 8] = [
         Fault::None,
         Fault::MissingIndex,
         Fault::SpindleStopped,
@@ -50,6 +53,7 @@ impl Fault {
         Fault::ContactChatter,
         Fault::BrokenFesLine,
         Fault::AdcSaturation,
+        Fault::CounterWrap,
     ];
 }
 
@@ -237,6 +241,11 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
     for cycle in 0..cycles {
         t += rng.gen_range(1..5000);
         b.push(t, MeasureEvent::Arm(true));
+        if fault == Fault::CounterWrap {
+            // Short of the wrap by less than one revolution's pulses.
+            let short = rng.gen_range(1..=ppr as u32);
+            b.push(t, MeasureEvent::PresetPulses(u32::MAX - short + 1));
+        }
         if fault == Fault::BrokenFesLine {
             for _ in 0..(65_536 + rng.gen_range(1..600)) {
                 t += rev_ticks.min(1 << 20);

@@ -34,6 +34,8 @@ static ADC: [AtomicU32; 4] = [
 ];
 /// The pending CNC force-path command: 0 none, else `1 + index` of [`encode_command`].
 static COMMAND: AtomicU32 = AtomicU32::new(0);
+/// The value of the pending pulse-count preset (test event).
+static PRESET: AtomicU32 = AtomicU32::new(0);
 /// The feed override output, %.
 static FEED_OVERRIDE: AtomicU8 = AtomicU8::new(0);
 /// The wear alarm output.
@@ -148,8 +150,8 @@ fn calibrate() -> (u32, u32) {
 #[rtic::app(device = lm3s6965, peripherals = false)]
 mod app {
     use super::{
-        encode_command, set_adc, Qemu, ARM, COMMAND, CONTACT, FEED_OVERRIDE, PINS, REGISTER_NOW,
-        SCALE_A, SCALE_B, WEAR_ALARM,
+        encode_command, set_adc, Qemu, ARM, COMMAND, CONTACT, FEED_OVERRIDE, PINS, PRESET,
+        REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
     };
     use core::sync::atomic::Ordering;
     use cortex_m::peripheral::{syst::SystClkSource, NVIC, SYST};
@@ -253,6 +255,10 @@ mod app {
                 MeasureEvent::Contact(on) => (Interrupt::GPIOC, set(pins, CONTACT, on)),
                 MeasureEvent::Index => (Interrupt::GPIOB, pins),
                 MeasureEvent::Fes => (Interrupt::GPIOA, pins),
+                MeasureEvent::PresetPulses(n) => {
+                    PRESET.store(n, Ordering::Relaxed);
+                    (Interrupt::UART1, pins)
+                }
                 MeasureEvent::Scale { a, b } => {
                     (Interrupt::GPIOD, set(set(pins, SCALE_A, a), SCALE_B, b))
                 }
@@ -375,6 +381,13 @@ mod app {
     #[task(binds = GPIOD, priority = 6, shared = [meas])]
     fn scale(mut cx: scale::Context) {
         cx.shared.meas.lock(handlers::scale::<Qemu>);
+    }
+
+    /// Test event: preset the FES pulse count (UART1 stands in for a debug request).
+    #[task(binds = UART1, priority = 7, shared = [meas])]
+    fn preset_pulses(mut cx: preset_pulses::Context) {
+        let n = PRESET.load(Ordering::Relaxed);
+        cx.shared.meas.lock(|m| handlers::preset_pulses(m, n));
     }
 
     /// CNC command (arm / abort).
