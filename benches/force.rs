@@ -1,6 +1,6 @@
-//! Criterion benches of the force path: ns per control period for each controller
-//! (the 20 Hz `step`), the estimator's period, and one whole control period of the kernel
-//! (50 ADC samples + the tick).
+//! Criterion benches of the force path: ns per control period for each controller (its
+//! 20 Hz `step` alone), the kernel's tick (one ADC sample + the tick: estimator,
+//! controller, wear monitor), and one ADC sample (the 1 kHz handler's work).
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use tooltouch_model::control::{Controller, ControllerSettings, ForceController};
 use tooltouch_model::force::{
