@@ -496,4 +496,82 @@ mod tests {
             "{ib}"
         );
     }
+
+    fn settings() -> EstimatorSettings {
+        EstimatorSettings {
+            stator_resistance: Fx::ZERO,
+            inertia: Fx::lit("0.05"),
+            viscous_nominal: Fx::lit("0.02"),
+            coulomb_nominal: Fx::ZERO,
+            friction_f: [Fx::lit("0.05"), Fx::ZERO],
+            friction_g: [Fx::lit("0.002"), Fx::ZERO],
+            min_speed: Fx::const_from_int(5),
+            switch_threshold: Fx::lit("0.1"),
+            slip_gain: Fx::ONE,
+            slip_hold_periods: 4,
+            workpiece_radius: Fx::lit("0.02"),
+        }
+    }
+
+    /// Signals whose fast torque P_g/ω is `t_e` at speed `omega` (R_s = 0, V = 1 V).
+    fn signals(omega: Fx, t_e: Fx) -> DriveSignals {
+        let p_g = t_e * omega;
+        DriveSignals {
+            omega,
+            p_o: p_g,
+            force_measured: Fx::ZERO,
+            v_line: Fx::ONE,
+            i_line: p_g / Fx::lit("1.5"),
+            amps_sq: Fx::ZERO,
+        }
+    }
+
+    #[test]
+    fn no_load_identification_recovers_b_and_coulomb() {
+        let h = Fx::lit("0.05");
+        let mut e = Estimator::new(&settings(), h);
+        let (b, t_fco) = (Fx::lit("0.005"), Fx::ONE);
+        let j_over_h = Fx::ONE; // 0.05 / 0.05
+        e.start_identification();
+        let mut omega = Fx::const_from_int(60);
+        let step = Fx::lit("0.5");
+        // one period at constant speed, then a ramp of 0.5 rad/s per period
+        let _ = e.step(&signals(omega, b * omega + t_fco));
+        for _ in 0..40 {
+            omega += step;
+            let _ = e.step(&signals(omega, b * omega + t_fco + j_over_h * step));
+        }
+        e.finish_identification();
+        assert!(e.identified());
+        assert!(
+            (e.viscous() - b).abs() < Fx::lit("0.0001"),
+            "B = {}",
+            e.viscous()
+        );
+        assert!(
+            (e.coulomb() - t_fco).abs() < Fx::lit("0.01"),
+            "T_fco = {}",
+            e.coulomb()
+        );
+    }
+
+    #[test]
+    fn friction_quadratic_is_solved() {
+        // steady speed, B = 0.02 (nominal), T_fco = 0: T_t = T_e − Bω, and F8 with
+        // f = 0.05, g = 0.002 must give back T_c with T_t = T_c + f·T_c + g·T_c².
+        let h = Fx::lit("0.05");
+        let mut e = Estimator::new(&settings(), h);
+        let omega = Fx::const_from_int(80);
+        for t_c in [0i32, 2, 10, 25] {
+            let t_c = Fx::from_num(t_c);
+            let t_t = t_c + Fx::lit("0.05") * t_c + Fx::lit("0.002") * t_c * t_c;
+            let est = e.step(&signals(omega, t_t + Fx::lit("0.02") * omega));
+            assert!(
+                (est.t_c - t_c).abs() < Fx::lit("0.001"),
+                "{} vs {t_c}",
+                est.t_c
+            );
+            assert!((est.force - t_c * 50).abs() < Fx::lit("0.05"));
+        }
+    }
 }
