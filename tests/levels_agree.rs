@@ -322,3 +322,32 @@ fn settled_skipping_is_exact() {
     assert_eq!(first_difference, None, "clock by clock vs skipping");
     assert_eq!(every.len(), changed.len());
 }
+
+/// The random scenarios do exercise same-clock edges: index with FES (always), arm with
+/// index, and scale edges in the same clock as another event.
+#[test]
+fn scenarios_make_same_clock_edges() {
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let mut with_scale = 0;
+    let mut with_arm = 0;
+    for _ in 0..8 {
+        let (config, scenario) = config_and_scenario()
+            .new_tree(&mut runner)
+            .unwrap()
+            .current();
+        let run = measurement_cycle::run(&scenario, &config, &mut |_| {}).unwrap();
+        let events = events_from_stimulus(&run.stimulus, &config);
+        for w in events.windows(2) {
+            if w[0].time == w[1].time {
+                use tooltouch_model::MeasureEvent as E;
+                match (w[0].event, w[1].event) {
+                    (_, E::Scale { .. }) => with_scale += 1,
+                    (E::Arm(_), _) => with_arm += 1,
+                    _ => {}
+                }
+            }
+        }
+    }
+    assert!(with_scale > 0, "scale edges sharing a clock: {with_scale}");
+    assert!(with_arm > 0, "arm edges sharing a clock: {with_arm}");
+}

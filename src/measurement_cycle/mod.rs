@@ -238,11 +238,32 @@ pub fn run(
         let mut contact_since: Option<u64> = None;
         let mut permanent: Option<u64> = None;
         let mut contact_fraction = Vec::new();
+        let mut decision_count: Option<i64> = None;
+        let mut first_contact_count: Option<i64> = None;
         let mut r = r0;
         loop {
             let (a, b) = (spindle.index_rise(r), spindle.index_rise(r + 1));
             let chunk = d.lathe.chunk(a, b, &approach, true, true);
+            let count_before = d.lathe.count();
             let used = d.run(&chunk, &mut watch);
+            // The lathe's scale count at the latching clocks, to unwrap the latched
+            // `scale_bits`-wide positions.
+            let count_at = |k: u64| {
+                chunk
+                    .count_changes
+                    .iter()
+                    .rev()
+                    .find(|c| c.0 <= k)
+                    .map_or(count_before, |c| c.1)
+            };
+            for (event, count) in [
+                (watch.decision, &mut decision_count),
+                (watch.first_contact, &mut first_contact_count),
+            ] {
+                if let Some(k) = event.filter(|&k| k >= a && k < used) {
+                    count.get_or_insert(count_at(k));
+                }
+            }
             contact_fraction.push(
                 crate::lathe::electrics::covered(&chunk.contact, a, used) as f64 / (b - a) as f64,
             );
@@ -296,13 +317,10 @@ pub fn run(
         d.hold(d.now + dwell.max(64), home, false);
 
         let out = d.fe.outputs();
-        let reference = d.lathe.count() - home_count;
-        let decision_position = watch
-            .decision
-            .map(|_| unwrap_position(out.decision_position, bits, reference));
-        let first_contact_position = watch
-            .first_contact
-            .map(|_| unwrap_position(out.first_contact_position, bits, reference));
+        let decision_position =
+            decision_count.map(|c| unwrap_position(out.decision_position, bits, c - home_count));
+        let first_contact_position = first_contact_count
+            .map(|c| unwrap_position(out.first_contact_position, bits, c - home_count));
         let diameter_mm = decision_position.map(|p| diameter(home_count + p));
         let revs = |k: Option<u64>| match (k, watch.first_contact) {
             (Some(k), Some(f)) => Some((k as f64 - f as f64) / spindle.cycles_per_rev),

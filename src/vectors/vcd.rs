@@ -137,6 +137,7 @@ pub fn write_golden<W: Write>(
     // levels only change at segment starts, which it always clocks (a changed pin is
     // never settled).
     let mut stopped = false;
+    let mut last_time = None;
     clock_through(stimulus, config, |k, pins, fe, edges| {
         if stopped || error.is_some() {
             return;
@@ -170,6 +171,7 @@ pub fn write_golden<W: Write>(
             } else {
                 write!(w, "#{}\n{buffer}", k * p)
             };
+            last_time = Some(k * p);
             if let Err(e) = r {
                 error = Some(e);
             }
@@ -179,7 +181,7 @@ pub fn write_golden<W: Write>(
         return Err(e);
     }
     // Mark the end of the covered time so a reader knows the last clock.
-    if end > 0 {
+    if end > 0 && last_time != Some((end - 1) * p) {
         writeln!(w, "#{}", (end - 1) * p)?;
     }
     Ok(end)
