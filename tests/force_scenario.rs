@@ -99,6 +99,29 @@ fn estimator_tracks_the_true_force_and_identifies_friction() {
     }
     let bias = sum / n as f64;
     println!("estimator bias in steady cutting: {bias:.1} N");
+    // F9: the fast electrical estimate takes over right after the depth step (P_o lags
+    // 0.3 s behind) and hands back to the smooth P_o once it has caught up
+    let fast_at = |from: f64, to: f64| {
+        r.trace
+            .t
+            .iter()
+            .zip(&r.trace.fast)
+            .filter(|(t, f)| (from..to).contains(*t) && **f)
+            .count()
+    };
+    println!(
+        "fast periods: 8.0-8.5 s {}, 11-13 s {}",
+        fast_at(8.0, 8.5),
+        fast_at(11.0, 13.0)
+    );
+    assert!(
+        fast_at(8.0, 8.5) >= 4,
+        "F9 must switch to the fast estimate at the step"
+    );
+    assert!(
+        fast_at(11.0, 13.0) < 10,
+        "F9 must hand back to P_o in steady cutting"
+    );
     assert!(bias.abs() < 25.0, "bias {bias} N");
 }
 
