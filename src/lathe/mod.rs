@@ -650,3 +650,59 @@ pub fn open_loop_stimulus(
     }
     Ok(stimulus)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_loop_stimulus_arms_on_an_index_and_approaches() {
+        let config = MeasureConfig::default();
+        let s = LatheScenario::default();
+        let stim = open_loop_stimulus(&s, &config, 12).unwrap();
+        let spindle = Spindle::new(s.clock_hz, s.rpm, 1024);
+        assert_eq!(stim.total_cycles(), spindle.index_rise(13));
+        // The arm rises with the index pulse of revolution 1, and stays high.
+        let mut k = 0u64;
+        let mut arm_rise = None;
+        let mut contact_clocks = 0u64;
+        for seg in &stim.segments {
+            if arm_rise.is_none() && seg.pins.get(pin::ARM) {
+                arm_rise = Some(k);
+                assert!(seg.pins.get(pin::INDEX) && seg.pins.get(pin::FES));
+            }
+            if arm_rise.is_some() {
+                assert!(seg.pins.get(pin::ARM));
+            }
+            if seg.pins.get(pin::CONTACT) {
+                contact_clocks += u64::from(seg.cycles);
+            }
+            k += u64::from(seg.cycles);
+        }
+        assert_eq!(arm_rise, Some(spindle.index_rise(1)));
+        // 12 µm of feed from 8 µm above R0 reaches into the 3.4 µm form error.
+        assert!(contact_clocks > 1_000_000, "{contact_clocks}");
+        assert!(stim.segments.len() < 200_000);
+    }
+
+    #[test]
+    fn bad_scenarios_name_the_field() {
+        let config = MeasureConfig::default();
+        let s = LatheScenario {
+            clock_hz: 48_000_000,
+            ..Default::default()
+        };
+        assert_eq!(s.validate(&config).unwrap_err().field, "clock_hz");
+        let mut s = LatheScenario::default();
+        s.slow[1].period_revs = 1.0;
+        assert_eq!(
+            s.validate(&config).unwrap_err().field,
+            "slow[1].period_revs"
+        );
+        let mut s = LatheScenario::default();
+        s.cycle.retract_mm_per_s = 500.0;
+        let e = s.validate(&config).unwrap_err();
+        assert_eq!(e.field, "cycle.retract_mm_per_s");
+        assert!(e.to_string().contains("allowed 0.001..=208.3"), "{e}");
+    }
+}
