@@ -92,9 +92,11 @@ pub struct MeasureSettings {
 }
 
 impl Default for MeasureSettings {
-    /// The papers' set-up: 1024 ppr, 50 % over one revolution, sticky contact, a 16-bit
-    /// capacitor charging over ~32 pulses and discharging over ~64, firing at 3/4 of full
-    /// scale and re-arming below 1/4, a 4-clock glitch filter, a 24-bit scale.
+    /// The papers' set-up: 1024 ppr, 50 % over one revolution, sticky contact, a 4-clock
+    /// glitch filter, a 24-bit scale, and a 16-bit capacitor that charges and discharges by
+    /// the same step (so it only gains charge while the density is above 50 %), firing at
+    /// half of full scale — the charge of 512 net contact pulses, half a revolution — and
+    /// re-arming below 1/8.
     fn default() -> Self {
         MeasureSettings {
             pulses_per_rev: 1024,
@@ -103,11 +105,11 @@ impl Default for MeasureSettings {
             contact_rule: ContactRule::Sticky,
             charge_bits: 16,
             charge_law: ChargeLaw::Linear {
-                charge_step: 2048,
-                discharge_step: 1024,
+                charge_step: 64,
+                discharge_step: 64,
             },
-            fire_threshold: 49152,
-            rearm_threshold: 16384,
+            fire_threshold: 32768,
+            rearm_threshold: 8192,
             glitch_cycles: 4,
             scale_bits: 24,
             method: DecisionMethod::Counter,
