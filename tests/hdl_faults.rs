@@ -30,8 +30,40 @@ fn plan(fault: Fault, plusargs: &[&str]) -> CosimPlan {
 
 #[test]
 fn hdl_injected_faults_fail_the_self_checking_testbench() {
-    let config = MeasureConfig::default();
+    // Equal steps that divide the fire threshold: every rise from empty passes through it.
+    let config = tooltouch_model::MeasureSettings {
+        charge_law: tooltouch_model::config::ChargeLaw::Linear {
+            charge_step: 4096,
+            discharge_step: 4096,
+        },
+        fire_threshold: 32768,
+        rearm_threshold: 8192,
+        ..Default::default()
+    }
+    .validate()
+    .expect("valid test configuration");
     let s = stimulus(&config);
+    // Preconditions that make both faults observable in this stimulus: the charge sits
+    // exactly on the fire threshold at some clock, and an index and an FES edge act in the
+    // same clock while armed and in contact.
+    let fire = config.settings().fire_threshold;
+    let mut fe = tooltouch_model::FrontEnd::new(&config);
+    let (mut on_threshold, mut index_with_fes) = (false, false);
+    for p in s.cycles() {
+        let before = fe.outputs();
+        let edges = fe.clock(p);
+        on_threshold |= fe.outputs().charge == fire;
+        let both = tooltouch_model::frontend::pin::INDEX | tooltouch_model::frontend::pin::FES;
+        index_with_fes |= edges.changed & edges.levels & both == both && before.armed;
+    }
+    assert!(
+        on_threshold,
+        "the stimulus never brings the charge to the fire threshold"
+    );
+    assert!(
+        index_with_fes,
+        "the stimulus has no same-clock index and FES edges"
+    );
     let work = tempfile::tempdir().expect("temporary folder");
     for (fault, signal) in [
         (Fault::None, None),
@@ -39,18 +71,24 @@ fn hdl_injected_faults_fail_the_self_checking_testbench() {
         (Fault::FireThresholdPlusOne, Some("density_")),
     ] {
         let dir = work.path().join(format!("{fault:?}"));
-        let report =
-            cosim(&config, std::slice::from_ref(&s), &dir, &plan(fault, &[])).expect("cosim runs");
-        let run = &report.runs[0];
-        match signal {
-            None => assert!(run.passed, "the correct design failed: {}", run.output),
-            Some(name) => {
-                assert!(!run.passed, "{fault:?} was not caught");
-                let m = run.first_mismatch.as_deref().unwrap_or("");
-                assert!(
-                    m.starts_with("MISMATCH cycle ") && m.contains(&format!("signal {name}")),
-                    "{fault:?}: {m}"
-                );
+        let mut p = plan(fault, &[]);
+        if fault == Fault::FesBeforeIndex {
+            // Verilator too, once: its $fatal must fail the run the same way.
+            p.simulators.push(Simulator::Verilator);
+        }
+        let report = cosim(&config, std::slice::from_ref(&s), &dir, &p).expect("cosim runs");
+        for run in &report.runs {
+            match signal {
+                None => assert!(run.passed, "the correct design failed: {}", run.output),
+                Some(name) => {
+                    assert!(!run.passed, "{fault:?} was not caught by {}", run.simulator);
+                    let m = run.first_mismatch.as_deref().unwrap_or("");
+                    assert!(
+                        m.starts_with("MISMATCH cycle ") && m.contains(&format!("signal {name}")),
+                        "{fault:?} in {}: {m}",
+                        run.simulator
+                    );
+                }
             }
         }
     }

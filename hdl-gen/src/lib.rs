@@ -36,7 +36,10 @@ mod testbench;
 use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
-pub use testbench::{testbench, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH};
+pub use testbench::{
+    testbench, verilator_main, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH,
+    VERILATOR_MAIN,
+};
 
 /// Name of the simulation top module (and of its file, `tt_frontend.v`): every output a
 /// port, compared by the testbench.

@@ -14,7 +14,9 @@
 //!
 //! Rising edge `k` of the clock is at time `k·P` ns (`P = 1e9 / clock_hz`), as the VCD
 //! contract asks; pins for clock `k` are applied half a period before it; outputs are
-//! compared half a period after it. Plusargs: `+vcd` dumps the design to `dut.vcd`;
+//! compared half a period after it. Under Icarus the testbench makes its own clock; under
+//! Verilator (built without `--timing`) the C++ driver of [`verilator_main`] clocks it.
+//! Plusargs: `+vcd` dumps the design to `dut.vcd` (Icarus);
 //! `+nostop` keeps running after a mismatch (to get a whole trace) instead of `$fatal`.
 //! The last line is `TESTBENCH OK <cycles>`, or `TESTBENCH FAIL <mismatching cycles>
 //! <cycles>` with `+nostop`.
@@ -84,7 +86,7 @@ pub fn testbench(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::
         ));
         conns.push_str(&format!("        .{0}({0}),\n", f.name));
         compare.push_str(&format!(
-            "            if ({0} !== exp_{0}) report(\"{0}\", {{{pad}exp_{0}}}, {{{pad}{0}}});\n",
+            "        if ({0} !== exp_{0}) report(\"{0}\", {{{pad}exp_{0}}}, {{{pad}{0}}});\n",
             f.name,
             pad = if f.width < 64 {
                 format!("{}'d0, ", 64 - f.width)
@@ -116,7 +118,11 @@ pub fn testbench(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::
 `timescale 1ns / 1ns
 `default_nettype none
 
+`ifdef VERILATOR
+module {TESTBENCH} (clk);
+`else
 module {TESTBENCH};
+`endif
     localparam integer PERIOD       = {period};
     localparam integer HIGH         = {high};
     localparam integer STIM_DEPTH   = {stim_depth};
@@ -125,7 +131,11 @@ module {TESTBENCH};
     reg [{sw1}:0] stim_mem   [0:STIM_DEPTH-1];
     reg [{ew1}:0] expect_mem [0:EXPECT_DEPTH-1];
 
+`ifdef VERILATOR
+    input  wire clk;   // driven by tt_testbench_main.cpp
+`else
     reg        clk = 1'b0;
+`endif
     reg        rst = 1'b0;
     reg [{n1}:0]  pins = {n}'d0;
     reg [{ab1}:0]  mcu_addr = {ab}'d0;
@@ -158,7 +168,6 @@ module {TESTBENCH};
     reg [{sw1}:0] stim_word;
     reg [{ew1}:0] expect_word;
     reg        nostop;
-    reg        running;
 
     task report(input [8*24-1:0] name, input [63:0] want, input [63:0] got);
         begin
@@ -173,10 +182,12 @@ module {TESTBENCH};
         $readmemh("{STIM_HEX}", stim_mem);
         $readmemh("{EXPECT_HEX}", expect_mem);
         nostop = $test$plusargs("nostop");
+`ifndef VERILATOR
         if ($test$plusargs("vcd")) begin
             $dumpfile("dut.vcd");
             $dumpvars(0, dut);
         end
+`endif
         stim_word   = stim_mem[0];
         segments    = stim_word[31:0];
         expect_word = expect_mem[0];
@@ -193,50 +204,64 @@ module {TESTBENCH};
         entry       = 1;
         bad_cycles  = 0;
         k           = 0;
-        running     = 1'b1;
-        #0;  // let every process reach its event control before rising edge 0 at time 0
-        while (running) begin
-            clk      = 1'b1;                 // rising edge k, time k*PERIOD
-            mcu_addr = k[{ab1}:0];
-            // The outputs registered at edge k; the exp_* wires settle before the compare.
-            expect_word = expect_mem[entry];
-            if (entry <= entries && expect_word[{ew1}:{w}] == k[31:0]) begin
-                expected = expect_word[{w1}:0];
-                entry    = entry + 1;
-            end
+    end
+
+`ifndef VERILATOR
+    // The clock (Verilator: driven by tt_testbench_main.cpp, without --timing): rising
+    // edge k at time k*PERIOD; #0 lets every process reach its event control first.
+    initial begin
+        #0;
+        forever begin
+            clk = 1'b1;
             #(HIGH);
             clk = 1'b0;
-            bad_signals = 0;
-{compare}            if (irq !== exp_register_now) report("irq", {{63'd0, exp_register_now}}, {{63'd0, irq}});
-            if (mcu_rdata !== exp_rdata) report("mcu_rdata", {{{dpad}exp_rdata}}, {{{dpad}mcu_rdata}});
-            if (bad_signals != 0) begin
-                bad_cycles = bad_cycles + 1;
-                if (!nostop) $fatal(1, "TESTBENCH FAIL at cycle %0d", k);
-            end
-            // Pins for clock k+1.
-            left = left - 32'd1;
-            if (left == 32'd0) begin
-                segment = segment + 1;
-                if (segment > segments) begin
-                    running = 1'b0;
-                end else begin
-                    stim_word = stim_mem[segment];
-                    pins      = stim_word[{pin_hi}:32];
-                    left      = stim_word[31:0];
-                end
-            end
-            k = k + 1;
-            if (running) #(PERIOD - HIGH);
+            #(PERIOD - HIGH);
         end
-        if (entry <= entries) begin
-            $display("TESTBENCH ERROR %0d expected entries left unused after %0d cycles", entries - entry + 1, k);
-            $fatal(1, "expected response longer than the stimulus");
+    end
+`endif
+
+    // Rising edge k: the address of the MCU read, and the outputs the model registered at
+    // edge k (the exp_* wires settle before the compare at the falling edge).
+    always @(posedge clk) begin
+        mcu_addr    = k[{ab1}:0];
+        expect_word = expect_mem[entry];
+        if (entry <= entries && expect_word[{ew1}:{w}] == k[31:0]) begin
+            expected = expect_word[{w1}:0];
+            entry    = entry + 1;
         end
-        if (bad_cycles != 0)
-            $display("TESTBENCH FAIL %0d %0d", bad_cycles, k);
-        else
-            $display("TESTBENCH OK %0d", k);
-        $finish;
+    end
+
+    // Falling edge after edge k: compare, then the pins for clock k+1.
+    always @(negedge clk) begin
+        bad_signals = 0;
+{compare}        if (irq !== exp_register_now) report("irq", {{63'd0, exp_register_now}}, {{63'd0, irq}});
+        if (mcu_rdata !== exp_rdata) report("mcu_rdata", {{{dpad}exp_rdata}}, {{{dpad}mcu_rdata}});
+        if (bad_signals != 0) begin
+            bad_cycles = bad_cycles + 1;
+            if (!nostop) $fatal(1, "TESTBENCH FAIL at cycle %0d", k);
+        end
+        left = left - 32'd1;
+        if (left == 32'd0) begin
+            segment = segment + 1;
+            if (segment <= segments) begin
+                stim_word = stim_mem[segment];
+                pins      = stim_word[{pin_hi}:32];
+                left      = stim_word[31:0];
+            end
+        end
+        k = k + 1;
+        if (segment > segments) begin
+            if (entry <= entries) begin
+                $display("TESTBENCH ERROR %0d expected entries left unused after %0d cycles",
+                         entries - entry + 1, k);
+                $fatal(1, "expected response longer than the stimulus");
+            end
+            if (bad_cycles != 0)
+                $display("TESTBENCH FAIL %0d %0d", bad_cycles, k);
+            else
+                $display("TESTBENCH OK %0d", k);
+            $finish;
+        end
     end
 endmodule
 
@@ -263,6 +288,52 @@ endmodule
     );
     Some(crate::VerilogFile {
         name: format!("{TESTBENCH}.v"),
+        text,
+    })
+}
+
+/// File name of the Verilator C++ driver of the testbench.
+pub const VERILATOR_MAIN: &str = "tt_testbench_main.cpp";
+
+/// The C++ `main` that clocks the testbench under Verilator (built with `--cc --exe`,
+/// without `--timing`): rising edge k at time k·P ns, falling edge P/2 later, until the
+/// testbench calls `$finish` (or `$fatal`, which exits non-zero). Returns `None` for an
+/// unusable clock (see [`TestbenchSpec::period_ns`]).
+pub fn verilator_main(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::VerilogFile> {
+    let period = spec.period_ns()?;
+    let text = format!(
+        r#"// {VERILATOR_MAIN}: clocks {TESTBENCH} under Verilator.
+// Generated by tooltouch-hdl-gen from MeasureConfig hash {hash:016x}.
+// Clock {clock_hz} Hz: rising edge k at time k*{period} ns (time unit 1 ns).
+#include <memory>
+#include "V{TESTBENCH}.h"
+#include "verilated.h"
+
+int main(int argc, char** argv) {{
+    const auto context = std::make_unique<VerilatedContext>();
+    context->commandArgs(argc, argv);
+    const auto tb = std::make_unique<V{TESTBENCH}>(context.get());
+    tb->clk = 0;
+    tb->eval();  // initial blocks: vectors read, pins of clock 0 applied
+    while (!context->gotFinish()) {{
+        tb->clk = 1;  // rising edge k
+        tb->eval();
+        context->timeInc({high});
+        tb->clk = 0;  // falling edge: compare, next pins
+        tb->eval();
+        context->timeInc({low});
+    }}
+    tb->final();
+    return 0;
+}}
+"#,
+        hash = config.hash(),
+        clock_hz = spec.clock_hz,
+        high = period / 2,
+        low = period - period / 2,
+    );
+    Some(crate::VerilogFile {
+        name: VERILATOR_MAIN.into(),
         text,
     })
 }

@@ -6,7 +6,7 @@ use super::runner::{build, lint_verilator, run, CxxOpt, SimRun, Simulator};
 use super::{write_design, HdlError, Result};
 use crate::stimulus::Stimulus;
 use std::path::Path;
-use tooltouch_hdl_gen::{generate, testbench, Options, TestbenchSpec};
+use tooltouch_hdl_gen::{generate, testbench, verilator_main, Options, TestbenchSpec};
 use tooltouch_model::MeasureConfig;
 
 /// What to run.
@@ -91,9 +91,15 @@ pub fn cosim(
     })?;
     let design = generate(config, &plan.options);
     let rtl = work.join("rtl");
-    let files = write_design(&rtl, &design, Some(&tb))?;
+    let mut files = write_design(&rtl, &design, Some(&tb))?;
     if plan.lint {
         lint_verilator(&files[..files.len() - 1])?;
+    }
+    // The Verilator driver (same clock as the testbench, so it exists whenever `tb` does).
+    if let Some(main) = verilator_main(config, &spec) {
+        let p = rtl.join(&main.name);
+        std::fs::write(&p, &main.text).map_err(super::io_err(&p))?;
+        files.push(p);
     }
     let plusargs: Vec<&str> = plan.plusargs.iter().map(String::as_str).collect();
     let mut report = CosimReport {

@@ -132,7 +132,7 @@ pub fn yosys_check(files: &[PathBuf], work: &Path) -> Result<YosysCheck> {
 /// Which simulator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Simulator {
-    /// Verilator 5 (`--binary --timing`).
+    /// Verilator 5 (`--cc --exe` with the generated C++ driver).
     Verilator,
     /// Icarus Verilog (`iverilog -g2005` + `vvp`).
     Icarus,
@@ -168,19 +168,22 @@ pub struct Build {
     pub seconds: f64,
 }
 
-/// Compiles the testbench `files` (design files and `tt_testbench.v`) into `work`.
+/// Compiles the testbench `files` (design files, `tt_testbench.v`, and the Verilator
+/// driver `tt_testbench_main.cpp`, which Icarus skips) into `work`.
 pub fn build(sim: Simulator, files: &[PathBuf], work: &Path, opt: CxxOpt) -> Result<Build> {
     std::fs::create_dir_all(work).map_err(io_err(work))?;
     let t = Instant::now();
     let image = match sim {
         Simulator::Verilator => {
+            // Without --timing: the C++ driver (tt_testbench_main.cpp, among `files`)
+            // clocks the testbench, which builds faster and runs ~an order faster.
             let mdir = work.join("obj_verilator");
             let flags = match opt {
                 CxxOpt::O3 => "OPT_FAST=-O3 OPT_GLOBAL=-O3 OPT_SLOW=-O3",
                 CxxOpt::O1 => "OPT_FAST=-O1 OPT_GLOBAL=-O1 OPT_SLOW=-O1",
             };
             let mut cmd = Command::new("verilator");
-            cmd.args(["--binary", "--timing", "-Wno-ZERODLY", "--top-module"])
+            cmd.args(["--cc", "--exe", "--build", "--top-module"])
                 .arg(tooltouch_hdl_gen::TESTBENCH)
                 .arg("-Mdir")
                 .arg(&mdir)
@@ -194,7 +197,11 @@ pub fn build(sim: Simulator, files: &[PathBuf], work: &Path, opt: CxxOpt) -> Res
             let mut cmd = Command::new("iverilog");
             cmd.args(["-g2005", "-s", tooltouch_hdl_gen::TESTBENCH, "-o"])
                 .arg(&image)
-                .args(files);
+                .args(
+                    files
+                        .iter()
+                        .filter(|f| f.extension().is_some_and(|e| e == "v")),
+                );
             run_checked("iverilog", &mut cmd)?;
             image
         }
