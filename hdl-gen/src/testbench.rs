@@ -86,7 +86,7 @@ pub fn testbench(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::
         ));
         conns.push_str(&format!("        .{0}({0}),\n", f.name));
         compare.push_str(&format!(
-            "        if ({0} !== exp_{0}) report(\"{0}\", {{{pad}exp_{0}}}, {{{pad}{0}}});\n",
+            "            if ({0} !== exp_{0}) report(\"{0}\", {{{pad}exp_{0}}}, {{{pad}{0}}});\n",
             f.name,
             pad = if f.width < 64 {
                 format!("{}'d0, ", 64 - f.width)
@@ -167,6 +167,7 @@ module {TESTBENCH};
     reg [31:0] left;         // clocks left in the current segment
     reg [{sw1}:0] stim_word;
     reg [{ew1}:0] expect_word;
+    reg [31:0] next_cycle;   // cycle of the next expected word
     reg        nostop;
 
     task report(input [8*24-1:0] name, input [63:0] want, input [63:0] got);
@@ -202,6 +203,8 @@ module {TESTBENCH};
         pins        = stim_word[{pin_hi}:32];
         left        = stim_word[31:0];
         entry       = 1;
+        expect_word = expect_mem[1];
+        next_cycle  = expect_word[{ew1}:{w}];
         bad_cycles  = 0;
         k           = 0;
     end
@@ -223,20 +226,25 @@ module {TESTBENCH};
     // Rising edge k: the address of the MCU read, and the outputs the model registered at
     // edge k (the exp_* wires settle before the compare at the falling edge).
     always @(posedge clk) begin
-        mcu_addr    = k[{ab1}:0];
-        expect_word = expect_mem[entry];
-        if (entry <= entries && expect_word[{ew1}:{w}] == k[31:0]) begin
-            expected = expect_word[{w1}:0];
-            entry    = entry + 1;
+        mcu_addr = k[{ab1}:0];
+        if (entry <= entries && next_cycle == k[31:0]) begin
+            expect_word = expect_mem[entry];
+            expected    = expect_word[{w1}:0];
+            entry       = entry + 1;
+            if (entry <= entries) begin
+                expect_word = expect_mem[entry];
+                next_cycle  = expect_word[{ew1}:{w}];
+            end
         end
     end
 
     // Falling edge after edge k: compare, then the pins for clock k+1.
     always @(negedge clk) begin
-        bad_signals = 0;
-{compare}        if (irq !== exp_register_now) report("irq", {{63'd0, exp_register_now}}, {{63'd0, irq}});
-        if (mcu_rdata !== exp_rdata) report("mcu_rdata", {{{dpad}exp_rdata}}, {{{dpad}mcu_rdata}});
-        if (bad_signals != 0) begin
+        // One compare of every output bit; the field-by-field report only on a mismatch.
+        if ({{{concat}}} !== expected || irq !== exp_register_now || mcu_rdata !== exp_rdata) begin
+            bad_signals = 0;
+{compare}            if (irq !== exp_register_now) report("irq", {{63'd0, exp_register_now}}, {{63'd0, irq}});
+            if (mcu_rdata !== exp_rdata) report("mcu_rdata", {{{dpad}exp_rdata}}, {{{dpad}mcu_rdata}});
             bad_cycles = bad_cycles + 1;
             if (!nostop) $fatal(1, "TESTBENCH FAIL at cycle %0d", k);
         end
@@ -285,6 +293,7 @@ endmodule
         db = MCU_DATA_BITS,
         db1 = MCU_DATA_BITS - 1,
         dpad = format!("{}'d0, ", 64 - MCU_DATA_BITS),
+        concat = fields.iter().map(|f| f.name).collect::<Vec<_>>().join(", "),
     );
     Some(crate::VerilogFile {
         name: format!("{TESTBENCH}.v"),
