@@ -128,6 +128,8 @@ endmodule
             else
                 level_q <= synced[i];
         end
+
+        assign toggles[i] = synced[i] ^ level_q;
 "#
             .to_string()
         } else {
@@ -149,6 +151,8 @@ endmodule
                 stable_q <= stable_q + ${GONE};
             end
         end
+
+        assign toggles[i] = (synced[i] != level_q) && (stable_q >= ${GLIT});
 "#,
                 &[
                     ("G", glitch.to_string()),
@@ -166,7 +170,8 @@ module tt_glitch_filter (
     input  wire       clk,
     input  wire       rst,
     input  wire [${N1}:0] synced,    // synchronized levels
-    output wire [${N1}:0] filtered   // filtered levels
+    output wire [${N1}:0] filtered,  // filtered levels
+    output wire [${N1}:0] toggles    // filtered levels that change at this clock's edge
 );
     genvar i;
     generate
@@ -187,27 +192,30 @@ endmodule
         self.file("tt_glitch_filter", "per-pin glitch filter", &body)
     }
 
-    /// The previous filtered level (model: `FrontEnd::previous`).
+    /// The edges, registered (model: `filtered ^ FrontEnd::previous`).
     pub(crate) fn edge_detect(&self) -> VerilogFile {
         let body = fill(
             r#"// Edge detection: `changed` marks the pins whose filtered level differs from the
-// previous clock's; the kernel acts on these edges in the same clock.
+// previous clock's (model: filtered ^ previous); the kernel acts on these edges in the same
+// clock. It is registered one clock early from the filter's `toggles` (the filtered levels
+// about to change), which is the same value (previous = the filtered level one clock ago)
+// and leaves no XOR between the registers and the kernel.
 module tt_edge_detect (
     input  wire       clk,
     input  wire       rst,
-    input  wire [${N1}:0] filtered,
+    input  wire [${N1}:0] toggles,
     output wire [${N1}:0] changed
 );
-    reg [${N1}:0] previous_q = ${ZERO};
+    reg [${N1}:0] changed_q = ${ZERO};
 
     always @(posedge clk) begin
         if (rst)
-            previous_q <= ${ZERO};
+            changed_q <= ${ZERO};
         else
-            previous_q <= filtered;
+            changed_q <= toggles;
     end
 
-    assign changed = filtered ^ previous_q;
+    assign changed = changed_q;
 endmodule
 "#,
             &[
@@ -893,10 +901,13 @@ ${PORTS}    output wire         irq        // = register_now, for the MCU
     wire [${N1}:0] synced;
     wire [${N1}:0] filtered;
     wire [${N1}:0] changed;
+    wire [${N1}:0] toggles;
 
     tt_synchronizer u_sync (.clk(clk), .rst(rst), .pins(pins), .synced(synced));
-    tt_glitch_filter u_filter (.clk(clk), .rst(rst), .synced(synced), .filtered(filtered));
-    tt_edge_detect u_edges (.clk(clk), .rst(rst), .filtered(filtered), .changed(changed));
+    tt_glitch_filter u_filter (
+        .clk(clk), .rst(rst), .synced(synced), .filtered(filtered), .toggles(toggles)
+    );
+    tt_edge_detect u_edges (.clk(clk), .rst(rst), .toggles(toggles), .changed(changed));
 
     tt_measurement u_measure (
         .clk(clk), .rst(rst), .changed(changed), .levels(filtered),

@@ -8,7 +8,7 @@
 //! | --- | --- | --- |
 //! | `tt_synchronizer` | `FrontEnd::sync1/sync2` | 2 × 6 |
 //! | `tt_glitch_filter` | `FrontEnd::filter` | 6 levels + 6 × `glitch_bits` counters |
-//! | `tt_edge_detect` | `FrontEnd::previous` | 6 |
+//! | `tt_edge_detect` | `filtered ^ FrontEnd::previous` | 6 (the edges, registered one clock early) |
 //! | `tt_pulse_counter` | `PulseCounter` (SPEC 2.3) | count, last window count, revs, reached |
 //! | `tt_density_detector` | `DensityDetector` (SPEC 2.4) | charge, armed, fired |
 //! | `tt_quadrature_decoder` | `QuadratureDecoder` (SPEC 1) | phase, position, errors |
