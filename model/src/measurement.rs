@@ -50,6 +50,33 @@ pub struct MeasureOutputs {
     pub pulses: u32,
 }
 
+impl MeasureOutputs {
+    /// Number of output signals.
+    pub const FIELD_COUNT: usize = 15;
+
+    /// Every output as `(name, value)`, names as the fields (and as the VCD signals and
+    /// Verilog ports), in declaration order; flags are 0/1, positions sign-extended.
+    pub fn fields(&self) -> [(&'static str, i64); Self::FIELD_COUNT] {
+        [
+            ("armed", self.armed.into()),
+            ("contact", self.contact.into()),
+            ("register_now", self.register_now.into()),
+            ("decision_position", self.decision_position.into()),
+            ("first_contact", self.first_contact.into()),
+            ("first_contact_position", self.first_contact_position.into()),
+            ("position", self.position.into()),
+            ("scale_errors", self.scale_errors.into()),
+            ("count", self.count.into()),
+            ("last_window_count", self.last_window_count.into()),
+            ("charge", self.charge.into()),
+            ("density_armed", self.density_armed.into()),
+            ("density_fired", self.density_fired.into()),
+            ("revolutions", self.revolutions.into()),
+            ("pulses", self.pulses.into()),
+        ]
+    }
+}
+
 /// The combined measurement kernel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Measurement {

@@ -87,24 +87,8 @@ impl std::fmt::Display for Mismatch {
 }
 
 /// Every output as `(name, value)`, names as in `MeasureOutputs` (docs/CONTRACT.md).
-pub fn signals(o: &MeasureOutputs) -> [(&'static str, i64); 15] {
-    [
-        ("armed", o.armed.into()),
-        ("contact", o.contact.into()),
-        ("register_now", o.register_now.into()),
-        ("decision_position", o.decision_position.into()),
-        ("first_contact", o.first_contact.into()),
-        ("first_contact_position", o.first_contact_position.into()),
-        ("position", o.position.into()),
-        ("scale_errors", o.scale_errors.into()),
-        ("count", o.count.into()),
-        ("last_window_count", o.last_window_count.into()),
-        ("charge", o.charge.into()),
-        ("density_armed", o.density_armed.into()),
-        ("density_fired", o.density_fired.into()),
-        ("revolutions", o.revolutions.into()),
-        ("pulses", o.pulses.into()),
-    ]
+pub fn signals(o: &MeasureOutputs) -> [(&'static str, i64); MeasureOutputs::FIELD_COUNT] {
+    o.fields()
 }
 
 /// Every force output as `(name, value)`; fixed-point values as their raw I32F32 bits.

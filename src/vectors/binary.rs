@@ -282,25 +282,10 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>, BinaryError> {
 
 /// Names of the [`MeasureOutputs`] fields with their values as unsigned numbers (signed
 /// positions as their two's-complement `i32` bits), for record-by-record comparison.
-pub fn output_fields(o: &MeasureOutputs) -> [(&'static str, u64); 15] {
-    let p = |v: i32| u64::from(v as u32);
-    [
-        ("armed", o.armed.into()),
-        ("contact", o.contact.into()),
-        ("register_now", o.register_now.into()),
-        ("decision_position", p(o.decision_position)),
-        ("first_contact", o.first_contact.into()),
-        ("first_contact_position", p(o.first_contact_position)),
-        ("position", p(o.position)),
-        ("scale_errors", o.scale_errors.into()),
-        ("count", o.count.into()),
-        ("last_window_count", o.last_window_count.into()),
-        ("charge", o.charge.into()),
-        ("density_armed", o.density_armed.into()),
-        ("density_fired", o.density_fired.into()),
-        ("revolutions", o.revolutions.into()),
-        ("pulses", o.pulses.into()),
-    ]
+pub fn output_fields(o: &MeasureOutputs) -> [(&'static str, u64); MeasureOutputs::FIELD_COUNT] {
+    // Every field fits 32 bits: keep the low 32 bits (two's complement for positions).
+    o.fields()
+        .map(|(name, value)| (name, u64::from(value as u32)))
 }
 
 #[cfg(test)]
