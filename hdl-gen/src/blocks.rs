@@ -253,8 +253,13 @@ endmodule
     // count_q < WINDOW_PULSES iff count_q != WINDOW_PULSES: an equality, no carry chain.
     wire             below_full = count_q != WINDOW_PULSES;
     wire [${CB1}:0]  count_inc  = count_q + ${CONE};
-    wire             inc_exceeds = ${Q_GE_IDEF};
-    wire             q_exceeds  = count_q > I_DEF;
+    // count_q >= I_DEF and count_q > I_DEF, kept as registers stepped with the count by
+    // equalities (between restarts from 0 or 1 the count only grows by 1), so no
+    // comparison carry chain precedes the decision.
+    reg              reaches_q  = ${REACH0};  // count_q >= I_DEF
+    reg              exceeds_q  = 1'b0;  // count_q > I_DEF
+    wire             inc_exceeds = reaches_q;
+    wire             q_exceeds  = exceeds_q;
     wire             last_rev   = ({1'b0, revs_q} + ${RONE1} >= WINDOW_REVS);
     wire [${RB1}:0]  revs_inc   = revs_q + ${RONE};
 
@@ -268,6 +273,19 @@ endmodule
     wire             inc        = pulse && contact_bit && (from_zero || below_full);
     wire [${CB1}:0]  count_p    = from_zero ? {${CB_1}'d0, inc} : (inc ? count_inc : count_q);
     wire             exceeds    = from_zero ? (inc && ${IDEF_ZERO}) : (inc ? inc_exceeds : q_exceeds);
+
+    always @(posedge clk) begin
+        if (rst) begin
+            reaches_q <= ${REACH0};
+            exceeds_q <= 1'b0;
+        end else if (from_zero) begin
+            reaches_q <= ${FROM_ZERO_REACH};  // count_p (0 or 1) >= I_DEF
+            exceeds_q <= inc && ${IDEF_ZERO};  // count_p (0 or 1) > I_DEF
+        end else if (inc) begin
+            reaches_q <= reaches_q || ${AT_IDEF_M1};
+            exceeds_q <= exceeds_q || (count_q == I_DEF);
+        end
+    end
 "#
         };
         let decide = if self.fault == Fault::FesBeforeIndex {
@@ -345,12 +363,21 @@ endmodule
                 ("CB_1", (cb - 1).to_string()),
                 ("ONE_REV", bool_lit(s.window_revs == 1)),
                 ("IDEF_ZERO", bool_lit(s.i_def == 0)),
+                ("REACH0", bool_lit(s.i_def == 0)),
                 (
-                    "Q_GE_IDEF",
+                    "FROM_ZERO_REACH",
+                    match s.i_def {
+                        0 => "1'b1".to_string(),
+                        1 => "inc".to_string(),
+                        _ => "1'b0".to_string(),
+                    },
+                ),
+                (
+                    "AT_IDEF_M1",
                     if s.i_def == 0 {
                         "1'b1".to_string()
                     } else {
-                        format!("count_q >= {}", lit(cb, s.i_def.into()))
+                        format!("(count_q == {})", lit(cb, u64::from(s.i_def) - 1))
                     },
                 ),
             ],
