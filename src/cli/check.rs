@@ -1,5 +1,5 @@
 //! `tooltouch check`: compares a device-under-test's output trace with the golden expected
-//! trace and reports the first difference (VCD contract in notes/vcd-contract.md; binary
+//! trace and reports the first difference (VCD contract in docs/CONTRACT.md; binary
 //! Outputs streams record by record).
 //!
 //! Exit codes: 0 match, 1 mismatch, 2 bad input (unreadable or malformed file,

@@ -1,4 +1,4 @@
-//! Value change dump files, per the VCD contract (notes/vcd-contract.md): the golden
+//! Value change dump files, per the VCD contract (docs/CONTRACT.md): the golden
 //! writer (inputs and outputs of the measurement front end at `k·P` ns) and a reader that
 //! takes any tool's dump (Verilator, Icarus) for `tooltouch check`.
 
@@ -7,7 +7,7 @@ use crate::stimulus::Stimulus;
 use std::collections::HashMap;
 use std::io::{self, Write};
 use tooltouch_model::frontend::{pin, Pins};
-use tooltouch_model::{MeasureConfig, MeasureOutputs};
+use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 
 /// Names and widths of the [`MeasureOutputs`] fields in VCD files and Verilog ports, in
 /// declaration order (widths from the configuration, never typed twice).
@@ -138,6 +138,23 @@ pub fn write_golden<W: Write>(
     // never settled).
     let mut stopped = false;
     let mut last_time = None;
+    // Every signal's value at time 0, even when nothing happens at clock 0 (a settled
+    // start is skipped by `clock_through`): the pins of the first segment and the reset
+    // outputs, which are the outputs after clock 0 (no edge can be detected at clock 0).
+    if let (true, Some(first)) = (end > 0, stimulus.segments.first()) {
+        for (i, _) in pin::NAMES.iter().enumerate() {
+            let bit = 1u8 << i;
+            buffer.push_str(&value_text(first.pins.get(bit).into(), 1, &id_code(i)));
+        }
+        let values = output_values(&FrontEnd::new(config).outputs(), config);
+        for (i, (_, width)) in outputs.iter().enumerate() {
+            buffer.push_str(&value_text(values[i], *width, &id_code(pin::COUNT + i)));
+        }
+        write!(w, "#0\n$dumpvars\n{buffer}$end\n")?;
+        last_pins = Some(first.pins);
+        last_out = Some(values);
+        last_time = Some(0);
+    }
     clock_through(stimulus, config, |k, pins, fe, edges| {
         if stopped || error.is_some() {
             return;
