@@ -132,30 +132,10 @@ pub struct OutputField {
     pub width: u32,
 }
 
-/// The outputs in `MeasureOutputs` / VCD contract order, with their widths for `config`.
+/// The outputs in `MeasureOutputs` / VCD contract order, with their widths for `config`
+/// ([`MeasureOutputs::widths`], the model's one list).
 pub fn output_fields(config: &MeasureConfig) -> [OutputField; 15] {
-    let s = config.settings();
-    let scale = u32::from(s.scale_bits);
-    let count = u32::from(config.count_bits());
-    let charge = u32::from(s.charge_bits);
-    let f = |name, width| OutputField { name, width };
-    [
-        f("armed", 1),
-        f("contact", 1),
-        f("register_now", 1),
-        f("decision_position", scale),
-        f("first_contact", 1),
-        f("first_contact_position", scale),
-        f("position", scale),
-        f("scale_errors", 8),
-        f("count", count),
-        f("last_window_count", count),
-        f("charge", charge),
-        f("density_armed", 1),
-        f("density_fired", 1),
-        f("revolutions", 16),
-        f("pulses", 32),
-    ]
+    MeasureOutputs::widths(config).map(|(name, width)| OutputField { name, width })
 }
 
 /// Total width of all outputs, bits.
@@ -166,29 +146,7 @@ pub fn outputs_width(config: &MeasureConfig) -> u32 {
 /// The raw bits of every output (two's-complement positions truncated to `scale_bits`),
 /// in [`output_fields`] order.
 pub fn output_values(config: &MeasureConfig, o: &MeasureOutputs) -> [u64; 15] {
-    let fields = output_fields(config);
-    let raw = [
-        u64::from(o.armed),
-        u64::from(o.contact),
-        u64::from(o.register_now),
-        u64::from(o.decision_position as u32),
-        u64::from(o.first_contact),
-        u64::from(o.first_contact_position as u32),
-        u64::from(o.position as u32),
-        u64::from(o.scale_errors),
-        u64::from(o.count),
-        u64::from(o.last_window_count),
-        u64::from(o.charge),
-        u64::from(o.density_armed),
-        u64::from(o.density_fired),
-        u64::from(o.revolutions),
-        u64::from(o.pulses),
-    ];
-    let mut out = [0u64; 15];
-    for (i, (v, f)) in raw.iter().zip(fields.iter()).enumerate() {
-        out[i] = v & mask(f.width);
-    }
-    out
+    o.register_bits(config)
 }
 
 /// `width` low bits set (`width <= 64`).

@@ -75,6 +75,49 @@ impl MeasureOutputs {
             ("pulses", self.pulses.into()),
         ]
     }
+
+    /// Every output's name and register width in bits for `config`, in [`Self::fields`]
+    /// order: the widths of the VCD signals and the Verilog ports, derived here only.
+    pub fn widths(config: &MeasureConfig) -> [(&'static str, u32); Self::FIELD_COUNT] {
+        let s = config.settings();
+        let scale = u32::from(s.scale_bits);
+        let count = u32::from(config.count_bits());
+        let charge = u32::from(s.charge_bits);
+        let flag = 1;
+        [
+            ("armed", flag),
+            ("contact", flag),
+            ("register_now", flag),
+            ("decision_position", scale),
+            ("first_contact", flag),
+            ("first_contact_position", scale),
+            ("position", scale),
+            ("scale_errors", 8),
+            ("count", count),
+            ("last_window_count", count),
+            ("charge", charge),
+            ("density_armed", flag),
+            ("density_fired", flag),
+            ("revolutions", 16),
+            ("pulses", 32),
+        ]
+    }
+
+    /// Every output as the unsigned bits of its register for `config`, in [`Self::fields`]
+    /// order (two's-complement positions truncated to `scale_bits`).
+    pub fn register_bits(&self, config: &MeasureConfig) -> [u64; Self::FIELD_COUNT] {
+        let widths = Self::widths(config);
+        let mut out = [0u64; Self::FIELD_COUNT];
+        for ((bits, (_, value)), (_, width)) in out.iter_mut().zip(self.fields()).zip(widths) {
+            let mask = if width >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << width) - 1
+            };
+            *bits = (value as u64) & mask;
+        }
+        out
+    }
 }
 
 /// The combined measurement kernel.
@@ -278,6 +321,20 @@ mod tests {
         let o = m.outputs();
         assert!(o.register_now);
         assert_eq!((o.decision_position, o.position), (1, 2));
+    }
+
+    #[test]
+    fn register_bits_truncate_positions_to_scale_bits() {
+        let config = MeasureConfig::default();
+        let mut m = Measurement::new(&config);
+        m.on_scale(false, true);
+        let o = m.outputs();
+        assert_eq!(o.position, -1);
+        let bits = o.register_bits(&config);
+        let widths = MeasureOutputs::widths(&config);
+        assert_eq!(widths[6], ("position", 24));
+        assert_eq!(bits[6], 0xff_ffff, "position -1 in 24 bits");
+        assert_eq!(bits[11], 1, "density_armed at reset");
     }
 
     #[test]

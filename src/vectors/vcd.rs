@@ -10,52 +10,19 @@ use tooltouch_model::frontend::{pin, Pins};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 
 /// Names and widths of the [`MeasureOutputs`] fields in VCD files and Verilog ports, in
-/// declaration order (widths from the configuration, never typed twice).
+/// declaration order ([`MeasureOutputs::widths`]: widths from the configuration, never typed
+/// twice).
 pub fn output_signals(config: &MeasureConfig) -> Vec<(&'static str, u32)> {
-    let scale = u32::from(config.settings().scale_bits);
-    let count = u32::from(config.count_bits());
-    let charge = u32::from(config.settings().charge_bits);
-    vec![
-        ("armed", 1),
-        ("contact", 1),
-        ("register_now", 1),
-        ("decision_position", scale),
-        ("first_contact", 1),
-        ("first_contact_position", scale),
-        ("position", scale),
-        ("scale_errors", 8),
-        ("count", count),
-        ("last_window_count", count),
-        ("charge", charge),
-        ("density_armed", 1),
-        ("density_fired", 1),
-        ("revolutions", 16),
-        ("pulses", 32),
-    ]
+    MeasureOutputs::widths(config).to_vec()
 }
 
 /// The values of [`output_signals`], in the same order, as unsigned bit vectors of their
 /// widths (two's-complement positions masked to `scale_bits`).
-pub fn output_values(o: &MeasureOutputs, config: &MeasureConfig) -> [u64; 15] {
-    let scale_mask = (1u64 << config.settings().scale_bits) - 1;
-    let pos = |p: i32| (p as i64 as u64) & scale_mask;
-    [
-        o.armed.into(),
-        o.contact.into(),
-        o.register_now.into(),
-        pos(o.decision_position),
-        o.first_contact.into(),
-        pos(o.first_contact_position),
-        pos(o.position),
-        o.scale_errors.into(),
-        o.count.into(),
-        o.last_window_count.into(),
-        o.charge.into(),
-        o.density_armed.into(),
-        o.density_fired.into(),
-        o.revolutions.into(),
-        o.pulses.into(),
-    ]
+pub fn output_values(
+    o: &MeasureOutputs,
+    config: &MeasureConfig,
+) -> [u64; MeasureOutputs::FIELD_COUNT] {
+    o.register_bits(config)
 }
 
 /// Clock period, ns, for `clock_hz` (must divide 1e9; the scenario checks it).
