@@ -10,7 +10,11 @@ use proptest::test_runner::{Config, TestRunner};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use tooltouch::cosim::{self, trace::EVENT_KIND_NAMES, Case, CosimError, Fault};
-use tooltouch_model::force::ForceEvent;
+use tooltouch_model::force::{ForceEvent, ForceSettings};
+use tooltouch_model::wire::{
+    self, force_config_chunk, force_config_chunks, force_kind, Record, Records, FORCE_CHUNK_DATA,
+    MAX_PAYLOAD, RECORD_HEADER_LEN,
+};
 
 /// Builds the QEMU firmware once per test binary.
 fn image() -> PathBuf {
@@ -133,6 +137,32 @@ fn firmware_matches_the_golden_model_on_random_scenarios() {
         "only {controlled} of {} cases control the force",
         cases.len()
     );
+    // …under random force configurations: every controller kind, and no two cases alike.
+    let mut kinds = std::collections::BTreeMap::new();
+    for c in &cases {
+        let f = c
+            .force
+            .as_ref()
+            .expect("every random case has a force path");
+        *kinds
+            .entry(f.settings().controller.name())
+            .or_insert(0usize) += 1;
+    }
+    eprintln!("force controllers per case: {kinds:?}");
+    assert_eq!(
+        kinds.len(),
+        3,
+        "the cases use every controller kind (pi, adaptive, fuzzy): {kinds:?}"
+    );
+    let hashes: std::collections::BTreeSet<u64> = cases
+        .iter()
+        .filter_map(|c| c.force.as_ref().map(|f| f.hash()))
+        .collect();
+    assert_eq!(
+        hashes.len(),
+        cases.len(),
+        "each case draws its own force configuration"
+    );
     let report = run(&cases);
     assert_eq!(report.cases, cases.len());
     print_report("random scenarios", &report);
@@ -246,4 +276,97 @@ fn firmware_matches_the_golden_model_on_lathe_simulator_streams() {
     }
     let report = run(&cases);
     print_report("lathe simulator streams", &report);
+}
+
+/// Rebuilds `case`'s event file with `chunks` in place of its force configuration records
+/// and `force_hash` in its header.
+fn with_force_chunks(case: &Case, chunks: &[Record], force_hash: u64) -> Vec<u8> {
+    let mut input = Vec::new();
+    cosim::encode_case(case, &mut input);
+    let (mut header, records) = Records::new(&input).expect("a valid stream");
+    header.force_hash = force_hash;
+    let mut out = header.encode().to_vec();
+    let mut buf = [0u8; RECORD_HEADER_LEN + MAX_PAYLOAD];
+    let mut put = |r: &Record, out: &mut Vec<u8>| {
+        let n = r.encode(&mut buf).expect("fits");
+        out.extend_from_slice(&buf[..n]);
+    };
+    for r in records {
+        let r = r.expect("a valid record");
+        match r.kind {
+            force_kind::FORCE_CONFIG_CHUNK => {}
+            wire::kind::MEASURE_CONFIG => {
+                put(&r, &mut out);
+                for c in chunks {
+                    put(c, &mut out);
+                }
+            }
+            _ => put(&r, &mut out),
+        }
+    }
+    out
+}
+
+fn expect_rejected(input: &[u8], what: &str, needles: &[&str]) {
+    match cosim::qemu::run_image(&image(), input) {
+        Err(CosimError::Firmware(why)) => {
+            for n in needles {
+                assert!(why.contains(n), "{what}: expected `{n}` in: {why}");
+            }
+            eprintln!("{what}: {why}");
+        }
+        other => panic!("{what}: expected the firmware to reject the stream, got {other:?}"),
+    }
+}
+
+/// A broken force configuration (out-of-order, missing or overlapping chunks, a field out
+/// of range, another configuration's hash) is an error record in the trace naming what is
+/// wrong — not a panic, not a silently wrong configuration.
+#[test]
+fn broken_force_configuration_chunks_are_rejected_by_the_firmware() {
+    let case = cosim::generate(9, Fault::None);
+    let force = case.force.expect("the case has a force path");
+    let hash = force.hash();
+    let chunks: Vec<Record> = force_config_chunks(&force, 0).collect();
+    assert!(chunks.len() >= 3, "{} chunks", chunks.len());
+    let mut swapped = chunks.clone();
+    swapped.swap(0, 1);
+    expect_rejected(
+        &with_force_chunks(&case, &swapped, hash),
+        "swapped chunks",
+        &["force configuration", "offset 44, expected offset 0"],
+    );
+    let mut overlapping = chunks.clone();
+    overlapping.insert(1, chunks[0]);
+    expect_rejected(
+        &with_force_chunks(&case, &overlapping, hash),
+        "a repeated chunk",
+        &["offset 0, expected offset 44"],
+    );
+    expect_rejected(
+        &with_force_chunks(&case, &chunks[..chunks.len() - 1], hash),
+        "a missing last chunk",
+        &["incomplete"],
+    );
+    expect_rejected(
+        &with_force_chunks(&case, &chunks, hash ^ 0x5a),
+        "another configuration's hash",
+        &["force_hash"],
+    );
+    // PI with K_p = 0: the firmware names the field.
+    let pi = ForceSettings::default().validate().unwrap();
+    let (mut bytes, n) = pi.canonical_bytes();
+    let kp_at = 2 + 4 + 1 + 5 * 8 + 12 * 8 + 3 + 8 + 1;
+    assert_eq!(bytes[kp_at - 1], 0, "the default controller is PI");
+    bytes[kp_at..kp_at + 8].fill(0);
+    let bad: Vec<Record> = bytes[..n]
+        .chunks(FORCE_CHUNK_DATA)
+        .enumerate()
+        .map(|(i, d)| force_config_chunk(0, n as u16, (i * FORCE_CHUNK_DATA) as u16, d))
+        .collect();
+    expect_rejected(
+        &with_force_chunks(&case, &bad, hash),
+        "K_p = 0",
+        &["field `pi.kp` out of range"],
+    );
 }

@@ -4,10 +4,11 @@
 //!
 //! Input: one or more concatenated streams, each `Header{stream: Events}`, a
 //! `MEASURE_CONFIG` record (the firmware configures itself from it and checks it against
-//! the header's hash), measurement and force event records, `END`. The force path runs
-//! the default force configuration ([`ForceSettings::default`]): the header's
-//! `force_hash` must be its hash, or 0 for a stream without force events (the force
-//! configuration's canonical encoding is longer than one record). Output, per input
+//! the header's hash), then — when the header's `force_hash` is not 0 — the force
+//! configuration in `FORCE_CONFIG_CHUNK` records (model::wire: reassembled in a fixed
+//! buffer, decoded, validated and checked against `force_hash` before any event; a stream
+//! with `force_hash` 0 holds no force event and the force path idles in
+//! [`ForceSettings::default`]), measurement and force event records, `END`. Output, per input
 //! stream: `Header{stream: Outputs}` with the same hashes, one `MEASURE_OUTPUTS` record
 //! after every measurement event and one force `OUTPUTS` record after every force event
 //! except a sample (model::force's convention), each at its event's time; then
@@ -23,8 +24,9 @@ use tooltouch_model::force::{
     self, decode_force_event, ForceConfig, ForceEvent, ForceOutputs, ForceSettings,
 };
 use tooltouch_model::wire::{
-    self, decode_config, decode_event, encode_outputs, Header, Record, StreamKind, WireError,
-    HEADER_LEN, MAX_PAYLOAD, RECORD_HEADER_LEN,
+    self, decode_config, decode_event, encode_outputs, force_kind, ForceChunkError,
+    ForceConfigAssembler, Header, Record, StreamKind, WireError, HEADER_LEN, MAX_PAYLOAD,
+    RECORD_HEADER_LEN,
 };
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs};
 
@@ -35,7 +37,9 @@ pub mod kind {
     /// Per force event kind (sample, tick, command): events u32 and SysTick ticks u32,
     /// 24 bytes. A tick's ticks include applying the period's queued samples.
     pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
-    /// The input was rejected; payload: code u8, wire error u8, byte offset u64, detail u64.
+    /// The input was rejected; payload: code u8, wire error u8, byte offset u64, detail u64,
+    /// then for a force configuration field out of range the field's name (UTF-8, up to
+    /// 30 bytes).
     pub const FIRMWARE_ERROR: u8 = 0x5d;
     /// Per event kind (arm, contact, index, FES, scale): events u32 and SysTick ticks
     /// u32 spent delivering them (pend to return), 40 bytes.
@@ -105,9 +109,9 @@ pub enum Error {
     UnexpectedKind(u8, u64),
     /// The input holds no stream.
     Empty,
-    /// The header's force hash is neither 0 nor the firmware's force configuration's
-    /// (stream at `offset`; detail: the firmware's hash).
-    ForceHashMismatch(u64, u64),
+    /// The force configuration chunks after the record at `offset` do not reassemble to
+    /// the valid configuration the header's `force_hash` names.
+    ForceConfig(ForceChunkError, u64),
 }
 
 impl Error {
@@ -136,7 +140,30 @@ impl Error {
             Error::HashMismatch(offset) => (5, 0, offset, 0),
             Error::UnexpectedKind(k, offset) => (6, 0, offset, k.into()),
             Error::Empty => (7, 0, 0, 0),
-            Error::ForceHashMismatch(offset, hash) => (8, 0, offset, hash),
+            Error::ForceConfig(e, offset) => {
+                let pair = |a: usize, b: usize| (a as u64) << 16 | b as u64;
+                let (w, detail) = match e {
+                    ForceChunkError::BadLength { len } => (1, len as u64),
+                    ForceChunkError::Oversized { total } => (2, total as u64),
+                    ForceChunkError::TotalChanged { first, this } => (3, pair(first, this)),
+                    ForceChunkError::OutOfOrder { expected, offset } => (4, pair(expected, offset)),
+                    ForceChunkError::PastEnd { end, total } => (5, pair(end, total)),
+                    ForceChunkError::AfterComplete => (6, 0),
+                    ForceChunkError::Incomplete { received, total } => (7, pair(received, total)),
+                    ForceChunkError::BadEncoding { at } => (8, at as u64),
+                    ForceChunkError::Invalid(f) => (9, f.value.to_bits() as u64),
+                    ForceChunkError::HashMismatch { decoded, .. } => (10, decoded),
+                };
+                (8, w, offset, detail)
+            }
+        }
+    }
+
+    /// The force configuration field an error names (empty for other errors).
+    pub fn field(&self) -> &'static str {
+        match self {
+            Error::ForceConfig(ForceChunkError::Invalid(f), _) => f.field,
+            _ => "",
         }
     }
 }
@@ -319,7 +346,7 @@ pub fn run<P: Port, T: Target>(port: &mut P, target: &mut T) -> Result<u32, Erro
     let result = run_streams(port, target, &mut reader, &mut writer);
     if let Err(e) = result {
         let (code, wire_code, offset, detail) = e.code();
-        let mut p = [0u8; 18];
+        let mut p = [0u8; 48];
         p[0] = code;
         p[1] = wire_code;
         for (d, s) in p
@@ -329,8 +356,14 @@ pub fn run<P: Port, T: Target>(port: &mut P, target: &mut T) -> Result<u32, Erro
         {
             *d = *s;
         }
+        let name = e.field().as_bytes();
+        let name_len = name.len().min(30);
+        for (d, s) in p.iter_mut().skip(18).zip(name.iter().take(name_len)) {
+            *d = *s;
+        }
+        let p = p.get(..18usize.saturating_add(name_len)).unwrap_or(&[]);
         // Best effort: the error is returned whether or not it reaches the host.
-        let _ = writer.record(port, &Record::new(kind::FIRMWARE_ERROR, 0, &p));
+        let _ = writer.record(port, &Record::new(kind::FIRMWARE_ERROR, 0, p));
         let _ = writer.record(port, &Record::new(wire::kind::END, 0, &[]));
     }
     writer.flush(port)?;
@@ -343,10 +376,9 @@ fn run_streams<P: Port, T: Target>(
     reader: &mut Reader,
     writer: &mut Writer,
 ) -> Result<u32, Error> {
-    let force = ForceSettings::default()
+    let idle_force = ForceSettings::default()
         .validate()
         .map_err(|_| Error::Wire(WireError::BadConfigEncoding, 0))?;
-    let force_hash = force.hash();
     let mut streams: u32 = 0;
     loop {
         reader.fill(port, HEADER_LEN)?;
@@ -367,9 +399,11 @@ fn run_streams<P: Port, T: Target>(
         if config.hash() != header.measure_hash {
             return Err(Error::HashMismatch(at));
         }
-        if header.force_hash != 0 && header.force_hash != force_hash {
-            return Err(Error::ForceHashMismatch(at, force_hash));
-        }
+        let force = if header.force_hash != 0 {
+            read_force_config(port, reader, header.force_hash, offset)?
+        } else {
+            idle_force
+        };
         target.configure(&config, &force);
         let out_header = Header {
             stream: StreamKind::Outputs,
@@ -390,6 +424,36 @@ fn run_streams<P: Port, T: Target>(
         return Err(Error::Empty);
     }
     Ok(streams)
+}
+
+/// Reads the `FORCE_CONFIG_CHUNK` records that follow the configuration record at
+/// `config_offset` until the force configuration is complete, and decodes it.
+fn read_force_config<P: Port>(
+    port: &mut P,
+    reader: &mut Reader,
+    force_hash: u64,
+    config_offset: u64,
+) -> Result<ForceConfig, Error> {
+    let mut assembler = ForceConfigAssembler::new();
+    let mut last = config_offset;
+    while !assembler.is_complete() {
+        let (record, offset) = reader.record(port)?;
+        if record.kind != force_kind::FORCE_CONFIG_CHUNK {
+            // A stream that names a force configuration must carry all of it first.
+            let e = match assembler.finish(force_hash) {
+                Err(e) => e,
+                Ok(_) => ForceChunkError::AfterComplete,
+            };
+            return Err(Error::ForceConfig(e, offset));
+        }
+        assembler
+            .push(record.payload())
+            .map_err(|e| Error::ForceConfig(e, offset))?;
+        last = offset;
+    }
+    assembler
+        .finish(force_hash)
+        .map_err(|e| Error::ForceConfig(e, last))
 }
 
 /// Replays one stream's events up to its END record.

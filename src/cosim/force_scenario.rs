@@ -1,135 +1,346 @@
-//! A compact, physically shaped force-path stream for the co-simulation (until the drive
-//! simulator's streams are wired in): a spindle at about 100 rad/s, no-load
-//! identification first (SPEC 3: B identified just before the tool touches), then a cut
-//! whose force follows the feed override the golden model commands (a first-order
-//! process, F10) with a depth-of-cut step (1 mm → 1.5 mm, the paper F experiment),
-//! three-phase voltages and currents (F2, F3), measured power (W9), noise, CNC commands
-//! (conditions, some out of range; tool changes) — and, as a fault, ADC saturation
-//! (codes clipped at 0 and 4095).
+//! The co-simulation's force path: a random spindle drive and turning process
+//! ([`crate::drive`]: V/f induction motor with its speed loop, lagging measured power, F10
+//! with drifting K_s and τ_p, a depth-of-cut step) closed around the golden model's
+//! [`ForceKernel`] ([`ClosedLoop`]), under a random force configuration
+//! ([`random_force_settings`]: controller kind and gains, reference, filters, estimator,
+//! wear monitor) fitted to that plant — and a CNC timeline: no-load identification first
+//! (SPEC 3: B identified just before the tool touches), condition set 0, the cut under
+//! force control with the depth step, retract; random condition changes (some out of
+//! range) and tool changes. As a fault, ADC saturation: the front end's gain is 4× for a
+//! few periods around the depth step, so every channel clips at 0 or 4095.
 //!
+//! The recorded events are exactly what the plant produces when the device's overrides
+//! equal the model's, so a firmware that agrees bit for bit has been tested in the loop.
 //! Floats here are the plant only; everything the firmware sees is 12-bit codes.
 
+use crate::drive::scenario::ClosedLoop;
+use crate::drive::{DepthProfile, DriveParams, Plant, ProcessParams};
+use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
 use rand::Rng;
-use rand_distr::{Distribution, Normal};
-use tooltouch_model::force::{ForceConfig, ForceEvent, ForceKernel};
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::control::fuzzy::{NO_RULE, STANDARD_RULES};
+use tooltouch_model::control::ControllerSettings;
+use tooltouch_model::estimator::AdcScales;
+use tooltouch_model::force::{ForceConfig, ForceEvent, ForceSettings, ForceSource, Fx};
+use tooltouch_model::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
 
-/// Largest ADC code (12 bits).
-const ADC_MAX: f64 = 4095.0;
+/// ADC sample rates drawn, Hz (each divides the 50 MHz tick rate).
+pub const SAMPLE_RATES: [u16; 4] = [500, 1000, 1250, 2000];
 
-fn code(x: f64) -> u16 {
-    x.round().clamp(0.0, ADC_MAX) as u16
+/// A random plant: drive, process, depth step and spindle speed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlantSetup {
+    /// Spindle drive.
+    pub drive: DriveParams,
+    /// Turning process F10.
+    pub process: ProcessParams,
+    /// Depth of cut before and after the step, mm (`step_at` is set by the timeline).
+    pub depth: DepthProfile,
+    /// Spindle speed, rad/s.
+    pub speed: f64,
 }
 
-/// Force events from `start` for `periods` control periods at `tick_hz` ticks per second;
-/// `saturate` drives the ADC into its rails for part of the cut.
+/// Draws a plant around `tooltouch control`'s default one.
+pub fn random_plant(rng: &mut impl Rng) -> PlantSetup {
+    let drive = DriveParams {
+        inertia: rng.gen_range(0.02..0.1),
+        viscous: rng.gen_range(0.002..0.01),
+        coulomb: rng.gen_range(0.5..2.0),
+        friction_f0: rng.gen_range(0.0..0.1),
+        friction_g0: rng.gen_range(0.0..0.004),
+        slip_stiffness: rng.gen_range(3.0..8.0),
+        speed_ki: rng.gen_range(3.0..8.0),
+        stator_resistance: rng.gen_range(0.2..1.0),
+        line_voltage: rng.gen_range(180.0..240.0),
+        pole_pairs: f64::from(rng.gen_range(1u8..=3)),
+        power_lag: rng.gen_range(0.1..0.5),
+        adc_noise: rng.gen_range(0.5..3.0),
+    };
+    let process = ProcessParams {
+        ks: rng.gen_range(1500.0..2500.0),
+        ks_drift: rng.gen_range(-0.02..0.02),
+        tau_p: rng.gen_range(0.04..0.15),
+        tau_drift: rng.gen_range(-0.02..0.02),
+        feed_mm_per_rev: rng.gen_range(0.2..0.4),
+        radius: rng.gen_range(0.01..0.04),
+        ripple: rng.gen_range(0.0..0.03),
+    };
+    let before = rng.gen_range(0.8..1.2);
+    PlantSetup {
+        drive,
+        process,
+        depth: DepthProfile {
+            before,
+            after: before * rng.gen_range(1.2..1.6),
+            step_at: f64::INFINITY,
+        },
+        speed: rng.gen_range(400.0..1000.0) * std::f64::consts::TAU / 60.0,
+    }
+}
+
+fn fx(x: f64) -> Fx {
+    Fx::from_num(x)
+}
+
+/// Draws force-path settings fitted to `plant`, every field inside the range its
+/// `validate` documents: sample rate and period, low-pass, ADC scales that keep the plant's
+/// signals inside 12 bits, estimator parameters near the plant's (misestimated by up to
+/// ±50 %), force source, reference 200–800 N, manual override, the controller (PI,
+/// adaptive or fuzzy, each designed on the plant's nominal process and detuned by up to
+/// 2×; fuzzy sometimes with rules removed), and the wear monitor (1–4 condition sets,
+/// updating or constant threshold, filter and debounce).
+pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSettings {
+    let d = &plant.drive;
+    let p = &plant.process;
+    let sample_hz = SAMPLE_RATES[rng.gen_range(0..SAMPLE_RATES.len())];
+    let h_target = rng.gen_range(0.02..0.1);
+    let samples_per_period = ((h_target * f64::from(sample_hz)).round() as u16).clamp(1, 1000);
+    let h = f64::from(samples_per_period) / f64::from(sample_hz);
+    let reference = rng.gen_range(200.0..800.0);
+    let omega = plant.speed;
+    let idle = d.coulomb * omega + d.viscous * omega * omega;
+    let cut = reference * p.radius * omega;
+    // Signals at most ~1.5× their expected peaks stay inside 0..=4095 (2048 ± 2047 for
+    // the bipolar channels).
+    let p_peak = idle + 2.5 * cut;
+    let v_peak = std::f64::consts::SQRT_2 * d.line_voltage;
+    let i_peak = std::f64::consts::SQRT_2 * p_peak / (1.5 * d.line_voltage);
+    let scales = AdcScales {
+        speed_per_lsb: fx(1.3 * omega / rng.gen_range(2000.0..3500.0)),
+        power_per_lsb: fx(p_peak / rng.gen_range(2000.0..3500.0)),
+        force_per_lsb: fx(2.5 * reference / rng.gen_range(1200.0..1900.0)),
+        volts_per_lsb: fx(v_peak / rng.gen_range(1200.0..1900.0)),
+        amps_per_lsb: fx(i_peak / rng.gen_range(1000.0..1800.0)),
+    };
+    let mut s = ForceSettings {
+        sample_hz,
+        samples_per_period,
+        lowpass_shift: rng.gen_range(1..=8),
+        scales,
+        force_source: if rng.gen_bool(0.25) {
+            ForceSource::Measured
+        } else {
+            ForceSource::Estimated
+        },
+        reference: fx(reference),
+        manual_override: rng.gen_range(60..=140),
+        ..ForceSettings::default()
+    };
+    let e = &mut s.estimator;
+    e.stator_resistance = fx(d.stator_resistance * rng.gen_range(0.8..1.2));
+    e.inertia = fx(d.inertia * rng.gen_range(0.9..1.1));
+    // B ≤ J/(2h) (validate); the plant's B is far below.
+    e.viscous_nominal = fx((d.viscous * rng.gen_range(0.5..1.5)).min(d.inertia * 0.9 / (2.0 * h)));
+    e.coulomb_nominal = fx(d.coulomb * rng.gen_range(0.5..1.5));
+    e.friction_f = [
+        fx(d.friction_f0 * rng.gen_range(0.5..1.5)),
+        fx(rng.gen_range(-0.001..0.001)),
+    ];
+    e.friction_g = [
+        fx(d.friction_g0 * rng.gen_range(0.5..1.5)),
+        fx(rng.gen_range(-1e-4..1e-4)),
+    ];
+    e.min_speed = fx(rng.gen_range(1.0..20.0));
+    e.switch_threshold = fx(rng.gen_range(0.05..1.0));
+    e.slip_gain = fx(rng.gen_range(0.8..1.2));
+    e.slip_hold_periods = rng.gen_range(1..=10);
+    e.workpiece_radius = fx(p.radius);
+    let nominal = NominalProcess {
+        ks: p.ks,
+        depth_mm: plant.depth.before,
+        feed_mm_per_rev: p.feed_mm_per_rev,
+        tau_p: p.tau_p,
+        period: h,
+    };
+    let (kp, ki) = nominal.ziegler_nichols_pi();
+    let (kp, ki) = (kp * rng.gen_range(0.5..2.0), ki * rng.gen_range(0.5..2.0));
+    let k = nominal.gain();
+    s.controller = match rng.gen_range(0..3) {
+        0 => {
+            let mut pi = pi_settings(kp, ki);
+            pi.integrator_min = fx(f64::from(rng.gen_range(0..=40)));
+            pi.integrator_max = fx(f64::from(rng.gen_range(180..=255)));
+            ControllerSettings::Pi(pi)
+        }
+        1 => {
+            let mut a = adaptive_settings(rng.gen_range(0.1..0.6) / h, k);
+            a.gain_min = fx(k / rng.gen_range(5.0..20.0));
+            a.gain_max = fx(k * rng.gen_range(5.0..30.0));
+            a.initial_gain = fx(k * rng.gen_range(0.5..2.0));
+            a.gain_filter_shift = rng.gen_range(0..=8);
+            a.min_override = fx(rng.gen_range(1.0..20.0));
+            a.min_force = fx(rng.gen_range(10.0..100.0));
+            ControllerSettings::Adaptive(a)
+        }
+        _ => {
+            let mut f = fuzzy_from_pi(kp, ki, h, rng.gen_range(150.0..500.0));
+            f.rules = STANDARD_RULES;
+            if rng.gen_bool(0.4) {
+                for _ in 0..rng.gen_range(1..8) {
+                    let (i, j) = (rng.gen_range(0..7), rng.gen_range(0..7));
+                    // Keep the centre rule so the table is never empty.
+                    if (i, j) != (3, 3) {
+                        f.rules[i][j] = if rng.gen_bool(0.5) {
+                            NO_RULE
+                        } else {
+                            rng.gen_range(-3..=3)
+                        };
+                    }
+                }
+            }
+            ControllerSettings::Fuzzy(f)
+        }
+    };
+    let w = &mut s.wear;
+    w.set_count = rng.gen_range(1..=4);
+    w.sets = [ConditionSet::default(); MAX_CONDITION_SETS];
+    for set in w.sets.iter_mut().take(usize::from(w.set_count)) {
+        *set = ConditionSet {
+            mean_power_limit: fx(cut * rng.gen_range(0.6..1.5)),
+            idle_power: fx(idle * rng.gen_range(0.7..1.3)),
+        };
+    }
+    w.efficiency = fx(rng.gen_range(0.6..1.0));
+    w.lowpass_shift = rng.gen_range(0..=8);
+    w.debounce_periods = rng.gen_range(1..=30);
+    w.threshold = if rng.gen_bool(0.7) {
+        Threshold::Updating
+    } else {
+        Threshold::Constant(fx(idle + cut * rng.gen_range(0.8..1.5)))
+    };
+    s
+}
+
+/// The front end with 4× gain: every channel clips at its rails.
+fn saturate(c: AdcCodes) -> AdcCodes {
+    let mid = ADC_MID as i32;
+    let g = |code: u16, m: i32| {
+        let v = m + 4 * (i32::from(code) - m);
+        v.clamp(0, i32::from(ADC_MAX)) as u16
+    };
+    AdcCodes {
+        speed: g(c.speed, 0),
+        power: g(c.power, 0),
+        force: g(c.force, mid),
+        volts: c.volts.map(|v| g(v, mid)),
+        amps: c.amps.map(|a| g(a, mid)),
+    }
+}
+
+/// Runs `plant` closed around the golden kernel for `config` for about `duration` s and
+/// returns the force events with their times in ticks of `tick_hz` (sample k at
+/// `(k + 1)·tick_hz/sample_hz`; a tick and the CNC commands after a sample carry its
+/// time). `saturate_adc` clips the ADC for a few periods around the depth step.
 pub fn force_events(
     rng: &mut impl Rng,
     config: &ForceConfig,
+    plant: &PlantSetup,
     tick_hz: u32,
-    start: u64,
-    periods: u32,
-    saturate: bool,
+    duration: f64,
+    saturate_adc: bool,
 ) -> Vec<(u64, ForceEvent)> {
     let s = config.settings();
-    let sample_ticks = u64::from(tick_hz) / u64::from(s.sample_hz.max(1));
-    let per_period = u32::from(s.samples_per_period.max(1));
-    let scales = s.scales;
-    let lsb = |v: tooltouch_model::force::Fx| v.to_num::<f64>().max(1e-9);
-    let noise = Normal::new(0.0, rng.gen_range(0.5..4.0)).unwrap_or(Normal::new(0.0, 1.0).unwrap());
-    // Process: F = K·a·u/100 with a first-order lag (F10); K·a chosen so the reference
-    // force needs an override near 100 %.
-    let k_nominal = rng.gen_range(3.0..8.0); // N per % at 1 mm depth
-    let tau = rng.gen_range(0.03..0.15); // s
-    let omega0 = rng.gen_range(80.0..120.0); // rad/s
-    let v_amp = rng.gen_range(250.0..330.0); // V peak
-    let r = 0.02; // workpiece radius, m
-    let identify_on = 1;
-    let identify_off = rng.gen_range(4..8);
-    let cut_start = identify_off + rng.gen_range(1..4);
-    let depth_step = cut_start + (periods.saturating_sub(cut_start)) / 2;
-    let cut_end = periods.saturating_sub(rng.gen_range(1..4));
-    let saturate_from = depth_step.saturating_sub(3);
-    let saturate_to = depth_step + 3;
-    let mut kernel = ForceKernel::new(config);
-    let mut out = Vec::new();
-    let mut force = 0.0f64;
-    let dt = 1.0 / f64::from(s.sample_hz.max(1));
-    let mut t = start;
-    let mut phase = rng.gen_range(0.0..std::f64::consts::TAU);
+    let fs = f64::from(s.sample_hz.max(1));
+    let spp = u64::from(s.samples_per_period.max(1));
+    let h = spp as f64 / fs;
+    let periods = ((duration / h).round() as u64).max(20);
+    let at = |t: f64| ((t * periods as f64).round() as u64).clamp(1, periods - 1);
+    let identify_on = at(rng.gen_range(0.03..0.1));
+    let identify_off = at(rng.gen_range(0.25..0.35));
+    let cut_start = at(rng.gen_range(0.38..0.45));
+    let depth_step = at(rng.gen_range(0.62..0.72));
+    let cut_end = at(rng.gen_range(0.9..0.96));
+    let mut depth = plant.depth;
+    depth.step_at = depth_step as f64 * h;
+    let sim = Plant::new(
+        plant.drive,
+        plant.process,
+        depth,
+        &s.scales,
+        fs,
+        plant.speed,
+        rng.gen(),
+    );
+    let mut lp = ClosedLoop::new(config, sim);
+    let set_count = s.wear.set_count;
     for period in 0..periods {
-        // CNC commands at the start of the period.
-        let mut commands = Vec::new();
-        if period == identify_on {
-            commands.push(ForceEvent::Identify(true));
+        // CNC commands at the start of the period (after the previous period's tick).
+        if period > 0 {
+            if period == identify_on {
+                lp.command(ForceEvent::Identify(true));
+            }
+            if period == identify_off {
+                lp.command(ForceEvent::Identify(false));
+                lp.command(ForceEvent::Conditions(0));
+            }
+            if period == cut_start {
+                lp.command(ForceEvent::Control(true));
+            }
+            if period == cut_end {
+                lp.command(ForceEvent::Control(false));
+            }
+            if period > cut_start && rng.gen_bool(0.03) {
+                // Mostly valid sets, sometimes one out of range (a bad event).
+                lp.command(ForceEvent::Conditions(rng.gen_range(0..set_count + 2)));
+            }
+            if period > cut_start && rng.gen_bool(0.02) {
+                lp.command(ForceEvent::ToolChanged);
+            }
         }
-        if period == identify_off {
-            commands.push(ForceEvent::Identify(false));
-            commands.push(ForceEvent::Conditions(0));
-        }
-        if period == cut_start {
-            commands.push(ForceEvent::Control(true));
-        }
-        if period == cut_end {
-            commands.push(ForceEvent::Control(false));
-        }
-        if period > cut_start && rng.gen_bool(0.03) {
-            commands.push(ForceEvent::Conditions(rng.gen_range(0..10)));
-        }
-        if period > cut_start && rng.gen_bool(0.02) {
-            commands.push(ForceEvent::ToolChanged);
-        }
-        for c in commands {
-            t += 1;
-            out.push((t, c));
-            kernel.apply(c);
-        }
-        let cutting = period >= cut_start && period < cut_end;
-        let depth = if period >= depth_step { 1.5 } else { 1.0 };
-        let u = f64::from(kernel.outputs().override_pct);
-        let gain = if saturate && (saturate_from..saturate_to).contains(&period) {
-            4.0
-        } else {
-            1.0
-        };
-        for k in 0..per_period {
-            let target = if cutting { k_nominal * depth * u } else { 0.0 };
-            force += (target - force) * (dt / tau).min(1.0);
-            let omega = omega0 - 0.01 * force + noise.sample(rng) * 0.05;
-            let p_cut = force * omega * r;
-            let p_idle = 0.005 * omega * omega + 1.0 * omega;
-            let p = p_idle + p_cut;
-            let i_amp = 2.0 * p / (3.0 * v_amp * (std::f64::consts::PI / 6.0).cos());
-            phase += std::f64::consts::TAU * 50.0 * dt;
-            let ph = |shift: f64| (phase - shift).sin();
-            let third = std::f64::consts::TAU / 3.0;
-            let codes = AdcCodes {
-                speed: code(omega / lsb(scales.speed_per_lsb) + noise.sample(rng)),
-                power: code(gain * p / lsb(scales.power_per_lsb) + noise.sample(rng)),
-                force: code(2048.0 + gain * force / lsb(scales.force_per_lsb) + noise.sample(rng)),
-                volts: [
-                    code(2048.0 + gain * v_amp * ph(0.0) / lsb(scales.volts_per_lsb)),
-                    code(2048.0 + gain * v_amp * ph(third) / lsb(scales.volts_per_lsb)),
-                    code(2048.0 + gain * v_amp * ph(2.0 * third) / lsb(scales.volts_per_lsb)),
-                ],
-                amps: [
-                    code(
-                        2048.0
-                            + gain * i_amp * ph(0.5) / lsb(scales.amps_per_lsb)
-                            + noise.sample(rng),
-                    ),
-                    code(2048.0 + gain * i_amp * ph(0.5 + third) / lsb(scales.amps_per_lsb)),
-                ],
-            };
-            t += sample_ticks.max(1);
-            out.push((t, ForceEvent::Sample(codes)));
-            kernel.apply(ForceEvent::Sample(codes));
-            if k + 1 == per_period {
-                // The tick closes the period at the last sample's time (sample first).
-                out.push((t, ForceEvent::Tick));
-                kernel.apply(ForceEvent::Tick);
+        let clip = saturate_adc && period + 3 >= depth_step && period < depth_step + 3;
+        for _ in 0..spp {
+            if clip {
+                lp.step(saturate);
+            } else {
+                lp.step(|c| c);
             }
         }
     }
-    out
+    let sample_ticks = u64::from(tick_hz) / u64::from(s.sample_hz.max(1));
+    lp.into_events()
+        .into_iter()
+        .map(|(k, e)| ((k + 1) * sample_ticks.max(1), e))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn random_force_settings_are_valid_and_cover_every_controller() {
+        let mut kinds = std::collections::HashMap::new();
+        for seed in 0..300 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let plant = random_plant(&mut rng);
+            let s = random_force_settings(&mut rng, &plant);
+            let c = s
+                .validate()
+                .unwrap_or_else(|e| panic!("seed {seed}: {e}\n{s:?}"));
+            *kinds.entry(c.settings().controller.name()).or_insert(0) += 1;
+        }
+        assert_eq!(kinds.len(), 3, "{kinds:?}");
+        assert!(kinds.values().all(|&n| n > 50), "{kinds:?}");
+    }
+
+    #[test]
+    fn the_plant_stream_stays_inside_the_adc_range_and_is_controlled() {
+        for seed in 0..6 {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let plant = random_plant(&mut rng);
+            let config = random_force_settings(&mut rng, &plant).validate().unwrap();
+            let events = force_events(&mut rng, &config, &plant, 50_000_000, 3.0, false);
+            assert!(events.windows(2).all(|w| w[0].0 <= w[1].0), "time order");
+            let clipped = events.iter().any(|(_, e)| {
+                matches!(e, ForceEvent::Sample(c)
+                    if [c.speed, c.power, c.force, c.volts[0], c.volts[1], c.volts[2], c.amps[0], c.amps[1]]
+                        .iter()
+                        .any(|&v| v == 0 || v == ADC_MAX))
+            });
+            assert!(!clipped, "seed {seed}: a clean case clips the ADC");
+            assert!(events.iter().any(|(_, e)| *e == ForceEvent::Control(true)));
+        }
+    }
 }

@@ -2,7 +2,8 @@
 //!
 //! The host writes each case's event stream in the binary vector format
 //! (`model::wire`: an `Events` header, the `MEASURE_CONFIG` record so the firmware
-//! configures itself, the events, `END`), concatenates many cases into one file so that
+//! configures itself, the force configuration in `FORCE_CONFIG_CHUNK` records when the
+//! case has a force path, the events, `END`), concatenates many cases into one file so that
 //! one QEMU boot replays them all, boots the firmware, reads its output trace (a
 //! `MEASURE_OUTPUTS` record after every event) and compares every output of every event
 //! with [`tooltouch_model::Measurement::apply`], reporting the first difference with the
@@ -15,7 +16,9 @@ pub mod trace;
 
 use std::time::Duration;
 use tooltouch_model::force::{encode_force_event, ForceEvent, ForceKernel, ForceOutputs};
-use tooltouch_model::wire::{self, encode_config, encode_event, Header, Record, StreamKind};
+use tooltouch_model::wire::{
+    self, encode_config, encode_event, force_config_chunks, Header, Record, StreamKind,
+};
 use tooltouch_model::{MeasureOutputs, Measurement};
 
 pub use scenario::{generate, Case, Fault};
@@ -143,6 +146,12 @@ pub fn encode_case(case: &Case, out: &mut Vec<u8>) {
         out.extend_from_slice(&buf[..n]);
     };
     put(&encode_config(&case.config), out);
+    // The force configuration, in chunks, before any event (model::wire).
+    if let Some(force) = &case.force {
+        for r in force_config_chunks(force, 0) {
+            put(&r, out);
+        }
+    }
     // Merge the two paths by time; on equal times measurement events first (the two
     // kernels are independent, so any tie order gives the same outputs).
     let mut last = 0;

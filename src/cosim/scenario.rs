@@ -6,9 +6,12 @@
 //! after "register now" and re-arming for the next Z step (SPEC 2.5) — plus the fault
 //! cases: missing index pulses, a spindle that stops (the CNC times out and aborts, no
 //! decision), encoder glitches, contact chatter, a broken FES line (revolution counter
-//! saturates).
+//! saturates). Beside it runs the force path ([`super::force_scenario`]): a random
+//! spindle-drive plant from [`crate::drive`] closed around the golden force kernel under
+//! a random force configuration (controller kind and gains, set point, filters, estimator,
+//! wear thresholds), with ADC saturation as its fault.
 //!
-//! Everything is integer arithmetic on ticks of [`TICK_HZ`]; the randomness comes from one
+//! The measurement stream is integer arithmetic on ticks of [`TICK_HZ`]; the randomness comes from one
 //! seed, so a case is reproduced from its seed alone.
 
 use rand::{Rng, SeedableRng};
@@ -68,8 +71,8 @@ pub struct Case {
     pub tick_hz: u32,
     /// The events, in time order (same-time events in canonical order).
     pub events: Vec<TimedEvent>,
-    /// The force path's configuration (the firmware runs the default one); `None` for a
-    /// stream without force events.
+    /// The force path's configuration (sent to the firmware in the stream's
+    /// `FORCE_CONFIG_CHUNK` records); `None` for a stream without force events.
     pub force: Option<ForceConfig>,
     /// Force-path events, in time order (a sample before a same-time tick).
     pub force_events: Vec<(u64, ForceEvent)>,
@@ -399,19 +402,28 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
         cnc_upto = b.apply_until(&mut cnc, cnc_upto, t + 1);
     }
     let events = b.finish();
-    // The force path runs beside the measurement for the same time span (at least 40
-    // control periods, at most 200 so the broken-FES case stays short).
-    let (force, force_events) = match ForceSettings::default().validate() {
+    // The force path runs beside the measurement for about the same time span (2 to 5
+    // s, at most 8000 ADC samples so the broken-FES case stays short): a random plant
+    // from crate::drive closed around the golden kernel under a random force
+    // configuration fitted to it.
+    let plant = super::force_scenario::random_plant(&mut rng);
+    let settings = super::force_scenario::random_force_settings(&mut rng, &plant);
+    // random_force_settings draws every field inside its range (a unit test checks it);
+    // fall back to the defaults if a future range change makes that false.
+    let fc = settings
+        .validate()
+        .or_else(|_| ForceSettings::default().validate());
+    let (force, force_events) = match fc {
         Ok(fc) => {
-            let span = events.last().map_or(0, |e| e.time);
-            let period_ticks = u64::from(TICK_HZ) / 20;
-            let periods = (span / period_ticks).clamp(40, 200) as u32;
+            let span = events.last().map_or(0, |e| e.time) as f64 / f64::from(TICK_HZ);
+            let max_s = 8000.0 / f64::from(fc.settings().sample_hz.max(1));
+            let duration = span.clamp(2.0, 5.0).min(max_s);
             let fe = super::force_scenario::force_events(
                 &mut rng,
                 &fc,
+                &plant,
                 TICK_HZ,
-                0,
-                periods,
+                duration,
                 fault == Fault::AdcSaturation,
             );
             (Some(fc), fe)
@@ -420,8 +432,19 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
     };
     Case {
         name: format!(
-            "seed {seed:#018x}, fault {fault:?}, {rpm} rpm, {ppr} ppr, {:?}",
-            config.settings().method
+            "seed {seed:#018x}, fault {fault:?}, {rpm} rpm, {ppr} ppr, {:?}, force: {}",
+            config.settings().method,
+            force.as_ref().map_or("none".to_string(), |f| {
+                let s = f.settings();
+                format!(
+                    "{} controller, {} Hz / {} samples, {} N {:?}",
+                    s.controller.name(),
+                    s.sample_hz,
+                    s.samples_per_period,
+                    s.reference,
+                    s.force_source
+                )
+            })
         ),
         config,
         tick_hz: TICK_HZ,

@@ -126,9 +126,31 @@ pub fn describe_firmware_error(p: &[u8]) -> String {
         5 => "configuration record does not match the header's hash".to_string(),
         6 => format!("unexpected record kind {detail:#04x} in an event stream"),
         7 => "input holds no stream".to_string(),
-        8 => format!(
-            "the stream's force hash is not the firmware's force configuration ({detail:#018x}) nor 0"
-        ),
+        8 => {
+            let (hi, lo) = (detail >> 16, detail & 0xffff);
+            let field = String::from_utf8_lossy(p.get(18..).unwrap_or(&[])).into_owned();
+            let w = match wire_code {
+                1 => format!(
+                    "a chunk of {detail} bytes (needs a 4-byte header and 1..=44 data bytes)"
+                ),
+                2 => format!("a chunk announces {detail} bytes in all (allowed 1..=512)"),
+                3 => format!("a chunk announces {lo} bytes in all, the first said {hi}"),
+                4 => format!(
+                    "a chunk at offset {lo}, expected offset {hi} (out of order or overlapping)"
+                ),
+                5 => format!("a chunk ends at byte {hi}, past the announced {lo} bytes"),
+                6 => "a chunk after the configuration was complete".to_string(),
+                7 => format!("incomplete: {hi} of {lo} bytes before the first event"),
+                8 => format!("does not decode at byte {detail} of its encoding"),
+                9 => format!(
+                    "field `{field}` out of range (value {})",
+                    tooltouch_model::force::Fx::from_bits(detail as i64)
+                ),
+                10 => format!("decodes to hash {detail:#018x}, not the header's force_hash"),
+                _ => format!("chunk error {wire_code}"),
+            };
+            format!("bad force configuration chunks: {w}")
+        }
         _ => format!("error code {code}"),
     };
     format!("{what} at byte {offset} of the event file")

@@ -12,6 +12,7 @@ use super::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::ReferenceStack;
 use std::f64::consts::PI;
 use tooltouch_model::force::{ForceConfig, ForceEvent, ForceKernel, ForceOutputs};
+use tooltouch_model::sampling::AdcCodes;
 
 /// The scenario's set-up.
 #[derive(Clone, Copy, Debug)]
@@ -330,5 +331,85 @@ pub fn scenario_settings(
         controller,
         force_source: source,
         ..Default::default()
+    }
+}
+
+/// The plant closed around the golden model's [`ForceKernel`] one ADC sample at a time,
+/// for streams whose CNC timeline the caller drives (the co-simulation): after every event
+/// the kernel's feed override drives the plant, so a device that agrees with the model bit
+/// for bit would have received exactly the recorded events. Events are recorded at their
+/// sample index (0 = the first sample), as [`run`] does.
+pub struct ClosedLoop {
+    /// The plant: its speed reference, parameters and depth profile may be changed
+    /// between samples; `engaged` follows the `Control` commands.
+    pub plant: Plant,
+    kernel: ForceKernel,
+    samples_per_period: u64,
+    samples: u64,
+    events: Vec<(u64, ForceEvent)>,
+}
+
+impl ClosedLoop {
+    /// `plant` (built with `config`'s scales and sample rate) under a fresh kernel for
+    /// `config`; the plant starts at the kernel's (manual) override.
+    pub fn new(config: &ForceConfig, mut plant: Plant) -> ClosedLoop {
+        let kernel = ForceKernel::new(config);
+        plant.override_pct = kernel.outputs().override_pct;
+        ClosedLoop {
+            plant,
+            kernel,
+            samples_per_period: u64::from(config.settings().samples_per_period.max(1)),
+            samples: 0,
+            events: Vec::new(),
+        }
+    }
+
+    /// Samples taken so far.
+    pub fn samples(&self) -> u64 {
+        self.samples
+    }
+
+    /// Takes one ADC sample, passes its codes through `adc` (the identity, or a front-end
+    /// fault such as saturation), applies it and, when it closes a control period, the
+    /// tick; returns the codes applied.
+    pub fn step(&mut self, adc: impl FnOnce(AdcCodes) -> AdcCodes) -> AdcCodes {
+        let k = self.samples;
+        let codes = adc(self.plant.sample());
+        self.apply(k, ForceEvent::Sample(codes));
+        if (k + 1) % self.samples_per_period == 0 {
+            self.apply(k, ForceEvent::Tick);
+        }
+        self.samples += 1;
+        codes
+    }
+
+    /// A CNC command after the last sample (recorded at its index, after it in canonical
+    /// order); `Control(on)` also engages (on) or retracts (off) the tool.
+    pub fn command(&mut self, event: ForceEvent) {
+        if let ForceEvent::Control(on) = event {
+            self.plant.engaged = on;
+        }
+        self.apply(self.samples.saturating_sub(1), event);
+    }
+
+    fn apply(&mut self, k: u64, event: ForceEvent) {
+        self.kernel.apply(event);
+        self.plant.override_pct = self.kernel.outputs().override_pct;
+        self.events.push((k, event));
+    }
+
+    /// The golden kernel in the loop.
+    pub fn kernel(&self) -> &ForceKernel {
+        &self.kernel
+    }
+
+    /// The events so far, with their sample indices.
+    pub fn events(&self) -> &[(u64, ForceEvent)] {
+        &self.events
+    }
+
+    /// The recorded events, with their sample indices.
+    pub fn into_events(self) -> Vec<(u64, ForceEvent)> {
+        self.events
     }
 }
