@@ -213,7 +213,7 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
 
 /// The front end with 4× gain: every channel clips at its rails.
 fn saturate(c: AdcCodes) -> AdcCodes {
-    let mid = ADC_MID as i32;
+    let mid = ADC_MID;
     let g = |code: u16, m: i32| {
         let v = m + 4 * (i32::from(code) - m);
         v.clamp(0, i32::from(ADC_MAX)) as u16
