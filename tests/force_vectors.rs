@@ -8,7 +8,9 @@ use tooltouch_model::force::ForceSource;
 use tooltouch_model::force::{
     decode_force_event, decode_force_outputs, kind as fkind, ForceEvent, ForceKernel,
 };
-use tooltouch_model::wire::{kind, Records, StreamKind, WireError};
+use tooltouch_model::wire::{
+    force_kind, kind, ForceConfigAssembler, Records, StreamKind, WireError,
+};
 
 fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
     let config = scenario_settings(ControllerKind::Fuzzy, ForceSource::Estimated)
@@ -24,7 +26,20 @@ fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
         "events made with another configuration"
     );
     assert_eq!(ho.force_hash, config.hash());
-    let mut kernel = ForceKernel::new(&config);
+    // The events file carries its force configuration (chunk records first).
+    let mut ev = ev.peekable();
+    let mut assembler = ForceConfigAssembler::new();
+    while let Some(Ok(rec)) =
+        ev.next_if(|r| matches!(r, Ok(r) if r.kind == force_kind::FORCE_CONFIG_CHUNK))
+    {
+        assembler.push(rec.payload()).map_err(|e| e.to_string())?;
+    }
+    let carried = assembler.finish(he.force_hash).map_err(|e| e.to_string())?;
+    assert_eq!(
+        carried, config,
+        "the events file carries the run's configuration"
+    );
+    let mut kernel = ForceKernel::new(&carried);
     let mut expected = out.filter(|r| !matches!(r, Ok(r) if r.kind == kind::END));
     let mut compared = 0;
     for (i, rec) in ev.enumerate() {

@@ -9,8 +9,8 @@ use anyhow::{Context, Result};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use tooltouch_model::force::{encode_force_event, outputs_record, ForceSource};
-use tooltouch_model::wire::{kind, Header, Record, StreamKind};
+use tooltouch_model::force::{encode_force_event, outputs_record, ForceConfig, ForceSource};
+use tooltouch_model::wire::{force_config_chunks, kind, Header, Record, StreamKind};
 
 /// Which controller(s).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,7 +119,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             plot_run(&dir.join(format!("{stem}.svg")), &r, &stem)
                 .with_context(|| format!("plotting {stem}"))?;
             if engine == Engine::Model {
-                write_vectors(dir, &stem, &r, config.hash(), u32::from(settings.sample_hz))?;
+                write_vectors(dir, &stem, &r, &config, u32::from(settings.sample_hz))?;
             }
         }
         rows.push((k, source, r.metrics));
@@ -152,9 +152,18 @@ fn source_name(s: ForceSource) -> &'static str {
     }
 }
 
-/// Writes `<stem>.events.bin` (every input event) and `<stem>.outputs.bin` (the model's
-/// outputs after every non-sample event), each ending with an END record.
-pub fn write_vectors(dir: &Path, stem: &str, r: &Run, force_hash: u64, tick_hz: u32) -> Result<()> {
+/// Writes `<stem>.events.bin` (the force configuration in `FORCE_CONFIG_CHUNK` records at
+/// time 0, then every input event) and `<stem>.outputs.bin` (the model's outputs after
+/// every non-sample event), each ending with an END record; both headers carry `config`'s
+/// hash.
+pub fn write_vectors(
+    dir: &Path,
+    stem: &str,
+    r: &Run,
+    config: &ForceConfig,
+    tick_hz: u32,
+) -> Result<()> {
+    let force_hash = config.hash();
     let stream = |kind_: StreamKind, records: &mut dyn Iterator<Item = Record>| {
         let header = Header {
             stream: kind_,
@@ -178,7 +187,8 @@ pub fn write_vectors(dir: &Path, stem: &str, r: &Run, force_hash: u64, tick_hz: 
     };
     let events = stream(
         StreamKind::Events,
-        &mut r.events.iter().map(|(t, e)| encode_force_event(*t, e)),
+        &mut force_config_chunks(config, 0)
+            .chain(r.events.iter().map(|(t, e)| encode_force_event(*t, e))),
     );
     let outputs = stream(
         StreamKind::Outputs,
