@@ -1,6 +1,9 @@
 //! The RTIC firmware under QEMU agrees with the event-level golden model on every output
 //! of every event: proptest-generated scenarios (random configuration, spindle speed,
-//! workpiece form, contact growth, faults) batched into one QEMU boot per test.
+//! workpiece form, contact growth, faults; and on the force path a random force
+//! configuration — PI, adaptive or fuzzy — sent in the stream's chunk records, with the
+//! ADC stream of the spindle-drive plant closed around the golden kernel) batched into one
+//! QEMU boot per test.
 //!
 //! Needs qemu-system-arm and the thumbv7m-none-eabi target: without them the tests fail
 //! with a message naming `cargo xtask setup`.
