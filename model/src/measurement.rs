@@ -201,13 +201,22 @@ impl Measurement {
     /// sticky bit, and while armed feeds the counter and the capacitor; the configured
     /// detector's decision latches the position.
     pub fn on_fes(&mut self) {
+        self.on_fes_raises();
+    }
+
+    /// [`Measurement::on_fes`], returning whether this pulse raised "register now" (its
+    /// decision latched the position). A pulse never lowers it, so a caller driving the
+    /// output pin needs to drive it only when this is `true` (the firmware's FES
+    /// interrupt, the most frequent one: inlined there).
+    #[inline(always)]
+    pub fn on_fes_raises(&mut self) -> bool {
         let bit = match self.rule {
             ContactRule::Sampled => self.contact,
             ContactRule::Sticky => self.sticky,
         };
         self.sticky = self.contact;
         if !self.armed {
-            return;
+            return false;
         }
         self.pulses = self.pulses.wrapping_add(1);
         let counter_decides = self.counter.on_pulse(bit);
@@ -217,9 +226,7 @@ impl Measurement {
             DecisionMethod::Density => density_decides,
             DecisionMethod::SinglePulse => false,
         };
-        if decides {
-            self.decision.capture(self.scale.position());
-        }
+        decides && self.decision.capture(self.scale.position())
     }
 
     /// New levels of the scale's A and B lines.

@@ -6,12 +6,13 @@
 //!
 //! | pin  | header   | signal                         | interrupt        | edges   |
 //! |------|----------|--------------------------------|------------------|---------|
-//! | PA0  | A0       | FES encoder pulse (in)         | EXTI0, prio 15   | rising  |
-//! | PA1  | A1       | index pulse (in)               | EXTI1, prio 14   | rising  |
-//! | PA4  | A2       | tool–workpiece contact (in)    | EXTI4, prio 14   | both    |
-//! | PB8  | D15      | linear scale A (in)            | EXTI9_5, prio 14 | both    |
-//! | PB9  | D14      | linear scale B (in)            | EXTI9_5, prio 14 | both    |
-//! | PC10 | CN7-1    | CNC arm / abort (in)           | EXTI15_10, pr 12 | both    |
+//! | PA0  | A0       | CNC arm / abort (in)           | EXTI0, prio 15   | both    |
+//! | PA1  | A1       | tool–workpiece contact (in)    | EXTI1, prio 15   | both    |
+//! | PB2  | CN10-22  | index pulse (in)               | EXTI2, prio 15   | rising  |
+//! | PB3  | D3       | FES encoder pulse (in)         | EXTI3, prio 15   | rising  |
+//! | PB8  | D15      | linear scale A (in)            | EXTI9_5, prio 15 | both    |
+//! | PB9  | D14      | linear scale B (in)            | EXTI9_5, prio 15 | both    |
+//! | —    | —        | observe (idle's output snapshot)| TIM7, prio 15   | —       |
 //! | PC11 | CN7-2    | CNC force control on (in)      | EXTI15_10, pr 12 | both    |
 //! | PC12 | CN7-3    | CNC no-load identification (in)| EXTI15_10, pr 12 | both    |
 //! | PC13 | B1 button| tool changed (in, active low)  | EXTI15_10, pr 12 | falling |
@@ -20,6 +21,14 @@
 //! | PA5  | D13, LD2 | "register now" to the CNC (out)| —                | —       |
 //! | PA6  | D12      | wear alarm (out)               | —                | —       |
 //! | PB6  | D10      | feed override, PWM duty = % / 255 (TIM4_CH1) | — | —  |
+//!
+//! The measurement edges share the highest priority with their IRQ numbers (EXTI0 = 6,
+//! EXTI1 = 7, EXTI2 = 8, EXTI3 = 9, EXTI9_5 = 23, TIM7 = 55) in the model's canonical
+//! same-clock order arm, contact, index, FES, scale: Cortex-M takes same-priority pending
+//! interrupts lowest number first, so simultaneous edges are handled in that order, and
+//! none preempts another, so the measurement kernel needs no lock. The pins are chosen
+//! for their EXTI lines (line n is pin n of any one port); PB3 leaves its reset function
+//! (JTDO/SWO; probe-rs needs only SWD) for a plain input.
 //!
 //! The core runs from the 16 MHz HSI (reset clock): the handlers' cost is counted in
 //! instructions, see README for the rates this allows. The cutting-conditions command
@@ -53,13 +62,14 @@ use tooltouch_firmware::board::Board;
 use tooltouch_firmware::model::force::ForceEvent;
 use tooltouch_firmware::model::sampling::AdcCodes;
 
-/// GPIO bits.
-const FES: u32 = 1 << 0;
-const INDEX: u32 = 1 << 1;
-const CONTACT: u32 = 1 << 4;
+/// GPIO bits (= EXTI lines) of the inputs: arm PA0, contact PA1, index PB2, FES PB3,
+/// scale PB8 / PB9, force commands PC11–PC13; outputs PA5, PA6.
+const ARM: u32 = 1 << 0;
+const CONTACT: u32 = 1 << 1;
+const INDEX: u32 = 1 << 2;
+const FES: u32 = 1 << 3;
 const SCALE_A: u32 = 1 << 8;
 const SCALE_B: u32 = 1 << 9;
-const ARM: u32 = 1 << 10;
 const REGISTER_NOW: u32 = 1 << 5;
 const WEAR_ALARM: u32 = 1 << 6;
 const CONTROL: u32 = 1 << 11;
@@ -90,7 +100,7 @@ fn idr_c() -> u32 {
 
 impl Board for Nucleo {
     fn arm() -> bool {
-        idr_c() & ARM != 0
+        idr_a() & ARM != 0
     }
     fn contact() -> bool {
         idr_a() & CONTACT != 0
@@ -180,11 +190,19 @@ mod app {
         self, Counters, SampleConsumer, SampleProducer, SampleQueue,
     };
     use tooltouch_firmware::model::force::{ForceKernel, ForceSettings};
-    use tooltouch_firmware::model::{MeasureConfig, Measurement};
+    use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
+
+    /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).
+    const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
 
     #[shared]
     struct Shared {
+        /// The measurement kernel. Lock-free: only the measurement tasks touch it, and
+        /// they all run at one priority, so none can preempt another.
+        #[lock_free]
         meas: Measurement,
+        /// The kernel's outputs as of the last [`observe`], for idle's log.
+        snapshot: MeasureOutputs,
         force: ForceKernel,
         counters: Counters,
     }
@@ -204,30 +222,36 @@ mod app {
             // Clocks: GPIOA, GPIOB, GPIOC (AHB1), SYSCFG (APB2).
             dp.RCC.ahb1enr().modify(|r, w| w.bits(r.bits() | 0b111));
             dp.RCC.apb2enr().modify(|r, w| w.bits(r.bits() | 1 << 14));
-            // PA5 push-pull output, low; the inputs keep their reset mode (input) with
-            // pull-downs so an unconnected line reads 0.
+            // PA5 push-pull output, low; the inputs in input mode (PB3 leaves its reset
+            // function, JTDO/SWO) with pull-downs so an unconnected line reads 0.
             dp.GPIOA.bsrr().write(|w| w.bits(REGISTER_NOW << 16));
             dp.GPIOA
                 .moder()
                 .modify(|r, w| w.bits((r.bits() & !(0b11 << 10)) | 0b01 << 10));
-            dp.GPIOA.pupdr().modify(|r, w| {
-                w.bits((r.bits() & !(0b11 | 0b11 << 2 | 0b11 << 8)) | 0b10 | 0b10 << 2 | 0b10 << 8)
-            });
-            dp.GPIOB
+            dp.GPIOA
                 .pupdr()
-                .modify(|r, w| w.bits((r.bits() & !(0b1111 << 16)) | 0b1010 << 16));
+                .modify(|r, w| w.bits((r.bits() & !0b1111) | 0b1010));
+            dp.GPIOB
+                .moder()
+                .modify(|r, w| w.bits(r.bits() & !(0b1111 << 4)));
+            dp.GPIOB.pupdr().modify(|r, w| {
+                w.bits((r.bits() & !(0b1111 << 4 | 0b1111 << 16)) | 0b1010 << 4 | 0b1010 << 16)
+            });
             dp.GPIOC
                 .pupdr()
-                .modify(|r, w| w.bits((r.bits() & !(0b11 << 20)) | 0b10 << 20));
-            // EXTI line sources: 0, 1, 4 = port A (reset value); 8, 9 = port B; 10 = port C.
+                .modify(|r, w| w.bits((r.bits() & !(0b1111 << 22)) | 0b1010 << 22));
+            // EXTI line sources: 0, 1 = port A (reset value); 2, 3, 8, 9 = port B.
+            dp.SYSCFG
+                .exticr1()
+                .modify(|r, w| w.bits((r.bits() & !0xff00) | 0x1 << 8 | 0x1 << 12));
             dp.SYSCFG
                 .exticr3()
-                .modify(|r, w| w.bits((r.bits() & !0xfff) | 0x1 | 0x1 << 4 | 0x2 << 8));
-            let lines = FES | INDEX | CONTACT | SCALE_A | SCALE_B | ARM;
+                .modify(|r, w| w.bits((r.bits() & !0xff) | 0x1 | 0x1 << 4));
+            let lines = ARM | CONTACT | INDEX | FES | SCALE_A | SCALE_B;
             dp.EXTI.rtsr().modify(|r, w| w.bits(r.bits() | lines));
             dp.EXTI
                 .ftsr()
-                .modify(|r, w| w.bits(r.bits() | CONTACT | SCALE_A | SCALE_B | ARM));
+                .modify(|r, w| w.bits(r.bits() | ARM | CONTACT | SCALE_A | SCALE_B));
             dp.EXTI.pr().write(|w| w.bits(lines));
             dp.EXTI.imr().modify(|r, w| w.bits(r.bits() | lines));
             // Force-path command lines PC11, PC12 (both edges), PC13 (button, falling).
@@ -277,7 +301,7 @@ mod app {
             dp.TIM2.cr1().write(|w| w.bits(1));
             dp.TIM3.cr1().write(|w| w.bits(1));
         }
-        defmt::info!("tooltouch firmware on Nucleo-F446RE: waiting for the CNC's arm line (PC10)");
+        defmt::info!("tooltouch firmware on Nucleo-F446RE: waiting for the CNC's arm line (PA0)");
         let (samples_in, samples_out) = cx.local.queue.split();
         // The default force configuration is valid (model::force tests it); should it
         // ever not be, the board halts here with a log line rather than run unconfigured.
@@ -291,9 +315,11 @@ mod app {
             }
         };
         Nucleo::set_feed_override(force.outputs().override_pct);
+        let meas = Measurement::new(&MeasureConfig::default());
         (
             Shared {
-                meas: Measurement::new(&MeasureConfig::default()),
+                meas,
+                snapshot: meas.outputs(),
                 force,
                 counters: Counters::default(),
             },
@@ -305,13 +331,22 @@ mod app {
     }
 
     /// Logs every change of "register now" with the latched position; sleeps otherwise.
-    #[idle(shared = [meas])]
+    /// The pin is read from the output data register; the rest of the outputs, which only
+    /// the measurement tasks may read, through [`observe`], and only on a change, so the
+    /// FES pulses that wake idle cost no snapshot.
+    #[idle(shared = [snapshot])]
     fn idle(mut cx: idle::Context) -> ! {
         let mut reported = false;
         loop {
-            let o = cx.shared.meas.lock(|m| m.outputs());
-            if o.register_now != reported {
-                reported = o.register_now;
+            // SAFETY: a read of GPIOA's output data register; no side effect.
+            let odr = unsafe { (*pac::GPIOA::ptr()).odr().read().bits() };
+            let register_now = odr & REGISTER_NOW != 0;
+            if register_now != reported {
+                reported = register_now;
+                rtic::pend(OBSERVE);
+                cortex_m::asm::dsb();
+                cortex_m::asm::isb();
+                let o = cx.shared.snapshot.lock(|s| *s);
                 if reported {
                     defmt::info!(
                         "register now: position {} counts, first contact at {}, {} revolutions",
@@ -327,49 +362,65 @@ mod app {
         }
     }
 
-    /// FES pulse: the most frequent edge, highest priority.
+    // The measurement tasks: one priority (15, the highest), IRQ numbers in the model's
+    // canonical same-clock order (arm, contact, index, FES, scale), so simultaneous
+    // edges are handled in that order and none preempts another: the kernel needs no
+    // lock.
+
+    /// CNC arm / abort (PA0).
     #[task(binds = EXTI0, priority = 15, shared = [meas])]
-    fn fes(mut cx: fes::Context) {
-        ack(FES);
-        cx.shared.meas.lock(handlers::fes::<Nucleo>);
+    fn cnc_command(cx: cnc_command::Context) {
+        ack(ARM);
+        handlers::cnc_command::<Nucleo>(cx.shared.meas);
     }
 
-    /// Index pulse.
-    #[task(binds = EXTI1, priority = 14, shared = [meas])]
-    fn index(mut cx: index::Context) {
-        ack(INDEX);
-        cx.shared.meas.lock(handlers::index::<Nucleo>);
-    }
-
-    /// Contact edge.
-    #[task(binds = EXTI4, priority = 14, shared = [meas])]
-    fn contact(mut cx: contact::Context) {
+    /// Contact edge (PA1).
+    #[task(binds = EXTI1, priority = 15, shared = [meas])]
+    fn contact(cx: contact::Context) {
         ack(CONTACT);
-        cx.shared.meas.lock(handlers::contact::<Nucleo>);
+        handlers::contact::<Nucleo>(cx.shared.meas);
     }
 
-    /// Scale edge on A or B.
-    #[task(binds = EXTI9_5, priority = 14, shared = [meas])]
-    fn scale(mut cx: scale::Context) {
+    /// Index pulse (PB2).
+    #[task(binds = EXTI2, priority = 15, shared = [meas])]
+    fn index(cx: index::Context) {
+        ack(INDEX);
+        handlers::index::<Nucleo>(cx.shared.meas);
+    }
+
+    /// FES pulse (PB3): the most frequent edge.
+    #[task(binds = EXTI3, priority = 15, shared = [meas])]
+    fn fes(cx: fes::Context) {
+        ack(FES);
+        handlers::fes::<Nucleo>(cx.shared.meas);
+    }
+
+    /// Scale edge on A or B (PB8, PB9).
+    #[task(binds = EXTI9_5, priority = 15, shared = [meas])]
+    fn scale(cx: scale::Context) {
         ack(SCALE_A | SCALE_B);
-        cx.shared.meas.lock(handlers::scale::<Nucleo>);
+        handlers::scale::<Nucleo>(cx.shared.meas);
     }
 
-    /// CNC commands: arm / abort (PC10) and the force path's lines (PC11–PC13).
-    #[task(binds = EXTI15_10, priority = 12, shared = [meas, force])]
-    fn cnc_command(mut cx: cnc_command::Context) {
+    /// Idle's snapshot of the outputs; after any edge pending with it.
+    #[task(binds = TIM7, priority = 15, shared = [meas, snapshot])]
+    fn observe(cx: observe::Context) {
+        let o = cx.shared.meas.outputs();
+        let mut snapshot = cx.shared.snapshot;
+        snapshot.lock(|s| *s = o);
+    }
+
+    /// CNC force-path commands (PC11–PC13).
+    #[task(binds = EXTI15_10, priority = 12, shared = [force])]
+    fn cnc_force_command(mut cx: cnc_force_command::Context) {
         // SAFETY: a read of the pending register.
         let pr = unsafe { (*pac::EXTI::ptr()).pr().read().bits() };
-        ack(pr & (ARM | FORCE_LINES));
-        if pr & ARM != 0 {
-            cx.shared.meas.lock(handlers::cnc_command::<Nucleo>);
-        }
+        ack(pr & FORCE_LINES);
         PENDING_COMMANDS.fetch_or(pr & FORCE_LINES, Ordering::Relaxed);
         while PENDING_COMMANDS.load(Ordering::Relaxed) != 0 {
             cx.shared.force.lock(handlers::force_command::<Nucleo>);
         }
     }
-
     /// 1 kHz ADC sample (TIM2 update): convert the eight channels, queue them.
     #[task(binds = TIM2, priority = 8, shared = [counters], local = [samples_in])]
     fn adc_sample(mut cx: adc_sample::Context) {

@@ -2,17 +2,24 @@
 //! the co-simulation driver in `idle` sets their levels, then pends the event's
 //! interrupt, exactly as an edge on a real pin would. The handlers are the shared ones.
 //!
-//! Interrupt map (the LM3S6965's GPIO port interrupts stand in for the pins' edges):
-//! GPIOA = FES, GPIOB = index, GPIOC = contact, GPIOD = scale A/B, GPIOE = CNC arm/abort,
-//! GPIOF = CNC force-path command, ADC0 sequence 0 = 1 kHz ADC sample, TIMER0A = 20 Hz
-//! control period. The ADC's result registers and the command lines are virtual too.
+//! Interrupt map (the LM3S6965's GPIO port interrupts stand in for the pins' edges). The
+//! measurement tasks share the highest priority, 7, with IRQ numbers in the model's
+//! canonical same-clock order (Cortex-M takes same-priority pending interrupts lowest
+//! number first): GPIOA (0) = CNC arm/abort, GPIOB (1) = contact, GPIOC (2) = index,
+//! GPIOD (3) = FES, GPIOE (4) = scale A/B, UART0 (5) = pulse-count preset (test event),
+//! UART1 (6) = observe (the driver's reset of and snapshot from the kernel). Below them:
+//! GPIOF = CNC force-path command (5), ADC0 sequence 0 = 1 kHz ADC sample (4), TIMER0A =
+//! 20 Hz control period (2). The ADC's result registers and the command lines are virtual
+//! too; "register now" is a variable the driver reads back as the trace's output.
 #![no_std]
 #![no_main]
 
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
+use heapless::spsc::{Consumer, Producer, Queue};
 use tooltouch_firmware::board::Board;
 use tooltouch_firmware::model::force::ForceEvent;
 use tooltouch_firmware::model::sampling::AdcCodes;
+use tooltouch_firmware::model::{MeasureOutputs, Measurement};
 
 /// Virtual pin bits in [`PINS`].
 const ARM: u8 = 1;
@@ -84,6 +91,17 @@ fn set_adc(codes: &AdcCodes) {
 /// The QEMU board.
 pub struct Qemu;
 
+/// The driver's window on the measurement kernel, which only the measurement tasks may
+/// touch (it is lock-free at their priority): the driver queues a fresh kernel and pends
+/// `observe`, which installs it; `observe` queues the kernel's outputs back. Lock-free
+/// single-producer single-consumer queues, one element deep (the driver waits for each
+/// observe), so neither side takes a lock.
+const MAILBOX: usize = 2;
+/// Fresh kernels, driver to `observe`.
+type Resets = Queue<Measurement, MAILBOX>;
+/// Output snapshots, `observe` to the driver.
+type Snapshots = Queue<MeasureOutputs, MAILBOX>;
+
 impl Board for Qemu {
     fn arm() -> bool {
         PINS.load(Ordering::Relaxed) & ARM != 0
@@ -150,11 +168,12 @@ fn calibrate() -> (u32, u32) {
 #[rtic::app(device = lm3s6965, peripherals = false)]
 mod app {
     use super::{
-        encode_command, set_adc, Qemu, ARM, COMMAND, CONTACT, FEED_OVERRIDE, PINS, PRESET,
-        REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
+        encode_command, set_adc, Consumer, Producer, Qemu, Resets, Snapshots, ARM, COMMAND,
+        CONTACT, FEED_OVERRIDE, MAILBOX, PINS, PRESET, REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
     };
     use core::sync::atomic::Ordering;
-    use cortex_m::peripheral::{syst::SystClkSource, NVIC, SYST};
+    use cortex_m::interrupt::InterruptNumber;
+    use cortex_m::peripheral::{syst::SystClkSource, NVIC};
     use cortex_m_semihosting::debug;
     use lm3s6965::Interrupt;
     use tooltouch_firmware::cosim::{self, Input, Target};
@@ -167,8 +186,15 @@ mod app {
     use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
     use tooltouch_firmware::{semihosting, stack};
 
+    /// The interrupt of [`observe`]: after every measurement edge's (higher IRQ number,
+    /// same priority).
+    const OBSERVE: Interrupt = Interrupt::UART1;
+
     #[shared]
     struct Shared {
+        /// The measurement kernel. Lock-free: only the measurement tasks touch it, and
+        /// they all run at one priority, so none can preempt another.
+        #[lock_free]
         meas: Measurement,
         force: ForceKernel,
         counters: Counters,
@@ -179,9 +205,17 @@ mod app {
         calibration: (u32, u32),
         samples_in: SampleProducer<'static>,
         samples_out: SampleConsumer<'static>,
+        resets_in: Producer<'static, Measurement, MAILBOX>,
+        resets_out: Consumer<'static, Measurement, MAILBOX>,
+        snapshots_in: Producer<'static, MeasureOutputs, MAILBOX>,
+        snapshots_out: Consumer<'static, MeasureOutputs, MAILBOX>,
     }
 
-    #[init(local = [queue: SampleQueue = SampleQueue::new()])]
+    #[init(local = [
+        queue: SampleQueue = SampleQueue::new(),
+        resets: Resets = Resets::new(),
+        snapshots: Snapshots = Snapshots::new(),
+    ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         stack::paint(256);
         // QEMU's lm3s6965evb derives the system clock (and so SysTick) from RCC.SYSDIV:
@@ -201,6 +235,8 @@ mod app {
         syst.enable_counter();
         let calibration = super::calibrate();
         let (samples_in, samples_out) = cx.local.queue.split();
+        let (resets_in, resets_out) = cx.local.resets.split();
+        let (snapshots_in, snapshots_out) = cx.local.snapshots.split();
         // The default force configuration is valid (model::force tests it); a failure
         // would only leave the force kernel at the smallest valid state.
         let force = match ForceSettings::default().validate() {
@@ -219,21 +255,37 @@ mod app {
                 calibration,
                 samples_in,
                 samples_out,
+                resets_in,
+                resets_out,
+                snapshots_in,
+                snapshots_out,
             },
         )
     }
 
     /// Drives the firmware from idle (priority 0): every pend preempts it at once.
-    struct Driver<M, F, C> {
-        meas: M,
+    struct Driver<F, C> {
+        resets: &'static mut Producer<'static, Measurement, MAILBOX>,
+        snapshots: &'static mut Consumer<'static, MeasureOutputs, MAILBOX>,
+        /// The last snapshot (returned again should `observe` not have run: a mismatch
+        /// the host reports).
+        last: MeasureOutputs,
         force: F,
         counters: C,
         calibration: (u32, u32),
     }
 
-    impl<M, F, C> Target for Driver<M, F, C>
+    /// Pends `irq` with the barriers QEMU needs to take it at once: QEMU takes a pended
+    /// interrupt only between translated blocks, and without them back-to-back pends
+    /// merge into one interrupt. Returns after the handler (idle is preempted).
+    fn run_now(irq: Interrupt) {
+        rtic::pend(irq);
+        cortex_m::asm::dsb();
+        cortex_m::asm::isb();
+    }
+
+    impl<F, C> Target for Driver<F, C>
     where
-        M: rtic::Mutex<T = Measurement>,
         F: rtic::Mutex<T = ForceKernel>,
         C: rtic::Mutex<T = Counters>,
     {
@@ -241,12 +293,14 @@ mod app {
             PINS.store(0, Ordering::Relaxed);
             REGISTER_NOW.store(false, Ordering::Relaxed);
             COMMAND.store(0, Ordering::Relaxed);
-            self.meas.lock(|m| *m = Measurement::new(config));
+            // The kernel is the measurement tasks' alone: observe installs the new one.
+            // (The queue is empty: observe ran after the previous reset.)
+            let _ = self.resets.enqueue(Measurement::new(config));
+            run_now(OBSERVE);
+            let _ = self.snapshots.dequeue();
             // A previous stream may have left samples queued after its last control
             // period: run one period into the old kernel to drain them, then replace it.
-            rtic::pend(Interrupt::TIMER_0A);
-            cortex_m::asm::dsb();
-            cortex_m::asm::isb();
+            run_now(Interrupt::TIMER_0A);
             let kernel = ForceKernel::new(force);
             self.force.lock(|k| *k = kernel);
             FEED_OVERRIDE.store(kernel.outputs().override_pct, Ordering::Relaxed);
@@ -261,26 +315,32 @@ mod app {
             };
             let pins = PINS.load(Ordering::Relaxed);
             let (irq, pins) = match event {
-                MeasureEvent::Arm(on) => (Interrupt::GPIOE, set(pins, ARM, on)),
-                MeasureEvent::Contact(on) => (Interrupt::GPIOC, set(pins, CONTACT, on)),
-                MeasureEvent::Index => (Interrupt::GPIOB, pins),
-                MeasureEvent::Fes => (Interrupt::GPIOA, pins),
+                MeasureEvent::Arm(on) => (Interrupt::GPIOA, set(pins, ARM, on)),
+                MeasureEvent::Contact(on) => (Interrupt::GPIOB, set(pins, CONTACT, on)),
+                MeasureEvent::Index => (Interrupt::GPIOC, pins),
+                MeasureEvent::Fes => (Interrupt::GPIOD, pins),
+                MeasureEvent::Scale { a, b } => {
+                    (Interrupt::GPIOE, set(set(pins, SCALE_A, a), SCALE_B, b))
+                }
                 MeasureEvent::PresetPulses(n) => {
                     PRESET.store(n, Ordering::Relaxed);
-                    (Interrupt::UART1, pins)
-                }
-                MeasureEvent::Scale { a, b } => {
-                    (Interrupt::GPIOD, set(set(pins, SCALE_A, a), SCALE_B, b))
+                    (Interrupt::UART0, pins)
                 }
             };
             PINS.store(pins, Ordering::Relaxed);
-            // QEMU takes a pended interrupt only between translated blocks: without the
-            // barriers (in pend_and_time), back-to-back pends merge into one interrupt.
             self.pend_and_time(irq)
         }
 
         fn outputs(&mut self) -> MeasureOutputs {
-            self.meas.lock(|m| m.outputs())
+            run_now(OBSERVE);
+            if let Some(o) = self.snapshots.dequeue() {
+                self.last = o;
+            }
+            let mut o = self.last;
+            // "Register now" as the CNC sees it: the output pin the handlers drive, so
+            // the trace checks the pin, not only the kernel's flag.
+            o.register_now = REGISTER_NOW.load(Ordering::Relaxed);
+            o
         }
 
         fn force_outputs(&mut self) -> ForceOutputs {
@@ -300,9 +360,8 @@ mod app {
         }
     }
 
-    impl<M, F, C> Driver<M, F, C>
+    impl<F, C> Driver<F, C>
     where
-        M: rtic::Mutex<T = Measurement>,
         F: rtic::Mutex<T = ForceKernel>,
         C: rtic::Mutex<T = Counters>,
     {
@@ -321,16 +380,42 @@ mod app {
             self.pend_and_time(irq)
         }
 
-        /// Pends `irq` and returns the SysTick ticks until it has run.
+        /// Pends `irq` and returns the SysTick ticks until it has run. An edge whose
+        /// interrupt is still pending would be lost (merged into the pending one): it
+        /// is counted in [`Counters::lost`].
+        ///
+        /// The timed sequence is fixed assembly, so the harness's share of the profile
+        /// does not move with the compiler's scheduling: between the two SysTick reads
+        /// run the pend's store, `dsb`, `isb`, the handler (exception entry and exit
+        /// execute no instruction under QEMU) and the second read: 4 instructions plus
+        /// the handler's.
         fn pend_and_time(&mut self, irq: Interrupt) -> u32 {
             if NVIC::is_pending(irq) {
                 self.counters.lock(|c| c.lost = c.lost.saturating_add(1));
             }
-            let t0 = SYST::get_current();
-            rtic::pend(irq);
-            cortex_m::asm::dsb();
-            cortex_m::asm::isb();
-            let t1 = SYST::get_current();
+            let n = u32::from(irq.number());
+            // NVIC_ISPRn, one bit per interrupt.
+            let ispr = 0xe000_e200_u32.wrapping_add((n >> 5) << 2);
+            let bit = 1_u32 << (n & 31);
+            let (t0, t1): (u32, u32);
+            // SAFETY: a write-one-to-set of the interrupt's pending bit (what
+            // `rtic::pend` does) between two reads of SysTick's current value register;
+            // the handler it runs is an RTIC task like any pended one.
+            unsafe {
+                core::arch::asm!(
+                    "ldr {t0}, [{cvr}]",
+                    "str {bit}, [{ispr}]",
+                    "dsb",
+                    "isb",
+                    "ldr {t1}, [{cvr}]",
+                    cvr = in(reg) 0xe000_e018_u32,
+                    ispr = in(reg) ispr,
+                    bit = in(reg) bit,
+                    t0 = out(reg) t0,
+                    t1 = out(reg) t1,
+                    options(nostack, preserves_flags),
+                );
+            }
             t0.wrapping_sub(t1) & 0x00ff_ffff
         }
     }
@@ -343,10 +428,12 @@ mod app {
         }
     }
 
-    #[idle(shared = [meas, force, counters], local = [calibration])]
+    #[idle(shared = [force, counters], local = [calibration, resets_in, snapshots_out])]
     fn idle(cx: idle::Context) -> ! {
         let mut driver = Driver {
-            meas: cx.shared.meas,
+            resets: cx.local.resets_in,
+            snapshots: cx.local.snapshots_out,
+            last: MeasureOutputs::default(),
             force: cx.shared.force,
             counters: cx.shared.counters,
             calibration: *cx.local.calibration,
@@ -369,41 +456,58 @@ mod app {
         }
     }
 
-    /// FES pulse: the most frequent edge, highest priority.
-    #[task(binds = GPIOA, priority = 7, shared = [meas])]
-    fn fes(mut cx: fes::Context) {
-        cx.shared.meas.lock(handlers::fes::<Qemu>);
-    }
+    // The measurement tasks: one priority (7, the highest), IRQ numbers in the model's
+    // canonical same-clock order (arm, contact, index, FES, scale), so simultaneous
+    // edges are handled in that order and none preempts another: the kernel needs no
+    // lock.
 
-    /// Index pulse.
-    #[task(binds = GPIOB, priority = 6, shared = [meas])]
-    fn index(mut cx: index::Context) {
-        cx.shared.meas.lock(handlers::index::<Qemu>);
+    /// CNC command (arm / abort).
+    #[task(binds = GPIOA, priority = 7, shared = [meas])]
+    fn cnc_command(cx: cnc_command::Context) {
+        handlers::cnc_command::<Qemu>(cx.shared.meas);
     }
 
     /// Contact edge.
-    #[task(binds = GPIOC, priority = 6, shared = [meas])]
-    fn contact(mut cx: contact::Context) {
-        cx.shared.meas.lock(handlers::contact::<Qemu>);
+    #[task(binds = GPIOB, priority = 7, shared = [meas])]
+    fn contact(cx: contact::Context) {
+        handlers::contact::<Qemu>(cx.shared.meas);
+    }
+
+    /// Index pulse.
+    #[task(binds = GPIOC, priority = 7, shared = [meas])]
+    fn index(cx: index::Context) {
+        handlers::index::<Qemu>(cx.shared.meas);
+    }
+
+    /// FES pulse: the most frequent edge.
+    #[task(binds = GPIOD, priority = 7, shared = [meas])]
+    fn fes(cx: fes::Context) {
+        handlers::fes::<Qemu>(cx.shared.meas);
     }
 
     /// Scale edge.
-    #[task(binds = GPIOD, priority = 6, shared = [meas])]
-    fn scale(mut cx: scale::Context) {
-        cx.shared.meas.lock(handlers::scale::<Qemu>);
+    #[task(binds = GPIOE, priority = 7, shared = [meas])]
+    fn scale(cx: scale::Context) {
+        handlers::scale::<Qemu>(cx.shared.meas);
     }
 
-    /// Test event: preset the FES pulse count (UART1 stands in for a debug request).
-    #[task(binds = UART1, priority = 7, shared = [meas])]
-    fn preset_pulses(mut cx: preset_pulses::Context) {
-        let n = PRESET.load(Ordering::Relaxed);
-        cx.shared.meas.lock(|m| handlers::preset_pulses(m, n));
+    /// Test event: preset the FES pulse count (UART0 stands in for a debug request).
+    #[task(binds = UART0, priority = 7, shared = [meas])]
+    fn preset_pulses(cx: preset_pulses::Context) {
+        handlers::preset_pulses(cx.shared.meas, PRESET.load(Ordering::Relaxed));
     }
 
-    /// CNC command (arm / abort).
-    #[task(binds = GPIOE, priority = 5, shared = [meas])]
-    fn cnc_command(mut cx: cnc_command::Context) {
-        cx.shared.meas.lock(handlers::cnc_command::<Qemu>);
+    /// The driver's access to the kernel (UART1 stands in for a debug request): installs
+    /// a queued fresh kernel, then queues a snapshot of the outputs. Runs after any edge
+    /// pending with it.
+    #[task(binds = UART1, priority = 7, shared = [meas], local = [resets_out, snapshots_in])]
+    fn observe(cx: observe::Context) {
+        let meas = cx.shared.meas;
+        if let Some(fresh) = cx.local.resets_out.dequeue() {
+            *meas = fresh;
+        }
+        // Full only if the driver skipped a snapshot; it then reads the older one.
+        let _ = cx.local.snapshots_in.enqueue(meas.outputs());
     }
 
     /// CNC force-path command (identify, control on/off, conditions, tool changed).
