@@ -48,11 +48,18 @@ impl DensityDetector {
     }
 
     /// Next charge after one pulse with contact bit `contact`. Saturating at `0` and `full`.
+    ///
+    /// The charge is always in `0..=full` and `full < 2^24` (`charge_bits <= 24`), every
+    /// step at most `full`, and an exponential step at most the distance it covers, so
+    /// the sums and differences below cannot wrap: they are written wrapping, and only
+    /// the clamps at `0` and `full` are compared (this runs in the firmware's FES
+    /// interrupt).
+    #[inline]
     pub fn next_charge(&self, contact: bool) -> u32 {
         let q = self.charge;
         match (self.law, contact) {
             (ChargeLaw::Linear { charge_step, .. }, true) => {
-                q.saturating_add(charge_step).min(self.full)
+                q.wrapping_add(charge_step).min(self.full)
             }
             (
                 ChargeLaw::Linear {
@@ -62,15 +69,15 @@ impl DensityDetector {
                 false,
             ) => q.saturating_sub(step),
             (ChargeLaw::Exponential { charge_shift, .. }, true) => {
-                let room = self.full.saturating_sub(q);
-                q.saturating_add(exp_step(room, charge_shift))
+                let room = self.full.wrapping_sub(q);
+                q.wrapping_add(exp_step(room, charge_shift))
             }
             (
                 ChargeLaw::Exponential {
                     discharge_shift, ..
                 },
                 false,
-            ) => q.saturating_sub(exp_step(q, discharge_shift)),
+            ) => q.wrapping_sub(exp_step(q, discharge_shift)),
         }
     }
 
@@ -181,7 +188,61 @@ mod tests {
         assert_eq!((0..20).filter(|_| d.on_pulse(true)).count(), 1);
     }
 
+    /// SPEC 2.4's charge law with every step saturating: the reference for
+    /// [`DensityDetector::next_charge`], which leaves out the saturations that cannot
+    /// happen.
+    fn next_charge_reference(law: ChargeLaw, full: u32, q: u32, contact: bool) -> u32 {
+        match (law, contact) {
+            (ChargeLaw::Linear { charge_step, .. }, true) => {
+                q.saturating_add(charge_step).min(full)
+            }
+            (ChargeLaw::Linear { discharge_step, .. }, false) => q.saturating_sub(discharge_step),
+            (ChargeLaw::Exponential { charge_shift, .. }, true) => {
+                q.saturating_add(exp_step(full.saturating_sub(q), charge_shift))
+            }
+            (
+                ChargeLaw::Exponential {
+                    discharge_shift, ..
+                },
+                false,
+            ) => q.saturating_sub(exp_step(q, discharge_shift)),
+        }
+    }
+
     proptest! {
+        #[test]
+        fn next_charge_equals_the_saturating_reference(
+            charge_bits in 4u8..=24, exp in any::<bool>(), a in any::<u32>(), b in any::<u32>(),
+            big in any::<bool>(), bits in proptest::collection::vec(any::<bool>(), 0..400),
+        ) {
+            let full = (1u32 << charge_bits) - 1;
+            let shifts = u32::from(charge_bits) + 1;
+            // Steps up to full scale (`big`), where an unchecked sum would matter most.
+            let step = |x: u32| if big { full - x % 8 } else { 1 + x % full };
+            let law = if exp {
+                ChargeLaw::Exponential {
+                    charge_shift: (a % shifts) as u8,
+                    discharge_shift: (b % shifts) as u8,
+                }
+            } else {
+                ChargeLaw::Linear { charge_step: step(a), discharge_step: step(b) }
+            };
+            let s = MeasureSettings {
+                charge_bits,
+                charge_law: law,
+                fire_threshold: full,
+                rearm_threshold: full / 2,
+                ..Default::default()
+            };
+            let mut d = DensityDetector::new(&s.validate().unwrap());
+            for (i, bit) in bits.into_iter().enumerate() {
+                let expected = next_charge_reference(law, full, d.charge(), bit);
+                prop_assert_eq!(d.next_charge(bit), expected, "pulse {}", i);
+                d.on_pulse(bit);
+                prop_assert_eq!(d.charge(), expected, "pulse {}", i);
+            }
+        }
+
         #[test]
         fn charge_stays_in_bounds_and_fires_only_when_armed(
             bits in proptest::collection::vec(any::<bool>(), 0..600),

@@ -219,14 +219,12 @@ impl Measurement {
             return false;
         }
         self.pulses = self.pulses.wrapping_add(1);
-        let counter_decides = self.counter.on_pulse(bit);
-        let density_decides = self.density.on_pulse(bit);
-        let decides = match self.method {
-            DecisionMethod::Counter => counter_decides,
-            DecisionMethod::Density => density_decides,
-            DecisionMethod::SinglePulse => false,
-        };
-        decides && self.decision.capture(self.scale.position())
+        // Both detectors step on every pulse; the configured one's decision latches the
+        // position (single pulse: neither). The method is read only when a detector
+        // decides, which is rare.
+        let counter_decides = self.counter.on_pulse(bit) && self.method == DecisionMethod::Counter;
+        let density_decides = self.density.on_pulse(bit) && self.method == DecisionMethod::Density;
+        (counter_decides || density_decides) && self.decision.capture(self.scale.position())
     }
 
     /// New levels of the scale's A and B lines.
@@ -288,6 +286,7 @@ impl Measurement {
 mod tests {
     use super::*;
     use crate::config::MeasureSettings;
+    use proptest::prelude::*;
 
     fn measurement(method: DecisionMethod, rule: ContactRule) -> Measurement {
         let s = MeasureSettings {
@@ -356,5 +355,34 @@ mod tests {
         assert_eq!(m.outputs().pulses, 0, "no counting while disarmed");
         m.on_arm(true);
         assert!(!m.register_now());
+    }
+
+    proptest! {
+        #[test]
+        fn on_fes_raises_exactly_when_register_now_rises(
+            method in 0u8..3, sticky in any::<bool>(),
+            ops in proptest::collection::vec(0u8..12, 0..800),
+        ) {
+            let method = match method {
+                0 => DecisionMethod::Counter,
+                1 => DecisionMethod::Density,
+                _ => DecisionMethod::SinglePulse,
+            };
+            let rule = if sticky { ContactRule::Sticky } else { ContactRule::Sampled };
+            let mut m = measurement(method, rule);
+            for (i, op) in ops.into_iter().enumerate() {
+                match op {
+                    0 | 1 => m.on_arm(op == 0),
+                    2 | 3 => m.on_contact(op == 2),
+                    4 => m.on_index(),
+                    5 | 6 => m.on_scale(op == 5, op == 6),
+                    _ => {
+                        let before = m.register_now();
+                        let raised = m.on_fes_raises();
+                        prop_assert_eq!(raised, !before && m.register_now(), "op {}", i);
+                    }
+                }
+            }
+        }
     }
 }

@@ -52,13 +52,18 @@ impl PulseCounter {
     /// One FES pulse; `contact` is the pulse's contact bit. Adds one to the count when in
     /// contact (saturating at `window_pulses`). Returns `true` on the single pulse at which
     /// the count first exceeds `i_def`.
+    #[inline]
     pub fn on_pulse(&mut self, contact: bool) -> bool {
         if contact && self.count < self.window_pulses {
             self.count += 1;
-        }
-        if !self.reached && self.count > self.i_def {
-            self.reached = true;
-            return true;
+            // The count changes only here, by one, or is cleared (index, reset), and a
+            // reset clears `reached` with it; so while `reached` is false the count is at
+            // most `i_def` between calls, and it can first exceed `i_def` only at an
+            // increment: the compare is needed only here (the FES interrupt's path).
+            if self.count > self.i_def && !self.reached {
+                self.reached = true;
+                return true;
+            }
         }
         false
     }
@@ -146,7 +151,46 @@ mod tests {
         assert_eq!((c.count(), c.last_window_count()), (0, 21));
     }
 
+    /// SPEC 2.3's counter as first written, comparing the count with `i_def` after every
+    /// pulse: the reference for [`PulseCounter::on_pulse`], which compares only after an
+    /// increment.
+    fn on_pulse_reference(c: &mut PulseCounter, contact: bool) -> bool {
+        if contact && c.count < c.window_pulses {
+            c.count += 1;
+        }
+        if !c.reached && c.count > c.i_def {
+            c.reached = true;
+            return true;
+        }
+        false
+    }
+
     proptest! {
+        #[test]
+        fn on_pulse_equals_the_compare_every_pulse_reference(
+            pulses_per_rev in 16u16..40, window_revs in 1u8..4, i_def in any::<u32>(),
+            ops in proptest::collection::vec(0u8..8, 0..600),
+        ) {
+            let window = u32::from(pulses_per_rev) * u32::from(window_revs);
+            let s = MeasureSettings {
+                pulses_per_rev,
+                window_revs,
+                i_def: i_def % window,
+                ..Default::default()
+            };
+            let mut c = PulseCounter::new(&s.validate().unwrap());
+            let mut r = c;
+            for (i, op) in ops.into_iter().enumerate() {
+                match op {
+                    0..=3 => prop_assert_eq!(c.on_pulse(true), on_pulse_reference(&mut r, true), "op {}", i),
+                    4 | 5 => prop_assert_eq!(c.on_pulse(false), on_pulse_reference(&mut r, false), "op {}", i),
+                    6 => { c.on_index(); r.on_index(); }
+                    _ => { c.reset(); r.reset(); }
+                }
+                prop_assert_eq!(c, r, "state after op {}", i);
+            }
+        }
+
         #[test]
         fn count_never_exceeds_window_pulses(ops in proptest::collection::vec(0u8..3, 0..400)) {
             let mut c = counter(15, 1);
