@@ -33,8 +33,13 @@ fn hdl_random_configs_match_the_model_in_verilator_and_icarus() {
             let stimuli: Vec<_> = (0..STIMULI)
                 .map(|_| random_stimulus(&mut rng, &config, 50_000_000, CYCLES))
                 .collect();
+            // Every other configuration with the MCU's diagnostic counters readable.
             let plan = CosimPlan {
                 lint: true,
+                options: tooltouch_hdl_gen::Options {
+                    mcu_diagnostics: i % 2 == 1,
+                    ..Default::default()
+                },
                 ..CosimPlan::default()
             };
             let dir = work.path().join(format!("config{i}"));

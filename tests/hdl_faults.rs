@@ -21,7 +21,10 @@ fn stimulus(config: &MeasureConfig) -> Stimulus {
 
 fn plan(fault: Fault, plusargs: &[&str]) -> CosimPlan {
     CosimPlan {
-        options: Options { fault },
+        options: Options {
+            fault,
+            ..Options::default()
+        },
         simulators: vec![Simulator::Icarus],
         plusargs: plusargs.iter().map(|s| s.to_string()).collect(),
         ..CosimPlan::default()

@@ -13,6 +13,7 @@ fn main() -> std::io::Result<()> {
         clock_hz: 50_000_000,
         stim_depth: 1 << 16,
         expect_depth: 1 << 16,
+        mcu_diagnostics: false,
     };
     let tb = testbench(&c, &spec).into_iter();
     for f in d.files.iter().cloned().chain(tb) {

@@ -1,7 +1,7 @@
 //! The design's modules, one per block, written from templates whose `${NAME}` holes are
 //! filled with widths and constants read from the [`MeasureConfig`].
 
-use crate::{describe, mcu_words, output_fields, Fault, VerilogFile, MCU_REGISTERS, TOP};
+use crate::{describe, mcu_words, output_fields, Fault, Options, VerilogFile, MCU_REGISTERS, TOP};
 use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::frontend::pin;
 use tooltouch_model::MeasureConfig;
@@ -21,19 +21,50 @@ pub(crate) fn lit(width: u32, value: u64) -> String {
     format!("{width}'d{value}")
 }
 
+/// `signal >= value` for an unsigned `width`-bit signal and a constant, written as ANDs
+/// and ORs of the signal's bits (most significant first) rather than a comparison: yosys
+/// maps a comparison to a carry chain of `width` logic cells, while most thresholds have
+/// many trailing zeros and need a few LUTs.
+pub(crate) fn ge_const(signal: &str, width: u32, value: u64) -> String {
+    if value == 0 {
+        return "1'b1".into();
+    }
+    if width < 64 && value >> width != 0 {
+        return "1'b0".into();
+    }
+    let low = value.trailing_zeros();
+    let mut expr = format!("{signal}[{low}]");
+    for bit in low + 1..width {
+        let op = if value >> bit & 1 == 1 { "&&" } else { "||" };
+        expr = format!("({signal}[{bit}] {op} {expr})");
+    }
+    expr
+}
+
+/// `signal < value`, the complement of [`ge_const`].
+pub(crate) fn lt_const(signal: &str, width: u32, value: u64) -> String {
+    match ge_const(signal, width, value).as_str() {
+        "1'b1" => "1'b0".into(),
+        "1'b0" => "1'b1".into(),
+        ge => format!("!{ge}"),
+    }
+}
+
 /// Context of one generation run.
 pub(crate) struct Gen {
     config: MeasureConfig,
     fault: Fault,
+    mcu_diagnostics: bool,
     header_hash: String,
     summary: String,
 }
 
 impl Gen {
-    pub(crate) fn new(config: &MeasureConfig, fault: Fault) -> Self {
+    pub(crate) fn new(config: &MeasureConfig, options: &Options) -> Self {
         Gen {
             config: *config,
-            fault,
+            fault: options.fault,
+            mcu_diagnostics: options.mcu_diagnostics,
             header_hash: format!("{:016x}", config.hash()),
             summary: describe(config),
         }
@@ -144,7 +175,7 @@ endmodule
                 stable_q <= ${GZERO};
             end else if (synced[i] == level_q) begin
                 stable_q <= ${GZERO};
-            end else if (stable_q >= ${GLIT}) begin
+            end else if (${AT_LIMIT}) begin
                 level_q  <= ~level_q;
                 stable_q <= ${GZERO};
             end else begin
@@ -152,14 +183,14 @@ endmodule
             end
         end
 
-        assign toggles[i] = (synced[i] != level_q) && (stable_q >= ${GLIT});
+        assign toggles[i] = (synced[i] != level_q) && ${AT_LIMIT};
 "#,
                 &[
                     ("G", glitch.to_string()),
                     ("GB1", (gb - 1).to_string()),
                     ("GZERO", lit(gb, 0)),
                     ("GONE", lit(gb, 1)),
-                    ("GLIT", lit(gb, glitch)),
+                    ("AT_LIMIT", ge_const("stable_q", gb, glitch)),
                 ],
             )
         };
@@ -192,35 +223,91 @@ endmodule
         self.file("tt_glitch_filter", "per-pin glitch filter", &body)
     }
 
-    /// The edges, registered (model: `filtered ^ FrontEnd::previous`).
+    /// The edges, registered (model: `filtered ^ FrontEnd::previous`), and the strobes
+    /// the kernel acts on, decoded from them.
     pub(crate) fn edge_detect(&self) -> VerilogFile {
         let body = fill(
-            r#"// Edge detection: `changed` marks the pins whose filtered level differs from the
-// previous clock's (model: filtered ^ previous); the kernel acts on these edges in the same
-// clock. It is registered one clock early from the filter's `toggles` (the filtered levels
-// about to change), which is the same value (previous = the filtered level one clock ago)
-// and leaves no XOR between the registers and the kernel.
+            r#"// Edge detection (model: filtered ^ previous): the kernel acts on the edges of the filtered
+// levels in the clock they appear. The edges are registered one clock early, from the
+// filter's `toggles` (the filtered levels about to change) and decoded into the strobes
+// the kernel acts on, so that the kernel's logic starts at flip-flops: the rising edges of
+// arm, contact and FES, the index and FES rising edges while the arm level (after this
+// clock) is high, and the scale's quadrature step (SPEC 1: phases (A,B) 00 -> 10 -> 11 ->
+// 01 count up; the phase before the change is the one of the filtered levels, as the
+// model's decoder keeps the phase of the last levels it saw).
 module tt_edge_detect (
     input  wire       clk,
     input  wire       rst,
     input  wire [${N1}:0] toggles,
-    output wire [${N1}:0] changed
+    input  wire [${N1}:0] filtered,     // filtered levels, before this clock's toggles
+    output wire       arm_rise,     // arm rising edge: a measurement cycle starts
+    output wire       contact_rise, // contact rising edge
+    output wire       contact_rise_next, // the next clock's contact_rise (its D input)
+    output wire       index_pulse,  // index rising edge while armed
+    output wire       fes_rise,     // FES rising edge
+    output wire       fes_pulse,    // FES rising edge while armed
+    output wire       scale_up,     // scale step +1
+    output wire       scale_down,   // scale step -1
+    output wire       scale_error   // both scale lines changed at once
 );
-    reg [${N1}:0] changed_q = ${ZERO};
+    wire [${N1}:0] next   = filtered ^ toggles;
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [${N1}:0] rising = toggles & next;  // the scale lines' are not used
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [1:0] phase_now  = {filtered[${SB_PIN}], filtered[${SA}] ^ filtered[${SB_PIN}]};
+    wire [1:0] phase_next = {next[${SB_PIN}], next[${SA}] ^ next[${SB_PIN}]};
+    wire [1:0] step       = phase_next - phase_now;
+
+    reg       arm_rise_q     = 1'b0;
+    reg       contact_rise_q = 1'b0;
+    reg       index_pulse_q  = 1'b0;
+    reg       fes_rise_q     = 1'b0;
+    reg       fes_pulse_q    = 1'b0;
+    reg       scale_up_q     = 1'b0;
+    reg       scale_down_q   = 1'b0;
+    reg       scale_error_q  = 1'b0;
 
     always @(posedge clk) begin
-        if (rst)
-            changed_q <= ${ZERO};
-        else
-            changed_q <= toggles;
+        if (rst) begin
+            arm_rise_q     <= 1'b0;
+            contact_rise_q <= 1'b0;
+            index_pulse_q  <= 1'b0;
+            fes_rise_q     <= 1'b0;
+            fes_pulse_q    <= 1'b0;
+            scale_up_q     <= 1'b0;
+            scale_down_q   <= 1'b0;
+            scale_error_q  <= 1'b0;
+        end else begin
+            arm_rise_q     <= rising[${ARM}];
+            contact_rise_q <= rising[${CONTACT}];
+            index_pulse_q  <= rising[${INDEX}] && next[${ARM}];
+            fes_rise_q     <= rising[${FES}];
+            fes_pulse_q    <= rising[${FES}] && next[${ARM}];
+            scale_up_q     <= step == 2'd1;
+            scale_down_q   <= step == 2'd3;
+            scale_error_q  <= step == 2'd2;
+        end
     end
 
-    assign changed = changed_q;
+    assign arm_rise     = arm_rise_q;
+    assign contact_rise = contact_rise_q;
+    assign contact_rise_next = rising[${CONTACT}];
+    assign index_pulse  = index_pulse_q;
+    assign fes_rise     = fes_rise_q;
+    assign fes_pulse    = fes_pulse_q;
+    assign scale_up     = scale_up_q;
+    assign scale_down   = scale_down_q;
+    assign scale_error  = scale_error_q;
 endmodule
 "#,
             &[
                 ("N1", (pin::COUNT - 1).to_string()),
-                ("ZERO", lit(pin::COUNT as u32, 0)),
+                ("ARM", pin_index(pin::ARM)),
+                ("SA", pin_index(pin::SCALE_A)),
+                ("SB_PIN", pin_index(pin::SCALE_B)),
+                ("CONTACT", pin_index(pin::CONTACT)),
+                ("INDEX", pin_index(pin::INDEX)),
+                ("FES", pin_index(pin::FES)),
             ],
         );
         self.file("tt_edge_detect", "edge detection", &body)
@@ -258,8 +345,6 @@ endmodule
     // comparison carry chain precedes the decision.
     reg              reaches_q  = ${REACH0};  // count_q >= I_DEF
     reg              exceeds_q  = 1'b0;  // count_q > I_DEF
-    wire             inc_exceeds = reaches_q;
-    wire             q_exceeds  = exceeds_q;
     wire             last_rev   = ({1'b0, revs_q} + ${RONE1} >= WINDOW_REVS);
     wire [${RB1}:0]  revs_inc   = revs_q + ${RONE};
 
@@ -272,8 +357,7 @@ endmodule
     // on_pulse: +1 per contact pulse, saturating at window_pulses.
     wire             inc        = pulse && contact_bit && (from_zero || below_full);
     wire [${CB1}:0]  count_p    = from_zero ? {${CB_1}'d0, inc} : (inc ? count_inc : count_q);
-    wire             exceeds    = from_zero ? (inc && ${IDEF_ZERO}) : (inc ? inc_exceeds : q_exceeds);
-
+${EXCEEDS_WIRE}
     always @(posedge clk) begin
         if (rst) begin
             reaches_q <= ${REACH0};
@@ -289,9 +373,25 @@ endmodule
 "#
         };
         let decide = if self.fault == Fault::FesBeforeIndex {
-            "    assign decide = pulse && !reached_a && (count_p > I_DEF);\n"
+            "    assign decide = pulse && !reached_a && (count_p > I_DEF);\n".to_string()
+        } else if s.i_def == 0 {
+            "    assign decide = pulse && !reached_a && exceeds;\n".to_string()
         } else {
-            "    assign decide = pulse && !reached_a && exceeds;\n"
+            // i_def >= 1: a pulse that starts the count from 0 (clear, or the window's last
+            // index) cannot exceed it; otherwise the pulse decides when the count already
+            // exceeds i_def, or equals it and the pulse is a contact pulse (a full count
+            // exceeds i_def, so saturation changes nothing). Written flat over flip-flops:
+            // two LUT levels before the latches.
+            let window_end = if s.window_revs == 1 {
+                "index"
+            } else {
+                "(index && last_rev)"
+            };
+            format!(
+                "    // Flat form of `pulse && !reached_a && exceeds` for i_def >= 1.\n\
+                 \x20   assign decide = pulse && !clear && !{window_end} && !reached_q &&\n\
+                 \x20                   (exceeds_q || (contact_bit && reaches_q));\n"
+            )
         };
         let body = fill(
             &(r#"// Device 1, the pulse counter (SPEC 2.3): contact pulses per window of
@@ -325,7 +425,7 @@ module tt_pulse_counter (
 "#
             .to_string()
                 + order
-                + decide
+                + &decide
                 + r#"
 
     always @(posedge clk) begin
@@ -363,6 +463,15 @@ endmodule
                 ("CB_1", (cb - 1).to_string()),
                 ("ONE_REV", bool_lit(s.window_revs == 1)),
                 ("IDEF_ZERO", bool_lit(s.i_def == 0)),
+                (
+                    "EXCEEDS_WIRE",
+                    if s.i_def == 0 {
+                        "    wire             exceeds    = from_zero ? inc : (inc ? reaches_q : exceeds_q);\n"
+                            .to_string()
+                    } else {
+                        String::new()
+                    },
+                ),
                 ("REACH0", bool_lit(s.i_def == 0)),
                 (
                     "FROM_ZERO_REACH",
@@ -397,24 +506,8 @@ endmodule
         let rearm = u64::from(s.rearm_threshold);
         // `charge_q >= c` and `charge_q < c` for a constant c, folded when constant
         // (so no comparison is trivially true or false).
-        let ge = |c: u64| -> String {
-            if c == 0 {
-                "1'b1".into()
-            } else if c > full {
-                "1'b0".into()
-            } else {
-                format!("(charge_q >= {})", lit(qb, c))
-            }
-        };
-        let lt = |c: u64| -> String {
-            if c == 0 {
-                "1'b0".into()
-            } else if c > full {
-                "1'b1".into()
-            } else {
-                format!("(charge_q < {})", lit(qb, c))
-            }
-        };
+        let ge = |c: u64| ge_const("charge_q", qb, c);
+        let lt = |c: u64| lt_const("charge_q", qb, c);
         let law = match s.charge_law {
             ChargeLaw::Linear {
                 charge_step,
@@ -428,10 +521,15 @@ endmodule
     // min(q + up, full) >= fire iff q >= fire - up; q - down >= fire iff q >= fire + down;
     // min(q + up, full) < rearm iff q < rearm - up; sat(q - down) < rearm iff
     // q < rearm + down, rearm > 0).
-    wire [${QB}:0]  sum          = {1'b0, charge_q} + ${UPL1};
-    wire [${QB}:0]  diff         = {1'b0, charge_q} - ${DOWNL1};
-    wire [${QB1}:0] up_q         = sum[${QB}] ? FULL : sum[${QB1}:0];
-    wire [${QB1}:0] down_q       = diff[${QB}] ? ${QZERO} : diff[${QB1}:0];
+    // Saturation is decided by constant comparisons of charge_q (q + up > full iff
+    // q >= full - up + 1; q - down < 0 iff q < down), in parallel with the adders,
+    // rather than by their carry out.
+    wire [${QB1}:0] sum          = charge_q + ${UPL};
+    wire [${QB1}:0] diff         = charge_q - ${DOWNL};
+    wire        up_sat       = ${UP_SAT};
+    wire        down_sat     = ${DOWN_SAT};
+    wire [${QB1}:0] up_q         = up_sat ? FULL : sum;
+    wire [${QB1}:0] down_q       = down_sat ? ${QZERO} : diff;
     wire        up_fires     = ${UP_FIRES};
     wire        down_fires   = ${DOWN_FIRES};
     wire        up_rearms    = ${UP_REARMS};
@@ -445,8 +543,10 @@ endmodule
                     &[
                         ("UP", up.to_string()),
                         ("DOWN", down.to_string()),
-                        ("UPL1", lit(qb + 1, up)),
-                        ("DOWNL1", lit(qb + 1, down)),
+                        ("UPL", lit(qb, up & full)),
+                        ("DOWNL", lit(qb, down & full)),
+                        ("UP_SAT", ge((full + 1).saturating_sub(up))),
+                        ("DOWN_SAT", lt(down)),
                         ("UP_FIRES", ge(fire.saturating_sub(up))),
                         ("DOWN_FIRES", ge(fire + down)),
                         (
@@ -495,10 +595,10 @@ endmodule
                 };
                 let up0 = exp_step(full, charge_shift);
                 let cmp = |x: &str, op: &str, c: u64| -> String {
-                    match (op, c) {
-                        (">=", 0) => "1'b1".into(),
-                        ("<", 0) => "1'b0".into(),
-                        _ => format!("({x} {op} {})", lit(qb, c)),
+                    if op == ">=" {
+                        ge_const(x, qb, c)
+                    } else {
+                        lt_const(x, qb, c)
                     }
                 };
                 fill(
@@ -617,37 +717,32 @@ endmodule
     pub(crate) fn quadrature_decoder(&self) -> VerilogFile {
         let sb = self.scale_bits();
         let body = fill(
-            r#"// x4 quadrature decoder (SPEC 1): phases (A,B) 00 -> 10 -> 11 -> 01 count up; a
+            r#"// x4 quadrature decoder (SPEC 1): counts the steps decoded by tt_edge_detect; a
 // double change counts an error (saturating at 255) and leaves the position.
 // Position: ${SB} bits, two's complement, wrapping.
 module tt_quadrature_decoder (
     input  wire        clk,
     input  wire        rst,
-    input  wire        change,   // line A or B changed this clock
-    input  wire        a,        // new level of line A
-    input  wire        b,        // new level of line B
+    input  wire        up,       // step +1 this clock
+    input  wire        down,     // step -1 this clock
+    input  wire        error,    // both lines changed this clock
     output wire [${SB1}:0] position,
     output wire [7:0]  errors
 );
-    reg [1:0]  phase_q    = 2'd0;   // phase of the last (A,B): 00->0, 10->1, 11->2, 01->3
     reg [${SB1}:0] position_q = ${SZERO};
     reg [7:0]  errors_q   = 8'd0;
 
-    wire [1:0] phase = {b, a ^ b};
-    wire [1:0] step  = phase - phase_q;
-    // +1 (step 1) or -1 (step 3) through one adder.
-    wire [${SB1}:0] delta = {{${SB_1}{step[1]}}, 1'b1};
+    // +1 or -1 through one adder.
+    wire [${SB1}:0] delta = {{${SB_1}{down}}, 1'b1};
 
     always @(posedge clk) begin
         if (rst) begin
-            phase_q    <= 2'd0;
             position_q <= ${SZERO};
             errors_q   <= 8'd0;
-        end else if (change) begin
-            phase_q <= phase;
-            if (step[0])
+        end else begin
+            if (up || down)
                 position_q <= position_q + delta;
-            else if (step == 2'd2 && errors_q != 8'd255)
+            if (error && errors_q != 8'd255)
                 errors_q <= errors_q + 8'd1;
         end
     end
@@ -679,7 +774,8 @@ module tt_position_latch (
     input  wire        clk,
     input  wire        rst,
     input  wire        clear,      // arm rising edge: empty (reads 0)
-    input  wire        capture,    // capture `position_in` unless a position is held
+    input  wire        take,       // capture `position_in` (only when none is held after
+                                   // the clear; the caller checks that)
     input  wire [${SB1}:0] position_in,
     output wire        valid,
     output wire [${SB1}:0] position
@@ -687,16 +783,13 @@ module tt_position_latch (
     reg        valid_q    = 1'b0;
     reg [${SB1}:0] position_q = ${SZERO};
 
-    // clear, then capture: captures when empty after the clear.
-    wire takes = capture && (clear || !valid_q);
-
     always @(posedge clk) begin
         if (rst) begin
             valid_q    <= 1'b0;
             position_q <= ${SZERO};
         end else begin
-            valid_q <= (valid_q && !clear) || capture;
-            if (takes)
+            valid_q <= (valid_q && !clear) || take;
+            if (take)
                 position_q <= position_in;
             else if (clear)
                 position_q <= ${SZERO};
@@ -722,22 +815,33 @@ endmodule
             }
         };
         let decision = match s.method {
-            DecisionMethod::SinglePulse => {
-                "first_capture  /* single_pulse: the first contact edge */"
-            }
+            DecisionMethod::SinglePulse => "first_take /* single_pulse: the first contact edge */",
             DecisionMethod::Counter => "counter_decide /* counter: device 1 */",
-            DecisionMethod::Density => "density_fire   /* density: device 2 */",
+            DecisionMethod::Density => {
+                "density_fire && (clear || !density_fired) /* density: device 2 */"
+            }
         };
         let body = fill(
             r#"// The measurement kernel: the edges detected in one clock act in the canonical order
 // arm -> contact -> index -> FES -> scale, each on the state left by the previous ones
 // (suffix _a: after arm, _c: after contact, _i: after index, _p: after the FES pulse).
 // The latches see the scale position as it was at the start of the clock.
+// The arm and contact states after this clock's edges are the filtered levels themselves
+// (a level changes exactly when its edge is reported), so they are read from `levels`.
 module tt_measurement (
     input  wire        clk,
     input  wire        rst,
-    input  wire [${N1}:0]  changed,   // filtered levels that changed this clock
-    input  wire [${N1}:0]  levels,    // filtered levels
+    input  wire        arm_level,     // filtered arm level
+    input  wire        contact_level, // filtered contact level
+    input  wire        arm_rise,      // strobes decoded by tt_edge_detect
+    input  wire        contact_rise,
+    input  wire        contact_rise_next, // contact_rise of the next clock (its D input)
+    input  wire        index_pulse,
+    input  wire        fes_rise,
+    input  wire        fes_pulse,
+    input  wire        scale_up,
+    input  wire        scale_down,
+    input  wire        scale_error,
     output wire        armed,
     output wire        contact,
     output wire        register_now,
@@ -756,28 +860,31 @@ module tt_measurement (
 );
     reg        armed_q       = 1'b0;
     reg        contact_q     = 1'b0;
-    reg        sticky_q      = 1'b0;   // contact since the previous FES pulse
+    // The sticky bit as the next FES pulse would read it: contact since the previous
+    // pulse, including this clock's contact rising edge (model: sticky | contact_rise),
+    // registered one clock early from the edge stage's next contact strobe so that the
+    // counter and the capacitor start from a flip-flop.
+    reg        sticky_c_q    = 1'b0;
     reg [15:0] revolutions_q = 16'd0;  // index pulses since arm, saturating
     reg [31:0] pulses_q      = 32'd0;  // FES pulses since arm, wrapping
 
     // on_arm: a rising edge clears the cycle's state.
-    wire clear   = changed[${ARM}] && levels[${ARM}] && !armed_q;
-    wire armed_a = changed[${ARM}] ? levels[${ARM}] : armed_q;
+    wire clear   = arm_rise;
+    wire armed_a = arm_level;
 
-    // on_contact: a rising edge sets the sticky bit and, while armed, latches.
-    wire contact_c     = changed[${CONTACT}] ? levels[${CONTACT}] : contact_q;
-    wire contact_rise  = changed[${CONTACT}] && levels[${CONTACT}];
-    wire sticky_c      = sticky_q | contact_rise;
-    wire first_capture = contact_rise && armed_a;
+    // on_contact: a rising edge sets the sticky bit and, while armed, latches the
+    // first-contact position if none is held after the clear.
+    wire contact_c     = contact_level;
+    wire sticky_c      = sticky_c_q;
+    wire first_take    = contact_rise && armed_a && (clear || !first_contact);
 
     // on_index (while armed).
-    wire        index         = changed[${INDEX}] && levels[${INDEX}] && armed_a;
+    wire        index         = index_pulse;
     // (clear, then +1 saturating at 65535: written as reset / enable below.)
     wire        revolutions_steps = index && (revolutions_q != 16'hffff);
 
     // on_fes: the pulse's contact bit, then the sticky bit reloads with the contact level.
-    wire        fes_rise    = changed[${FES}] && levels[${FES}];
-    wire        pulse       = fes_rise && armed_a;
+    wire        pulse       = fes_pulse;
     wire        contact_bit = ${BIT};
     wire        sticky_p    = fes_rise ? contact_c : sticky_c;
     // pulses_q + 1 in two 16-bit halves (the upper steps when the lower wraps), so no
@@ -787,15 +894,13 @@ module tt_measurement (
     wire [31:0] pulses_inc  = {(&pulses_q[15:0]) ? pulses_hi_inc : pulses_q[31:16],
                                pulses_lo_inc};
 
-    // on_scale.
-    wire scale_change = changed[${SA}] | changed[${SB_PIN}];
-
-    // The detectors; only the configured method's decision drives the decision latch.
+    // The detectors; only the configured method's decision drives the decision latch,
+    // which takes the position when it holds none after the clear.
     /* verilator lint_off UNUSEDSIGNAL */
-    wire counter_decide;
+    wire counter_decide;  // at most once per cycle (the counter remembers it decided)
     wire density_fire;
     /* verilator lint_on UNUSEDSIGNAL */
-    wire decision_capture = ${DECISION};
+    wire decision_take = ${DECISION};
 
     tt_pulse_counter u_counter (
         .clk(clk), .rst(rst), .clear(clear), .index(index), .pulse(pulse),
@@ -809,17 +914,17 @@ module tt_measurement (
     );
 
     tt_quadrature_decoder u_scale (
-        .clk(clk), .rst(rst), .change(scale_change), .a(levels[${SA}]), .b(levels[${SB_PIN}]),
+        .clk(clk), .rst(rst), .up(scale_up), .down(scale_down), .error(scale_error),
         .position(position), .errors(scale_errors)
     );
 
     tt_position_latch u_first_contact (
-        .clk(clk), .rst(rst), .clear(clear), .capture(first_capture), .position_in(position),
+        .clk(clk), .rst(rst), .clear(clear), .take(first_take), .position_in(position),
         .valid(first_contact), .position(first_contact_position)
     );
 
     tt_position_latch u_decision (
-        .clk(clk), .rst(rst), .clear(clear), .capture(decision_capture),
+        .clk(clk), .rst(rst), .clear(clear), .take(decision_take),
         .position_in(position), .valid(register_now), .position(decision_position)
     );
 
@@ -827,11 +932,11 @@ module tt_measurement (
         if (rst) begin
             armed_q       <= 1'b0;
             contact_q     <= 1'b0;
-            sticky_q      <= 1'b0;
+            sticky_c_q    <= 1'b0;
         end else begin
             armed_q       <= armed_a;
             contact_q     <= contact_c;
-            sticky_q      <= sticky_p;
+            sticky_c_q    <= sticky_p | contact_rise_next;
         end
     end
 
@@ -893,7 +998,7 @@ endmodule
             conns.push_str(&format!("        .{0}({0}),\n", f.name));
         }
         let conns = conns.trim_end_matches(",\n").to_string();
-        let words = mcu_words(&self.config, "");
+        let words = mcu_words(&self.config, "", self.mcu_diagnostics);
         let mut cases = String::new();
         for (reg, word) in MCU_REGISTERS.iter().zip(words.iter()) {
             cases.push_str(&format!(
@@ -927,17 +1032,29 @@ ${PORTS}    output wire         irq        // = register_now, for the MCU
     wire [${N1}:0] pins = {${PINS}};
     wire [${N1}:0] synced;
     wire [${N1}:0] filtered;
-    wire [${N1}:0] changed;
     wire [${N1}:0] toggles;
+    wire       arm_rise, contact_rise, contact_rise_next, index_pulse, fes_rise, fes_pulse;
+    wire       scale_up, scale_down, scale_error;
 
     tt_synchronizer u_sync (.clk(clk), .rst(rst), .pins(pins), .synced(synced));
     tt_glitch_filter u_filter (
         .clk(clk), .rst(rst), .synced(synced), .filtered(filtered), .toggles(toggles)
     );
-    tt_edge_detect u_edges (.clk(clk), .rst(rst), .toggles(toggles), .changed(changed));
+    tt_edge_detect u_edges (
+        .clk(clk), .rst(rst), .toggles(toggles), .filtered(filtered),
+        .arm_rise(arm_rise), .contact_rise(contact_rise),
+        .contact_rise_next(contact_rise_next), .index_pulse(index_pulse),
+        .fes_rise(fes_rise), .fes_pulse(fes_pulse),
+        .scale_up(scale_up), .scale_down(scale_down), .scale_error(scale_error)
+    );
 
     tt_measurement u_measure (
-        .clk(clk), .rst(rst), .changed(changed), .levels(filtered),
+        .clk(clk), .rst(rst),
+        .arm_level(filtered[${ARM}]), .contact_level(filtered[${CONTACT}]),
+        .arm_rise(arm_rise), .contact_rise(contact_rise),
+        .contact_rise_next(contact_rise_next), .index_pulse(index_pulse),
+        .fes_rise(fes_rise), .fes_pulse(fes_pulse),
+        .scale_up(scale_up), .scale_down(scale_down), .scale_error(scale_error),
 ${CONNS}
     );
 
@@ -959,6 +1076,8 @@ endmodule
                 ("PORTS", ports),
                 ("N1", (pin::COUNT - 1).to_string()),
                 ("PINS", pins.join(", ")),
+                ("ARM", pin_index(pin::ARM)),
+                ("CONTACT", pin_index(pin::CONTACT)),
                 ("CONNS", conns),
                 ("CASES", cases),
                 ("DZERO", lit(crate::MCU_DATA_BITS, 0)),
@@ -1025,14 +1144,13 @@ ${PIN_CONNS}        .mcu_addr(addr_q), .mcu_rdata(rdata),
 ${CONNS}        .irq(irq)
     );
 
+    // The bus registers hold no state (the data is the addressed word of the previous
+    // clock, with or without reset), so the reset does not reach them: a reset term would
+    // become a synchronous reset merged with the read mux's zero words, which nextpnr
+    // routes through a global buffer on the critical path.
     always @(posedge clk) begin
-        if (rst_q) begin
-            addr_q    <= ${AZERO};
-            mcu_rdata <= ${DZERO};
-        end else begin
-            addr_q    <= mcu_addr;
-            mcu_rdata <= rdata;
-        end
+        addr_q    <= mcu_addr;
+        mcu_rdata <= rdata;
     end
 
     assign register_now_out = irq;
@@ -1098,11 +1216,84 @@ mod tests {
                     .validate()
                     .unwrap();
                     for fault in [Fault::None, Fault::FesBeforeIndex] {
-                        let d = crate::generate(&c, &crate::Options { fault });
-                        for f in &d.files {
-                            assert!(!f.text.contains("${"), "{} {method:?}", f.name);
+                        for mcu_diagnostics in [false, true] {
+                            let options = crate::Options {
+                                fault,
+                                mcu_diagnostics,
+                            };
+                            let d = crate::generate(&c, &options);
+                            for f in &d.files {
+                                assert!(!f.text.contains("${"), "{} {method:?}", f.name);
+                            }
                         }
                     }
+                }
+            }
+        }
+    }
+
+    /// Evaluates an expression written by `ge_const` / `lt_const` (bits `q[i]`, `&&`, `||`,
+    /// `!`, parentheses, `1'b0` / `1'b1`) for the value `q`.
+    fn eval(expr: &str, q: u64) -> bool {
+        fn term(t: &mut &str, q: u64) -> bool {
+            *t = t.trim_start();
+            if let Some(rest) = t.strip_prefix('!') {
+                *t = rest;
+                return !term(t, q);
+            }
+            if let Some(rest) = t.strip_prefix('(') {
+                *t = rest;
+                let v = or(t, q);
+                *t = t
+                    .trim_start()
+                    .strip_prefix(')')
+                    .expect("closing parenthesis");
+                return v;
+            }
+            for (lit, v) in [("1'b1", true), ("1'b0", false)] {
+                if let Some(rest) = t.strip_prefix(lit) {
+                    *t = rest;
+                    return v;
+                }
+            }
+            let rest = t.strip_prefix("q[").expect("a bit");
+            let end = rest.find(']').expect("]");
+            let bit: u32 = rest[..end].parse().expect("bit index");
+            *t = &rest[end + 1..];
+            q >> bit & 1 == 1
+        }
+        fn and(t: &mut &str, q: u64) -> bool {
+            let mut v = term(t, q);
+            while let Some(rest) = t.trim_start().strip_prefix("&&") {
+                *t = rest;
+                v &= term(t, q);
+            }
+            v
+        }
+        fn or(t: &mut &str, q: u64) -> bool {
+            let mut v = and(t, q);
+            while let Some(rest) = t.trim_start().strip_prefix("||") {
+                *t = rest;
+                v |= and(t, q);
+            }
+            v
+        }
+        let mut t = expr;
+        let v = or(&mut t, q);
+        assert!(t.trim().is_empty(), "left over: {t}");
+        v
+    }
+
+    #[test]
+    fn constant_comparisons_equal_the_arithmetic_ones() {
+        for width in 1..=7u32 {
+            let values = 1u64 << width;
+            for c in 0..=values {
+                let ge = super::ge_const("q", width, c);
+                let lt = super::lt_const("q", width, c);
+                for q in 0..values {
+                    assert_eq!(eval(&ge, q), q >= c, "{q} >= {c} ({width} bits): {ge}");
+                    assert_eq!(eval(&lt, q), q < c, "{q} < {c} ({width} bits): {lt}");
                 }
             }
         }

@@ -42,6 +42,9 @@ pub struct TestbenchSpec {
     pub stim_depth: usize,
     /// Memory depth for `expect.hex`, words (header included).
     pub expect_depth: usize,
+    /// The design was generated with [`crate::Options::mcu_diagnostics`]: the expected
+    /// MCU words include the diagnostic counters.
+    pub mcu_diagnostics: bool,
 }
 
 impl TestbenchSpec {
@@ -95,7 +98,7 @@ pub fn testbench(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::
             }
         ));
     }
-    let words = mcu_words(config, "exp_");
+    let words = mcu_words(config, "exp_", spec.mcu_diagnostics);
     let mut mcu = String::new();
     for (i, w) in words.iter().enumerate() {
         mcu.push_str(&format!(

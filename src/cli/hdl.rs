@@ -31,6 +31,10 @@ pub struct Args {
     /// Largest expected response the testbench accepts, in `expect.hex` words.
     #[arg(long, default_value_t = 1 << 16)]
     pub expect_depth: usize,
+    /// Make the diagnostic counters REVOLUTIONS and PULSES readable through the MCU
+    /// register file (about 100 more logic cells in the chip).
+    #[arg(long)]
+    pub mcu_diagnostics: bool,
 }
 
 /// Reads the measurement settings of `path` (see the module documentation).
@@ -61,6 +65,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         clock_hz: args.clock_hz,
         stim_depth: args.stim_depth,
         expect_depth: args.expect_depth,
+        mcu_diagnostics: args.mcu_diagnostics,
     };
     let Some(tb) = testbench(&config, &spec) else {
         bail!(
@@ -68,7 +73,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             args.clock_hz
         );
     };
-    let design = generate(&config, &Options::default());
+    let options = Options {
+        mcu_diagnostics: args.mcu_diagnostics,
+        ..Options::default()
+    };
+    let design = generate(&config, &options);
     let files = write_design(&args.out, &design, Some(&tb))?;
     println!(
         "configuration hash {:016x}: {} files in {}",

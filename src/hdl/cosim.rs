@@ -83,6 +83,7 @@ pub fn cosim(
         clock_hz,
         stim_depth: vectors.iter().map(|v| v.stim_words).max().unwrap_or(2),
         expect_depth: vectors.iter().map(|v| v.expect_words).max().unwrap_or(2),
+        mcu_diagnostics: plan.options.mcu_diagnostics,
     };
     let tb = testbench(config, &spec).ok_or_else(|| {
         HdlError::Stimulus(format!(
