@@ -5,7 +5,8 @@
 //! The calibration points below were measured with tooltouch-hdl-gen's `generate` for each
 //! configuration (the other fields at `MeasureSettings::default()`, `i_def` = half the
 //! window, linear steps full/32 and full/64 or shifts 4/5, thresholds 3/4 and 1/4 of full
-//! scale), every file of the design read into yosys 0.23 with
+//! scale, the MCU read mux without the diagnostic counters), every file of the design but
+//! the chip top read into yosys 0.23 with
 //!
 //! ```text
 //! yosys -p "read_verilog tt_*.v; synth_ice40 -top tt_frontend; stat"
@@ -62,27 +63,29 @@ const fn c(
     }
 }
 
-/// yosys 0.23 `synth_ice40` of tooltouch-hdl-gen's design (2026-11-21).
+/// yosys 0.23 `synth_ice40` of tooltouch-hdl-gen's design (re-measured 2026-11-22 after the
+/// decision logic was flattened onto flip-flops and the thresholds written as bit logic).
 pub const CALIBRATION: [Calibration; 14] = [
-    c(16, 24, 4, false, 1024, 1, 218, 594),
-    c(8, 24, 4, false, 1024, 1, 210, 531),
-    c(12, 24, 4, false, 1024, 1, 214, 575),
-    c(24, 24, 4, false, 1024, 1, 226, 650),
-    c(16, 16, 4, false, 1024, 1, 194, 546),
-    c(16, 32, 4, false, 1024, 1, 242, 648),
-    c(16, 24, 0, false, 1024, 1, 200, 559),
-    c(16, 24, 15, false, 1024, 1, 224, 606),
-    c(16, 24, 4, true, 1024, 1, 218, 639),
-    c(8, 16, 0, true, 1024, 1, 168, 451),
-    c(12, 16, 2, true, 256, 1, 180, 510),
-    c(16, 24, 4, false, 4096, 4, 228, 624),
-    c(20, 28, 8, true, 2048, 2, 245, 694),
-    c(10, 20, 1, false, 512, 1, 186, 501),
+    c(16, 24, 4, false, 1024, 1, 220, 432),
+    c(8, 24, 4, false, 1024, 1, 212, 385),
+    c(12, 24, 4, false, 1024, 1, 216, 405),
+    c(24, 24, 4, false, 1024, 1, 228, 478),
+    c(16, 16, 4, false, 1024, 1, 196, 388),
+    c(16, 32, 4, false, 1024, 1, 244, 479),
+    c(16, 24, 0, false, 1024, 1, 202, 392),
+    c(16, 24, 15, false, 1024, 1, 226, 447),
+    c(16, 24, 4, true, 1024, 1, 220, 459),
+    c(8, 16, 0, true, 1024, 1, 170, 314),
+    c(12, 16, 2, true, 256, 1, 182, 370),
+    c(16, 24, 4, false, 4096, 4, 230, 449),
+    c(20, 28, 8, true, 2048, 2, 247, 524),
+    c(10, 20, 1, false, 512, 1, 188, 359),
 ];
 
 /// Number of model features: 1, charge_bits, scale_bits, count_bits, glitch_bits,
-/// window_rev_bits, exponential.
-const FEATURES: usize = 7;
+/// window_rev_bits, exponential, no glitch filter (`glitch_cycles` = 0: the filter is one
+/// register per pin, without counters).
+const FEATURES: usize = 8;
 
 fn bits_for(max: u64) -> f64 {
     f64::from(tooltouch_model::config::bits_for(max))
@@ -105,6 +108,7 @@ fn features(
         bits_for(glitch_cycles.into()),
         bits_for(u64::from(window_revs) - 1),
         f64::from(u8::from(exponential)),
+        f64::from(u8::from(glitch_cycles == 0)),
     ]
 }
 
