@@ -50,6 +50,19 @@ pub(crate) fn lt_const(signal: &str, width: u32, value: u64) -> String {
     }
 }
 
+/// The density detector's threshold tests of the new charge and the values after a
+/// same-clock clear, shared by both charge laws (holes filled by each law).
+const DENSITY_THRESHOLDS: &str = r#"    wire        up_fires     = ${UP_FIRES};
+    wire        down_fires   = ${DOWN_FIRES};
+    wire        up_rearms    = ${UP_REARMS};
+    wire        down_rearms  = ${DOWN_REARMS};
+    // From an empty capacitor (the same clock's clear).
+    localparam [${QB1}:0] UP_FROM_EMPTY = ${UP0};
+    localparam        UP0_FIRES     = ${UP0_FIRES};
+    localparam        UP0_REARMS    = ${UP0_REARMS};
+    localparam        DOWN0_REARMS  = ${DOWN0_REARMS};
+"#;
+
 /// Context of one generation run.
 pub(crate) struct Gen {
     config: MeasureConfig,
@@ -508,14 +521,15 @@ endmodule
         // (so no comparison is trivially true or false).
         let ge = |c: u64| ge_const("charge_q", qb, c);
         let lt = |c: u64| lt_const("charge_q", qb, c);
-        let law = match s.charge_law {
-            ChargeLaw::Linear {
-                charge_step,
-                discharge_step,
-            } => {
-                let (up, down) = (u64::from(charge_step), u64::from(discharge_step));
-                fill(
-                    r#"    // Linear law: +${UP} per contact pulse (saturating at full scale),
+        let law =
+            match s.charge_law {
+                ChargeLaw::Linear {
+                    charge_step,
+                    discharge_step,
+                } => {
+                    let (up, down) = (u64::from(charge_step), u64::from(discharge_step));
+                    fill(
+                        &(r#"    // Linear law: +${UP} per contact pulse (saturating at full scale),
     // -${DOWN} per pulse without (saturating at 0). The threshold tests of the new charge
     // are rewritten as constant comparisons of charge_q (fire <= full, so
     // min(q + up, full) >= fire iff q >= fire - up; q - down >= fire iff q >= fire + down;
@@ -530,79 +544,71 @@ endmodule
     wire        down_sat     = ${DOWN_SAT};
     wire [${QB1}:0] up_q         = up_sat ? FULL : sum;
     wire [${QB1}:0] down_q       = down_sat ? ${QZERO} : diff;
-    wire        up_fires     = ${UP_FIRES};
-    wire        down_fires   = ${DOWN_FIRES};
-    wire        up_rearms    = ${UP_REARMS};
-    wire        down_rearms  = ${DOWN_REARMS};
-    // From an empty capacitor (the same clock's clear).
-    localparam [${QB1}:0] UP_FROM_EMPTY = ${UP0};
-    localparam        UP0_FIRES     = ${UP0_FIRES};
-    localparam        UP0_REARMS    = ${UP0_REARMS};
-    localparam        DOWN0_REARMS  = ${DOWN0_REARMS};
-"#,
-                    &[
-                        ("UP", up.to_string()),
-                        ("DOWN", down.to_string()),
-                        ("UPL", lit(qb, up & full)),
-                        ("DOWNL", lit(qb, down & full)),
-                        ("UP_SAT", ge((full + 1).saturating_sub(up))),
-                        ("DOWN_SAT", lt(down)),
-                        ("UP_FIRES", ge(fire.saturating_sub(up))),
-                        ("DOWN_FIRES", ge(fire + down)),
-                        (
-                            "UP_REARMS",
-                            if up >= rearm {
-                                "1'b0".into()
-                            } else {
-                                lt(rearm - up)
-                            },
-                        ),
-                        (
-                            "DOWN_REARMS",
-                            if rearm == 0 {
-                                "1'b0".into()
-                            } else {
-                                lt(rearm + down)
-                            },
-                        ),
-                        ("UP0", lit(qb, up.min(full))),
-                        ("UP0_FIRES", bool_lit(up.min(full) >= fire)),
-                        ("UP0_REARMS", bool_lit(up.min(full) < rearm)),
-                        ("DOWN0_REARMS", bool_lit(0 < rearm)),
-                    ],
-                )
-            }
-            ChargeLaw::Exponential {
-                charge_shift,
-                discharge_shift,
-            } => {
-                let shifted = |x: &str, sh: u8| -> String {
-                    let sh = u32::from(sh);
-                    if sh == 0 {
-                        x.to_string()
-                    } else if sh >= qb {
-                        lit(qb, 0)
-                    } else {
-                        format!("({x} >> {sh})")
-                    }
-                };
-                let exp_step = |d: u64, sh: u8| -> u64 {
-                    if d == 0 {
-                        0
-                    } else {
-                        (d >> sh.min(63)).max(1)
-                    }
-                };
-                let up0 = exp_step(full, charge_shift);
-                let cmp = |x: &str, op: &str, c: u64| -> String {
-                    if op == ">=" {
-                        ge_const(x, qb, c)
-                    } else {
-                        lt_const(x, qb, c)
-                    }
-                };
-                fill(
-                    r#"    // Exponential law: +max(1, (full - q) >> ${CS}) per contact pulse,
+"#
+                        .to_string() + DENSITY_THRESHOLDS),
+                        &[
+                            ("UP", up.to_string()),
+                            ("DOWN", down.to_string()),
+                            ("UPL", lit(qb, up & full)),
+                            ("DOWNL", lit(qb, down & full)),
+                            ("UP_SAT", ge((full + 1).saturating_sub(up))),
+                            ("DOWN_SAT", lt(down)),
+                            ("UP_FIRES", ge(fire.saturating_sub(up))),
+                            ("DOWN_FIRES", ge(fire + down)),
+                            (
+                                "UP_REARMS",
+                                if up >= rearm {
+                                    "1'b0".into()
+                                } else {
+                                    lt(rearm - up)
+                                },
+                            ),
+                            (
+                                "DOWN_REARMS",
+                                if rearm == 0 {
+                                    "1'b0".into()
+                                } else {
+                                    lt(rearm + down)
+                                },
+                            ),
+                            ("UP0", lit(qb, up.min(full))),
+                            ("UP0_FIRES", bool_lit(up.min(full) >= fire)),
+                            ("UP0_REARMS", bool_lit(up.min(full) < rearm)),
+                            ("DOWN0_REARMS", bool_lit(0 < rearm)),
+                        ],
+                    )
+                }
+                ChargeLaw::Exponential {
+                    charge_shift,
+                    discharge_shift,
+                } => {
+                    let shifted = |x: &str, sh: u8| -> String {
+                        let sh = u32::from(sh);
+                        if sh == 0 {
+                            x.to_string()
+                        } else if sh >= qb {
+                            lit(qb, 0)
+                        } else {
+                            format!("({x} >> {sh})")
+                        }
+                    };
+                    let exp_step = |d: u64, sh: u8| -> u64 {
+                        if d == 0 {
+                            0
+                        } else {
+                            (d >> sh.min(63)).max(1)
+                        }
+                    };
+                    let up0 = exp_step(full, charge_shift);
+                    let cmp = |x: &str, op: &str, c: u64| -> String {
+                        if op == ">=" {
+                            ge_const(x, qb, c)
+                        } else {
+                            lt_const(x, qb, c)
+                        }
+                    };
+                    fill(
+                        &(r#"    // Exponential law: +max(1, (full - q) >> ${CS}) per contact pulse,
     // -max(1, q >> ${DS}) per pulse without; a zero distance steps by 0.
     wire [${QB1}:0] room         = FULL - charge_q;
     wire [${QB1}:0] room_shift   = ${ROOM_SHIFT};
@@ -613,33 +619,25 @@ endmodule
                                (q_shift == ${QZERO}) ? ${QONE} : q_shift;
     wire [${QB1}:0] up_q         = charge_q + step_up;
     wire [${QB1}:0] down_q       = charge_q - step_down;
-    wire        up_fires     = ${UP_FIRES};
-    wire        down_fires   = ${DOWN_FIRES};
-    wire        up_rearms    = ${UP_REARMS};
-    wire        down_rearms  = ${DOWN_REARMS};
-    // From an empty capacitor (the same clock's clear).
-    localparam [${QB1}:0] UP_FROM_EMPTY = ${UP0};
-    localparam        UP0_FIRES     = ${UP0_FIRES};
-    localparam        UP0_REARMS    = ${UP0_REARMS};
-    localparam        DOWN0_REARMS  = ${DOWN0_REARMS};
-"#,
-                    &[
-                        ("CS", charge_shift.to_string()),
-                        ("DS", discharge_shift.to_string()),
-                        ("ROOM_SHIFT", shifted("room", charge_shift)),
-                        ("Q_SHIFT", shifted("charge_q", discharge_shift)),
-                        ("UP_FIRES", cmp("up_q", ">=", fire)),
-                        ("DOWN_FIRES", cmp("down_q", ">=", fire)),
-                        ("UP_REARMS", cmp("up_q", "<", rearm)),
-                        ("DOWN_REARMS", cmp("down_q", "<", rearm)),
-                        ("UP0", lit(qb, up0)),
-                        ("UP0_FIRES", bool_lit(up0 >= fire)),
-                        ("UP0_REARMS", bool_lit(up0 < rearm)),
-                        ("DOWN0_REARMS", bool_lit(0 < rearm)),
-                    ],
-                )
-            }
-        };
+"#
+                        .to_string() + DENSITY_THRESHOLDS),
+                        &[
+                            ("CS", charge_shift.to_string()),
+                            ("DS", discharge_shift.to_string()),
+                            ("ROOM_SHIFT", shifted("room", charge_shift)),
+                            ("Q_SHIFT", shifted("charge_q", discharge_shift)),
+                            ("UP_FIRES", cmp("up_q", ">=", fire)),
+                            ("DOWN_FIRES", cmp("down_q", ">=", fire)),
+                            ("UP_REARMS", cmp("up_q", "<", rearm)),
+                            ("DOWN_REARMS", cmp("down_q", "<", rearm)),
+                            ("UP0", lit(qb, up0)),
+                            ("UP0_FIRES", bool_lit(up0 >= fire)),
+                            ("UP0_REARMS", bool_lit(up0 < rearm)),
+                            ("DOWN0_REARMS", bool_lit(0 < rearm)),
+                        ],
+                    )
+                }
+            };
         let body = fill(
             &(r#"// Device 2, the contact-density detector (SPEC 2.4): a digital capacitor of
 // ${QB} bits (UQ0.${QB} of full scale) updated once per FES pulse; fires when armed and the
