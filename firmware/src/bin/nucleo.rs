@@ -79,6 +79,308 @@ const FORCE_LINES: u32 = CONTROL | IDENTIFY | TOOL_CHANGED;
 /// ADC1 channels in [`AdcCodes`] order: speed, power, force, v_u, v_v, v_w, i_u, i_v.
 const ADC_CHANNELS: [u32; 8] = [10, 11, 12, 13, 14, 15, 8, 9];
 
+// Clock tree (RM0390 §6.2, §6.3; flash §3.4, §3.5; PWR §5.4). SYSCLK 168 MHz from the PLL
+// fed by the 16 MHz HSI: HSE on this board needs the ST-LINK's 8 MHz MCO on PH0, fitted by
+// default only from board revision MB1136 C-02 on (UM1724), so the HSI is the one input
+// every Nucleo-F446RE has. Everything clock-dependent below is derived from these numbers
+// at compile time; a `const` assertion that fails stops the build, not the firmware.
+
+/// HSI RC oscillator: the reset clock and the PLL input (Hz).
+const HSI_HZ: u32 = 16_000_000;
+/// PLLM, the PLL input divider (RCC_PLLCFGR bits 5:0; 2–63).
+const PLL_M: u32 = 8;
+/// PLLN, the VCO multiplier (RCC_PLLCFGR bits 14:6; 50–432).
+const PLL_N: u32 = 168;
+/// PLLP, the SYSCLK divider (RCC_PLLCFGR bits 17:16: 2, 4, 6 or 8).
+const PLL_P: u32 = 2;
+/// PLLQ, the 48 MHz-domain divider (RCC_PLLCFGR bits 27:24; 2–15; USB/SDIO/RNG, unused).
+const PLL_Q: u32 = 7;
+/// VCO input = HSI / M (Hz): 2 MHz, the value RM0390 recommends to limit jitter (1–2 MHz).
+const PLL_VCO_IN_HZ: u32 = HSI_HZ / PLL_M;
+/// VCO output = VCO input × N (Hz): 336 MHz (100–432 MHz).
+const PLL_VCO_HZ: u32 = PLL_VCO_IN_HZ * PLL_N;
+/// SYSCLK = VCO / P (Hz): 168 MHz, the most voltage scale 1 allows without over-drive.
+const SYSCLK_HZ: u32 = PLL_VCO_HZ / PLL_P;
+/// PLL48CLK = VCO / Q (Hz): exactly 48 MHz.
+const PLL48_HZ: u32 = PLL_VCO_HZ / PLL_Q;
+/// AHB prescaler (RCC_CFGR HPRE): HCLK = SYSCLK.
+const AHB_DIV: u32 = 1;
+/// HCLK, the core, AHB and flash clock (Hz): 168 MHz.
+const HCLK_HZ: u32 = SYSCLK_HZ / AHB_DIV;
+/// APB1 prescaler (RCC_CFGR PPRE1 = 0b101).
+const APB1_DIV: u32 = 4;
+/// PCLK1 (Hz): 42 MHz (at most 45 MHz).
+const PCLK1_HZ: u32 = HCLK_HZ / APB1_DIV;
+/// APB2 prescaler (RCC_CFGR PPRE2 = 0b100).
+const APB2_DIV: u32 = 2;
+/// PCLK2 (Hz): 84 MHz (at most 90 MHz); clocks ADC1, SYSCFG.
+const PCLK2_HZ: u32 = HCLK_HZ / APB2_DIV;
+/// Kernel clock of the APB1 timers TIM2–TIM7 (Hz): 84 MHz, twice PCLK1 because the APB1
+/// prescaler is not 1 (RCC_DCKCFGR TIMPRE = 0, its reset value).
+const TIM_CLK_APB1_HZ: u32 = timer_clock(PCLK1_HZ, APB1_DIV);
+/// Kernel clock of the APB2 timers (Hz): 168 MHz (none is used).
+const TIM_CLK_APB2_HZ: u32 = timer_clock(PCLK2_HZ, APB2_DIV);
+/// Flash wait states at HCLK (FLASH_ACR LATENCY): 5 at 168 MHz.
+const FLASH_WAIT_STATES: u32 = flash_wait_states(HCLK_HZ);
+
+/// The 1 kHz ADC sample tick (Hz), TIM2: the model's sample rate.
+const SAMPLE_HZ: u32 = 1_000;
+/// TIM2's count rate (Hz): 1 µs per count.
+const TIM2_COUNT_HZ: u32 = 1_000_000;
+/// The 20 Hz control period (Hz), TIM3: 50 samples per period.
+const CONTROL_HZ: u32 = 20;
+/// TIM3's count rate (Hz): 100 µs per count (TIM3 is 16-bit).
+const TIM3_COUNT_HZ: u32 = 10_000;
+/// Duty steps of the feed-override PWM: TIM4 ARR = 255, duty = CCR1 / 256 (CCR1 = %).
+const FEED_PWM_STEPS: u32 = 256;
+/// Feed-override PWM frequency (Hz): 15.625 kHz, an exact division of both the PLL's
+/// 84 MHz and the fallback's 16 MHz timer clock, so it is the same whichever runs.
+const FEED_PWM_HZ: u32 = 15_625;
+/// Highest ADC clock (Hz) for VDDA 2.4–3.6 V (STM32F446 datasheet; 18 MHz below 2.4 V).
+const ADC_CLK_MAX_HZ: u32 = 36_000_000;
+/// ADC sampling time per channel (ADC clocks; ADC_SMPRx code 0b011). With the datasheet's
+/// R_AIN formula (C_ADC 7 pF max, R_ADC 6 kΩ, 12 bit) at 21 MHz this tolerates a source
+/// impedance of about 30 kΩ; the reset value, 3 clocks, tolerates none at this clock.
+const ADC_SAMPLE_CYCLES: u32 = 56;
+/// ADC conversion time (ADC clocks): sampling + 12 for the 12-bit approximation.
+const ADC_CONVERSION_CYCLES: u32 = ADC_SAMPLE_CYCLES + 12;
+/// Longest wait for a PLL lock, a voltage-scale or a clock-switch flag (polls). Every poll
+/// takes at least one cycle of the 16 MHz HSI: at least 4 ms, over ten times the PLL's
+/// worst-case lock time (datasheet t_LOCK 300 µs).
+const CLOCK_READY_POLLS: u32 = HSI_HZ / 250;
+
+/// The APB timers' kernel clock (Hz): PCLK when its prescaler is 1, else twice PCLK.
+const fn timer_clock(pclk_hz: u32, apb_div: u32) -> u32 {
+    if apb_div == 1 {
+        pclk_hz
+    } else {
+        pclk_hz * 2
+    }
+}
+
+/// Flash wait states for `hclk_hz` at VDD 2.7–3.6 V: one per started 30 MHz (RM0390
+/// table "Number of wait states according to CPU clock (HCLK) frequency").
+const fn flash_wait_states(hclk_hz: u32) -> u32 {
+    (hclk_hz - 1) / 30_000_000
+}
+
+/// `clock_hz / out_hz`, which must be exact (build error otherwise).
+const fn exact_div(clock_hz: u32, out_hz: u32) -> u32 {
+    assert!(
+        out_hz > 0 && clock_hz.is_multiple_of(out_hz),
+        "clock not an exact multiple"
+    );
+    clock_hz / out_hz
+}
+
+/// A 16-bit timer prescaler PSC for counting at `count_hz` from `clock_hz`.
+const fn prescaler(clock_hz: u32, count_hz: u32) -> u16 {
+    let div = exact_div(clock_hz, count_hz);
+    assert!(div >= 1 && div <= 0x1_0000, "prescaler out of 16 bits");
+    (div - 1) as u16
+}
+
+/// The ADC_CCR ADCPRE code of the smallest ADC prescaler (2, 4, 6, 8) that keeps the ADC
+/// clock within [`ADC_CLK_MAX_HZ`] at `pclk2_hz`, and the ADC clock (Hz) it gives.
+const fn adc_prescaler(pclk2_hz: u32) -> (u8, u32) {
+    let mut code = 0u8;
+    while code < 4 {
+        let adc_hz = pclk2_hz / (2 * (code as u32 + 1));
+        if adc_hz <= ADC_CLK_MAX_HZ {
+            return (code, adc_hz);
+        }
+        code += 1;
+    }
+    panic!("PCLK2 too fast for the ADC")
+}
+
+/// The ADC_SMPRx code of a sampling time of `cycles` ADC clocks.
+const fn sample_time_code(cycles: u32) -> u8 {
+    match cycles {
+        3 => 0,
+        15 => 1,
+        28 => 2,
+        56 => 3,
+        84 => 4,
+        112 => 5,
+        144 => 6,
+        480 => 7,
+        _ => panic!("not an ADC sampling time"),
+    }
+}
+
+/// Every setting that depends on the bus clocks, for one clock tree; built at compile time.
+#[derive(Clone, Copy)]
+struct BusTiming {
+    /// SYSCLK = HCLK (Hz).
+    sysclk_hz: u32,
+    /// TIM2 PSC (1 µs count) and ARR (1 kHz update).
+    tim2_psc: u16,
+    tim2_arr: u32,
+    /// TIM3 PSC (100 µs count) and ARR (20 Hz update).
+    tim3_psc: u16,
+    tim3_arr: u16,
+    /// TIM4 PSC for [`FEED_PWM_HZ`] with ARR = [`FEED_PWM_STEPS`] − 1.
+    tim4_psc: u16,
+    /// ADC_CCR ADCPRE code and the ADC clock it gives (Hz).
+    adcpre: u8,
+    adc_hz: u32,
+}
+
+impl BusTiming {
+    /// The settings for core clock `sysclk_hz`, ADC bus clock `pclk2_hz` and APB1 timer
+    /// clock `tim_hz` (all Hz).
+    const fn new(sysclk_hz: u32, pclk2_hz: u32, tim_hz: u32) -> Self {
+        let (adcpre, adc_hz) = adc_prescaler(pclk2_hz);
+        BusTiming {
+            sysclk_hz,
+            tim2_psc: prescaler(tim_hz, TIM2_COUNT_HZ),
+            tim2_arr: exact_div(TIM2_COUNT_HZ, SAMPLE_HZ) - 1,
+            tim3_psc: prescaler(tim_hz, TIM3_COUNT_HZ),
+            tim3_arr: (exact_div(TIM3_COUNT_HZ, CONTROL_HZ) - 1) as u16,
+            tim4_psc: prescaler(tim_hz, FEED_PWM_HZ * FEED_PWM_STEPS),
+            adcpre,
+            adc_hz,
+        }
+    }
+
+    /// Core cycles one ADC conversion lasts.
+    const fn conversion_cycles(&self) -> u32 {
+        ADC_CONVERSION_CYCLES * self.sysclk_hz.div_ceil(self.adc_hz)
+    }
+}
+
+/// The clock tree this firmware sets up: PLL, SYSCLK 168 MHz.
+const PLL_TIMING: BusTiming = BusTiming::new(SYSCLK_HZ, PCLK2_HZ, TIM_CLK_APB1_HZ);
+/// The fallback if the PLL does not come up: the reset clocks (HSI 16 MHz, every bus /1).
+const HSI_TIMING: BusTiming = BusTiming::new(HSI_HZ, HSI_HZ, HSI_HZ);
+/// ADC_SMPR1/2 code of [`ADC_SAMPLE_CYCLES`].
+const ADC_SMP: u8 = sample_time_code(ADC_SAMPLE_CYCLES);
+/// Longest wait for an ADC end of conversion (polls): each poll takes at least one core
+/// cycle, so twice the conversion's length in core cycles on either clock tree.
+const ADC_EOC_POLLS: u32 = 2 * max(
+    PLL_TIMING.conversion_cycles(),
+    HSI_TIMING.conversion_cycles(),
+);
+
+const fn max(a: u32, b: u32) -> u32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+// RM0390 / datasheet limits, checked when the firmware is built.
+const _: () = assert!(PLL_M >= 2 && PLL_M <= 63 && HSI_HZ.is_multiple_of(PLL_M));
+const _: () = assert!(PLL_N >= 50 && PLL_N <= 432);
+const _: () = assert!(PLL_P == 2 || PLL_P == 4 || PLL_P == 6 || PLL_P == 8);
+const _: () = assert!(PLL_Q >= 2 && PLL_Q <= 15);
+const _: () = assert!(PLL_VCO_IN_HZ >= 1_000_000 && PLL_VCO_IN_HZ <= 2_000_000);
+const _: () = assert!(PLL_VCO_HZ >= 100_000_000 && PLL_VCO_HZ <= 432_000_000);
+const _: () = assert!(SYSCLK_HZ == 168_000_000 && PLL_VCO_HZ.is_multiple_of(PLL_P));
+const _: () = assert!(PLL48_HZ == 48_000_000 && PLL_VCO_HZ.is_multiple_of(PLL_Q));
+const _: () = assert!(AHB_DIV == 1 && HCLK_HZ <= 168_000_000);
+const _: () = assert!(PCLK1_HZ == 42_000_000 && PCLK1_HZ <= 45_000_000);
+const _: () = assert!(PCLK2_HZ == 84_000_000 && PCLK2_HZ <= 90_000_000);
+const _: () = assert!(TIM_CLK_APB1_HZ == 84_000_000 && TIM_CLK_APB2_HZ == 168_000_000);
+const _: () = assert!(FLASH_WAIT_STATES == 5 && flash_wait_states(HSI_HZ) == 0);
+const _: () = assert!(PLL_TIMING.tim2_psc == 83 && PLL_TIMING.tim2_arr == 999);
+const _: () = assert!(PLL_TIMING.tim3_psc == 8_399 && PLL_TIMING.tim3_arr == 499);
+const _: () = assert!(PLL_TIMING.tim4_psc == 20 && HSI_TIMING.tim4_psc == 3);
+const _: () = assert!(PLL_TIMING.adc_hz == 21_000_000 && PLL_TIMING.adcpre == 1);
+const _: () = assert!(HSI_TIMING.adc_hz == 8_000_000 && HSI_TIMING.adcpre == 0);
+const _: () = assert!(FEED_PWM_STEPS - 1 <= 0xffff && FEED_PWM_STEPS > u8::MAX as u32);
+
+/// A clock-setup step that did not complete within its bounded wait.
+#[derive(Clone, Copy, defmt::Format)]
+enum ClockFault {
+    /// PLLRDY did not rise.
+    PllLock,
+    /// PWR_CSR VOSRDY did not rise.
+    VoltageScale,
+    /// FLASH_ACR did not read back 5 wait states.
+    FlashLatency,
+    /// RCC_CFGR SWS did not report the PLL.
+    Switch,
+}
+
+/// Polls `ready` at most `polls` times; true as soon as it holds.
+fn wait_for(polls: u32, mut ready: impl FnMut() -> bool) -> bool {
+    (0..polls).any(|_| ready())
+}
+
+/// Raises SYSCLK from the reset clock (HSI 16 MHz, PLL off) to 168 MHz: PLL from HSI,
+/// voltage scale 1, 5 flash wait states with prefetch and the ART caches, AHB /1, APB1 /4,
+/// APB2 /2, then the switch. Each wait is bounded; on a fault the clocks are put back to
+/// the reset tree (HSI, every bus /1) so [`HSI_TIMING`] holds, and the fault is returned.
+fn start_pll(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> Result<(), ClockFault> {
+    // PWR's bus clock, then a read back so the write has reached RCC before PWR is used
+    // (the two-cycle delay after a peripheral clock enable, RM0390 §6.2).
+    rcc.apb1enr().modify(|_, w| w.pwren().set_bit());
+    let _ = rcc.apb1enr().read();
+    // Voltage scale 1 (also the reset value); it is written while the PLL is off and
+    // takes effect when the PLL starts.
+    pwr.cr().modify(|_, w| w.vos().scale1());
+    // SAFETY: M, N, Q are within their fields (checked by the `const` assertions above);
+    // PLLR keeps its reset value 2 (it feeds nothing here).
+    rcc.pllcfgr().modify(|_, w| unsafe {
+        w.pllsrc()
+            .hsi()
+            .pllm()
+            .bits(PLL_M as u8)
+            .plln()
+            .bits(PLL_N as u16)
+            .pllp()
+            .div2()
+            .pllq()
+            .bits(PLL_Q as u8)
+    });
+    rcc.cr().modify(|_, w| w.pllon().set_bit());
+    let pll_off = || rcc.cr().modify(|_, w| w.pllon().clear_bit());
+    if !wait_for(CLOCK_READY_POLLS, || rcc.cr().read().pllrdy().bit_is_set()) {
+        pll_off();
+        return Err(ClockFault::PllLock);
+    }
+    if !wait_for(CLOCK_READY_POLLS, || pwr.csr().read().vosrdy().bit_is_set()) {
+        pll_off();
+        return Err(ClockFault::VoltageScale);
+    }
+    // Flash: reset the (still disabled) caches, then wait states, prefetch and caches on,
+    // and read the latency back before the clock rises (RM0390 §3.5.1).
+    flash.acr().modify(|_, w| w.icrst().reset().dcrst().reset());
+    flash
+        .acr()
+        .modify(|_, w| w.icrst().no_reset().dcrst().no_reset());
+    // SAFETY: LATENCY is a 4-bit field; 5 fits (checked above).
+    flash.acr().modify(|_, w| unsafe {
+        w.latency()
+            .bits(FLASH_WAIT_STATES as u8)
+            .prften()
+            .enabled()
+            .icen()
+            .enabled()
+            .dcen()
+            .enabled()
+    });
+    if u32::from(flash.acr().read().latency().bits()) != FLASH_WAIT_STATES {
+        pll_off();
+        return Err(ClockFault::FlashLatency);
+    }
+    // Bus prescalers first (harmless at 16 MHz), then SYSCLK = PLL.
+    rcc.cfgr()
+        .modify(|_, w| w.hpre().div1().ppre1().div4().ppre2().div2());
+    rcc.cfgr().modify(|_, w| w.sw().pll());
+    if !wait_for(CLOCK_READY_POLLS, || rcc.cfgr().read().sws().is_pll()) {
+        rcc.cfgr()
+            .modify(|_, w| w.sw().hsi().ppre1().div1().ppre2().div1());
+        let _ = wait_for(CLOCK_READY_POLLS, || rcc.cfgr().read().sws().is_hsi());
+        pll_off();
+        return Err(ClockFault::Switch);
+    }
+    Ok(())
+}
+
 /// EXTI lines of force-path commands not yet handled (set by the EXTI15_10 handler).
 static PENDING_COMMANDS: AtomicU32 = AtomicU32::new(0);
 
@@ -154,8 +456,9 @@ impl Board for Nucleo {
     }
 }
 
-/// One software-started ADC1 conversion of `channel` (about 2 µs at 8 MHz ADC clock);
-/// 0 if it does not complete within a bounded wait (never blocks forever).
+/// One software-started ADC1 conversion of `channel` ([`ADC_CONVERSION_CYCLES`] ADC
+/// clocks: 3.2 µs at the PLL tree's 21 MHz, 8.5 µs at the fallback's 8 MHz); 0 if it
+/// does not complete within [`ADC_EOC_POLLS`] polls (never blocks forever).
 fn convert(channel: u32) -> u16 {
     // SAFETY: ADC1 is owned by the 1 kHz sample task alone; SQR3 selects one channel,
     // CR2 bit 30 starts it, SR bit 1 (EOC) is cleared by reading DR.
@@ -163,7 +466,7 @@ fn convert(channel: u32) -> u16 {
         let adc = &*pac::ADC1::ptr();
         adc.sqr3().write(|w| w.bits(channel & 0x1f));
         adc.cr2().modify(|r, w| w.bits(r.bits() | 1 << 30));
-        for _ in 0..1000u32 {
+        for _ in 0..ADC_EOC_POLLS {
             if adc.sr().read().bits() & 1 << 1 != 0 {
                 return (adc.dr().read().bits() & 0x0fff) as u16;
             }
@@ -181,8 +484,9 @@ fn ack(mask: u32) {
 #[rtic::app(device = stm32f4::stm32f446, peripherals = true)]
 mod app {
     use super::{
-        ack, pac, Nucleo, ARM, CONTACT, FES, FORCE_LINES, INDEX, PENDING_COMMANDS, REGISTER_NOW,
-        SCALE_A, SCALE_B, WEAR_ALARM,
+        ack, pac, start_pll, Nucleo, ADC_SMP, ARM, CONTACT, FEED_PWM_HZ, FEED_PWM_STEPS, FES,
+        FORCE_LINES, HSI_TIMING, INDEX, PENDING_COMMANDS, PLL_TIMING, REGISTER_NOW, SCALE_A,
+        SCALE_B, WEAR_ALARM,
     };
     use core::sync::atomic::Ordering;
     use tooltouch_firmware::board::Board;
@@ -216,6 +520,20 @@ mod app {
     #[init(local = [queue: SampleQueue = SampleQueue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let dp = cx.device;
+        // The clock tree first: every timer and the ADC below are set from the bus clocks
+        // it gives. Should the PLL not come up, the board runs on the reset clocks with
+        // settings derived for them, and says so.
+        let timing = match start_pll(&dp.RCC, &dp.PWR, &dp.FLASH) {
+            Ok(()) => PLL_TIMING,
+            Err(fault) => {
+                defmt::error!(
+                    "clock setup failed ({}): running from the 16 MHz HSI, every FES interrupt \
+                     takes 10.5 times longer than the README's 168 MHz budget",
+                    fault
+                );
+                HSI_TIMING
+            }
+        };
         // SAFETY (all `bits` writes below): values built from the reference manual's
         // (RM0390) bit positions; reserved bits are left as read.
         unsafe {
@@ -272,36 +590,78 @@ mod app {
             dp.GPIOA
                 .moder()
                 .modify(|r, w| w.bits((r.bits() & !(0b11 << 12)) | 0b01 << 12));
-            // ADC inputs analog: PC0–PC5, PB0, PB1. ADC1 on, clock PCLK2/2 = 8 MHz (reset).
+            // ADC inputs analog: PC0–PC5, PB0, PB1. ADC1 clock on; ADC clock PCLK2 / 4 =
+            // 21 MHz (PLL) or PCLK2 / 2 = 8 MHz (fallback), at most 36 MHz; every channel
+            // sampled for ADC_SAMPLE_CYCLES; then ADC1 on (ADON), t_STAB = 3 µs before the
+            // first conversion, which the first TIM2 tick, 1 ms later, leaves.
             dp.GPIOC.moder().modify(|r, w| w.bits(r.bits() | 0xfff));
             dp.GPIOB.moder().modify(|r, w| w.bits(r.bits() | 0xf));
             dp.RCC.apb2enr().modify(|r, w| w.bits(r.bits() | 1 << 8));
+            let _ = dp.RCC.apb2enr().read();
+            dp.ADC_COMMON
+                .ccr()
+                .modify(|r, w| w.bits((r.bits() & !(0b11 << 16)) | u32::from(timing.adcpre) << 16));
+            dp.ADC1.smpr1().write(|w| {
+                w.smp10()
+                    .set(ADC_SMP)
+                    .smp11()
+                    .set(ADC_SMP)
+                    .smp12()
+                    .set(ADC_SMP)
+                    .smp13()
+                    .set(ADC_SMP)
+                    .smp14()
+                    .set(ADC_SMP)
+                    .smp15()
+                    .set(ADC_SMP)
+            });
+            dp.ADC1
+                .smpr2()
+                .write(|w| w.smp8().set(ADC_SMP).smp9().set(ADC_SMP));
             dp.ADC1.cr2().modify(|r, w| w.bits(r.bits() | 1));
             // TIM2: 1 kHz sample tick; TIM3: 20 Hz control period; TIM4: override PWM.
+            // Prescalers from `timing` (84 MHz or 16 MHz timer clock); an update event (UG)
+            // loads them now rather than after a first period at prescaler 1, and its flag is
+            // cleared before the update interrupts are enabled.
             dp.RCC.apb1enr().modify(|r, w| w.bits(r.bits() | 0b111));
-            dp.TIM2.psc().write(|w| w.bits(16 - 1));
-            dp.TIM2.arr().write(|w| w.bits(1000 - 1));
-            dp.TIM3.psc().write(|w| w.bits(1600 - 1));
-            dp.TIM3.arr().write(|w| w.bits(500 - 1));
-            // PB6 alternate function 2 (TIM4_CH1), PWM mode 1, ARR 255 (62.7 kHz).
+            let _ = dp.RCC.apb1enr().read();
+            dp.TIM2.psc().write(|w| w.psc().set(timing.tim2_psc));
+            dp.TIM2.arr().write(|w| w.arr().set(timing.tim2_arr));
+            dp.TIM3.psc().write(|w| w.psc().set(timing.tim3_psc));
+            dp.TIM3.arr().write(|w| w.arr().set(timing.tim3_arr));
+            // PB6 alternate function 2 (TIM4_CH1), PWM mode 1 with preload, ARR = 255:
+            // FEED_PWM_HZ (15.625 kHz), duty = CCR1 / 256.
             dp.GPIOB
                 .moder()
                 .modify(|r, w| w.bits((r.bits() & !(0b11 << 12)) | 0b10 << 12));
             dp.GPIOB
                 .afrl()
                 .modify(|r, w| w.bits((r.bits() & !(0xf << 24)) | 0x2 << 24));
-            dp.TIM4.arr().write(|w| w.bits(255));
+            dp.TIM4.psc().write(|w| w.psc().set(timing.tim4_psc));
+            dp.TIM4
+                .arr()
+                .write(|w| w.arr().set((FEED_PWM_STEPS - 1) as u16));
             dp.TIM4
                 .ccmr1_output()
                 .write(|w| w.bits(0b110 << 4 | 1 << 3));
             dp.TIM4.ccer().write(|w| w.bits(1));
+            dp.TIM2.egr().write(|w| w.ug().set_bit());
+            dp.TIM3.egr().write(|w| w.ug().set_bit());
+            dp.TIM4.egr().write(|w| w.ug().set_bit());
+            dp.TIM2.sr().write(|w| w.bits(0));
+            dp.TIM3.sr().write(|w| w.bits(0));
             dp.TIM4.cr1().write(|w| w.bits(1 << 7 | 1));
             dp.TIM2.dier().write(|w| w.bits(1));
             dp.TIM3.dier().write(|w| w.bits(1));
             dp.TIM2.cr1().write(|w| w.bits(1));
             dp.TIM3.cr1().write(|w| w.bits(1));
         }
-        defmt::info!("tooltouch firmware on Nucleo-F446RE: waiting for the CNC's arm line (PA0)");
+        defmt::info!(
+            "tooltouch firmware on Nucleo-F446RE, SYSCLK {} Hz, feed-override PWM {} Hz: \
+             waiting for the CNC's arm line (PA0)",
+            timing.sysclk_hz,
+            FEED_PWM_HZ
+        );
         let (samples_in, samples_out) = cx.local.queue.split();
         // The default force configuration is valid (model::force tests it); should it
         // ever not be, the board halts here with a log line rather than run unconfigured.
