@@ -20,7 +20,7 @@
 //! | —    | —        | 20 Hz control period           | TIM3, prio 4     | —       |
 //! | PA5  | D13, LD2 | "register now" to the CNC (out)| —                | —       |
 //! | PA6  | D12      | wear alarm (out)               | —                | —       |
-//! | PB6  | D10      | feed override, PWM duty = % / 255 (TIM4_CH1) | — | —  |
+//! | PB6  | D10      | feed override, PWM 15.625 kHz, duty = % / 256 (TIM4_CH1) | — | — |
 //!
 //! The measurement edges share the highest priority with their IRQ numbers (EXTI0 = 6,
 //! EXTI1 = 7, EXTI2 = 8, EXTI3 = 9, EXTI9_5 = 23, TIM7 = 55) in the model's canonical
@@ -30,9 +30,20 @@
 //! for their EXTI lines (line n is pin n of any one port); PB3 leaves its reset function
 //! (JTDO/SWO; probe-rs needs only SWD) for a plain input.
 //!
-//! The core runs from the 16 MHz HSI (reset clock): the handlers' cost is counted in
-//! instructions, see README for the rates this allows. The cutting-conditions command
-//! has no pin: condition set 0 is used on this board.
+//! Clocks, set up first in `init` register by register after RM0390 (the constants below
+//! hold every number, checked by `const` assertions): SYSCLK = HCLK = 168 MHz from the main
+//! PLL fed by the 16 MHz HSI (M 8: 2 MHz VCO input; N 168: 336 MHz VCO; P 2; Q 7 gives
+//! 48 MHz, unused); voltage scale 1 without over-drive; flash 5 wait states with prefetch
+//! and the ART instruction and data caches; APB1 /4 = 42 MHz (its timers TIM2–TIM7 at
+//! 84 MHz), APB2 /2 = 84 MHz (ADC clock /4 = 21 MHz, 56-cycle sampling). HSE is not used:
+//! on a Nucleo-64 it is the ST-LINK's 8 MHz MCO, connected by default only from board
+//! revision MB1136 C-02 on (UM1724), while the HSI is on every board. Every wait of the
+//! setup is bounded; should one run out, the board logs the step with defmt and stays on
+//! the reset clocks (HSI 16 MHz, every bus /1) with timer and ADC settings derived for
+//! those, so the 1 kHz and 20 Hz periods and the 15.625 kHz PWM stay exact and only the
+//! FES-rate budget shrinks (10.5 times fewer cycles). The handlers' cost is counted in
+//! instructions and cycles, see README for the rates 168 MHz allows. The
+//! cutting-conditions command has no pin: condition set 0 is used on this board.
 #![no_std]
 #![no_main]
 
