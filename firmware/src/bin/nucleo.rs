@@ -90,7 +90,8 @@ const FORCE_LINES: u32 = CONTROL | IDENTIFY | TOOL_CHANGED;
 /// ADC1 channels in [`AdcCodes`] order: speed, power, force, v_u, v_v, v_w, i_u, i_v.
 const ADC_CHANNELS: [u32; 8] = [10, 11, 12, 13, 14, 15, 8, 9];
 
-// Clock tree (RM0390 §6.2, §6.3; flash §3.4, §3.5; PWR §5.4). SYSCLK 168 MHz from the PLL
+// Clock tree (RM0390: RCC clocks and registers, the flash wait-state table, PWR voltage
+// scaling; the STM32F446 datasheet for the limits). SYSCLK 168 MHz from the PLL
 // fed by the 16 MHz HSI: HSE on this board needs the ST-LINK's 8 MHz MCO on PH0, fitted by
 // default only from board revision MB1136 C-02 on (UM1724), so the HSI is the one input
 // every Nucleo-F446RE has. Everything clock-dependent below is derived from these numbers
@@ -327,7 +328,7 @@ fn wait_for(polls: u32, mut ready: impl FnMut() -> bool) -> bool {
 /// the reset tree (HSI, every bus /1) so [`HSI_TIMING`] holds, and the fault is returned.
 fn start_pll(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> Result<(), ClockFault> {
     // PWR's bus clock, then a read back so the write has reached RCC before PWR is used
-    // (the two-cycle delay after a peripheral clock enable, RM0390 §6.2).
+    // (the delay the STM32F4 errata ask for after an RCC peripheral clock enable).
     rcc.apb1enr().modify(|_, w| w.pwren().set_bit());
     let _ = rcc.apb1enr().read();
     // Voltage scale 1 (also the reset value); it is written while the PLL is off and
@@ -358,7 +359,8 @@ fn start_pll(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> Result<(), C
         return Err(ClockFault::VoltageScale);
     }
     // Flash: reset the (still disabled) caches, then wait states, prefetch and caches on,
-    // and read the latency back before the clock rises (RM0390 §3.5.1).
+    // and read the latency back before the clock rises (RM0390's order for increasing
+    // the CPU frequency: LATENCY, check it, then SW, then check SWS).
     flash.acr().modify(|_, w| w.icrst().reset().dcrst().reset());
     flash
         .acr()
