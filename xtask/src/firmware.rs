@@ -102,6 +102,21 @@ pub fn check_all() -> Result<()> {
         })?;
         println!("board {}: no panic path linked", board.name);
     }
+    // The Nucleo's load-measuring variant (idle reports the interrupts' CPU load).
+    let load_variant = [
+        "--release",
+        "--target",
+        "thumbv7em-none-eabihf",
+        "--no-default-features",
+        "--features",
+        "nucleo,cpu-load",
+        "--bin",
+        "nucleo",
+    ];
+    let mut clippy = vec!["clippy"];
+    clippy.extend_from_slice(&load_variant);
+    clippy.extend_from_slice(&["--", "-D", "warnings"]);
+    crate::run(&dir, "cargo", &clippy)?;
     // The check builds share the release folder: rebuild the shipped images last.
     for board in &BOARDS {
         crate::run(

@@ -488,6 +488,59 @@ fn convert(channel: u32) -> u16 {
     0
 }
 
+/// Interrupt load measured from `idle` (feature `cpu-load`), for checking the FES budget on
+/// a board: idle spins instead of sleeping and reads the DWT cycle counter once per turn.
+/// A turn longer than the shortest one seen was preempted, and its excess is time spent in
+/// interrupts; once per `period` cycles the busy share is reported, in ‰.
+#[cfg(feature = "cpu-load")]
+struct CpuLoad {
+    /// Cycle count at the previous turn.
+    last: u32,
+    /// Shortest turn seen, cycles: idle's own loop.
+    shortest: u32,
+    /// Cycles taken by interrupts in this window.
+    busy: u64,
+    /// Cycles in this window.
+    window: u64,
+    /// Window length, cycles (one second of SYSCLK).
+    period: u64,
+}
+
+#[cfg(feature = "cpu-load")]
+impl CpuLoad {
+    fn new(now: u32, period: u32) -> Self {
+        CpuLoad {
+            last: now,
+            shortest: u32::MAX,
+            busy: 0,
+            window: 0,
+            period: u64::from(period).max(1),
+        }
+    }
+
+    /// One idle turn at cycle count `now`; the window's load in ‰ when it is complete.
+    fn turn(&mut self, now: u32) -> Option<u32> {
+        let turn = now.wrapping_sub(self.last);
+        self.last = now;
+        self.shortest = self.shortest.min(turn);
+        self.busy = self
+            .busy
+            .saturating_add(u64::from(turn.saturating_sub(self.shortest)));
+        self.window = self.window.saturating_add(u64::from(turn));
+        if self.window < self.period {
+            return None;
+        }
+        let permille = self
+            .busy
+            .saturating_mul(1000)
+            .checked_div(self.window)
+            .unwrap_or(0);
+        self.busy = 0;
+        self.window = 0;
+        Some(u32::try_from(permille).unwrap_or(u32::MAX))
+    }
+}
+
 /// Acknowledges EXTI lines `mask` (write 1 to clear).
 fn ack(mask: u32) {
     // SAFETY: PR is write-1-to-clear; other lines are unaffected.
@@ -528,11 +581,20 @@ mod app {
     struct Local {
         samples_in: SampleProducer<'static>,
         samples_out: SampleConsumer<'static>,
+        /// The core clock `init` set up, Hz (idle's load window with `cpu-load`).
+        sysclk_hz: u32,
     }
 
     #[init(local = [queue: SampleQueue = SampleQueue::new()])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let dp = cx.device;
+        // The cycle counter idle's load measurement reads (feature `cpu-load`).
+        #[cfg(feature = "cpu-load")]
+        {
+            let mut core = cx.core;
+            core.DCB.enable_trace();
+            core.DWT.enable_cycle_counter();
+        }
         // The clock tree first: every timer and the ADC below are set from the bus clocks
         // it gives. Should the PLL not come up, the board runs on the reset clocks with
         // settings derived for them, and says so.
@@ -699,6 +761,7 @@ mod app {
             Local {
                 samples_in,
                 samples_out,
+                sysclk_hz: timing.sysclk_hz,
             },
         )
     }
@@ -707,9 +770,16 @@ mod app {
     /// The pin is read from the output data register; the rest of the outputs, which only
     /// the measurement tasks may read, through [`observe`], and only on a change, so the
     /// FES pulses that wake idle cost no snapshot.
-    #[idle(shared = [snapshot])]
+    #[idle(shared = [snapshot], local = [sysclk_hz])]
     fn idle(mut cx: idle::Context) -> ! {
         let mut reported = false;
+        #[cfg(feature = "cpu-load")]
+        let mut load = super::CpuLoad::new(
+            cortex_m::peripheral::DWT::cycle_count(),
+            *cx.local.sysclk_hz,
+        );
+        #[cfg(not(feature = "cpu-load"))]
+        let _ = cx.local.sysclk_hz;
         loop {
             // SAFETY: a read of GPIOA's output data register; no side effect.
             let odr = unsafe { (*pac::GPIOA::ptr()).odr().read().bits() };
@@ -731,6 +801,16 @@ mod app {
                     defmt::info!("measurement cycle armed");
                 }
             }
+            #[cfg(feature = "cpu-load")]
+            if let Some(permille) = load.turn(cortex_m::peripheral::DWT::cycle_count()) {
+                defmt::info!(
+                    "CPU load {}.{} % (interrupts; idle turn {} cycles)",
+                    permille / 10,
+                    permille % 10,
+                    load.shortest
+                );
+            }
+            #[cfg(not(feature = "cpu-load"))]
             rtic::export::wfi();
         }
     }
