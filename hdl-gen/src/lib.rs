@@ -18,7 +18,8 @@
 //! | `tt_fpga` (chip top) | — | the registered MCU address and read data |
 //!
 //! Every register has the model's power-on value both as a Verilog initializer and as
-//! the value a synchronous `rst` loads; every update is a non-blocking assignment. The
+//! the value a synchronous `rst` loads (the chip top's MCU bus registers, which hold no
+//! state, only the initializer); every update is a non-blocking assignment. The
 //! edges detected in one clock drive the kernel in the model's canonical order
 //! arm → contact → index → FES → scale: each block receives that clock's strobes and
 //! computes its next state as the *sequential composition* of the model's methods
