@@ -9,14 +9,14 @@
 //! | PA0  | A0       | CNC arm / abort (in)           | EXTI0, prio 15   | both    |
 //! | PA1  | A1       | tool–workpiece contact (in)    | EXTI1, prio 15   | both    |
 //! | PB2  | CN10-22  | index pulse (in)               | EXTI2, prio 15   | rising  |
-//! | PB3  | D3       | FES encoder pulse (in)         | EXTI3, prio 15   | rising  |
+//! | PB3  | D3       | FES encoder pulse (in; AF1 = TIM2_CH2, counted by TIM2) | EXTI3, prio 15 | rising |
 //! | PB8  | D15      | linear scale A (in)            | EXTI9_5, prio 15 | both    |
 //! | PB9  | D14      | linear scale B (in)            | EXTI9_5, prio 15 | both    |
 //! | —    | —        | observe (idle's output snapshot)| TIM7, prio 15   | —       |
 //! | PC11 | CN7-2    | CNC force control on (in)      | EXTI15_10, pr 12 | both    |
 //! | PC12 | CN7-3    | CNC no-load identification (in)| EXTI15_10, pr 12 | both    |
 //! | PC13 | B1 button| tool changed (in, active low)  | EXTI15_10, pr 12 | falling |
-//! | PC0–PC5, PB0, PB1 | A5, A4, CN7-35, CN7-37, CN10-34, CN10-6, A3, CN10-24 | ADC1 IN10–IN15, IN8, IN9: speed, power, force, v_u, v_v, v_w, i_u, i_v | TIM2 1 kHz, pr 8 | — |
+//! | PC0–PC5, PB0, PB1 | A5, A4, CN7-35, CN7-37, CN10-34, CN10-6, A3, CN10-24 | ADC1 IN10–IN15, IN8, IN9: speed, power, force, v_u, v_v, v_w, i_u, i_v | TIM6 1 kHz, pr 8 | — |
 //! | —    | —        | 20 Hz control period           | TIM3, prio 4     | —       |
 //! | PA5  | D13, LD2 | "register now" to the CNC (out)| —                | —       |
 //! | PA6  | D12      | wear alarm (out)               | —                | —       |
@@ -28,7 +28,27 @@
 //! interrupts lowest number first, so simultaneous edges are handled in that order, and
 //! none preempts another, so the measurement kernel needs no lock. The pins are chosen
 //! for their EXTI lines (line n is pin n of any one port); PB3 leaves its reset function
-//! (JTDO/SWO; probe-rs needs only SWD) for a plain input.
+//! (JTDO/SWO; probe-rs needs only SWD) for alternate function 1, TIM2_CH2 (STM32F446
+//! datasheet, alternate-function table).
+//!
+//! Lost FES pulses are counted in hardware, at no cost to the FES interrupt: an FES edge
+//! that arrives while EXTI3 is still pending is merged into it by the EXTI and never
+//! reaches the kernel, but TIM2 counts every rising edge of PB3 (external clock mode 1 on
+//! TI2FP2, 32 bits). The CNC task records TIM2's count when a measurement cycle starts
+//! and ends ([`FesTally`]); the observe task compares the count since the start with the
+//! kernel's own FES pulse count, and idle logs the difference with the outputs. The timer
+//! channel is an input (CC2S = 01), so the pin is never driven. TIM2 used to be the 1 kHz
+//! sample tick; that is TIM6 now, a basic timer nothing else uses (its interrupt is shared
+//! with the DAC, which is off).
+//!
+//! EXTI3 on a pin in AF mode, the one point a board must settle: RM0390's GPIO chapter
+//! says "to use external interrupt lines, the port must be configured in input mode".
+//! Its alternate-function configuration, though, keeps the input path of input mode —
+//! Schmitt trigger on, pull-down as set, the pin sampled into IDR every AHB cycle — and
+//! the EXTI multiplexer taps that path; practitioners report EXTI working in every mode
+//! but analog. Should EXTI3 stay silent with PB3 in AF1, the fallback keeps PB3 an input
+//! and jumpers D3 to PA15 (CN7-17, JTDI, free under SWD), AF1 = TIM2_CH1, counted on
+//! TI1FP1 (TS = 101, CC1S = 01) instead.
 //!
 //! Clocks, set up first in `init` register by register after RM0390 (the constants below
 //! hold every number, checked by `const` assertions): SYSCLK = HCLK = 168 MHz from the main
@@ -41,7 +61,8 @@
 //! setup is bounded; should one run out, the board logs the step with defmt and stays on
 //! the reset clocks (HSI 16 MHz, every bus /1) with timer and ADC settings derived for
 //! those, so the 1 kHz and 20 Hz periods and the 15.625 kHz PWM stay exact and only the
-//! FES-rate budget shrinks (10.5 times fewer cycles). The handlers' cost is counted in
+//! FES-rate budget shrinks (10.5 times fewer cycles; TIM2's pulse count needs no clock
+//! setting, only an FES rate below half the timer clock). The handlers' cost is counted in
 //! instructions and cycles, see README for the rates 168 MHz allows. The
 //! cutting-conditions command has no pin: condition set 0 is used on this board.
 #![no_std]
@@ -135,10 +156,10 @@ const TIM_CLK_APB2_HZ: u32 = timer_clock(PCLK2_HZ, APB2_DIV);
 /// Flash wait states at HCLK (FLASH_ACR LATENCY): 5 at 168 MHz.
 const FLASH_WAIT_STATES: u32 = flash_wait_states(HCLK_HZ);
 
-/// The 1 kHz ADC sample tick (Hz), TIM2: the model's sample rate.
+/// The 1 kHz ADC sample tick (Hz), TIM6: the model's sample rate.
 const SAMPLE_HZ: u32 = 1_000;
-/// TIM2's count rate (Hz): 1 µs per count.
-const TIM2_COUNT_HZ: u32 = 1_000_000;
+/// TIM6's count rate (Hz): 1 µs per count (TIM6 is 16-bit).
+const TIM6_COUNT_HZ: u32 = 1_000_000;
 /// The 20 Hz control period (Hz), TIM3: 50 samples per period.
 const CONTROL_HZ: u32 = 20;
 /// TIM3's count rate (Hz): 100 µs per count (TIM3 is 16-bit).
@@ -192,6 +213,13 @@ const fn prescaler(clock_hz: u32, count_hz: u32) -> u16 {
     (div - 1) as u16
 }
 
+/// A 16-bit auto-reload ARR for an update every `count_hz / out_hz` counts.
+const fn reload16(count_hz: u32, out_hz: u32) -> u16 {
+    let div = exact_div(count_hz, out_hz);
+    assert!(div >= 1 && div <= 0x1_0000, "reload out of 16 bits");
+    (div - 1) as u16
+}
+
 /// The ADC_CCR ADCPRE code of the smallest ADC prescaler (2, 4, 6, 8) that keeps the ADC
 /// clock within [`ADC_CLK_MAX_HZ`] at `pclk2_hz`, and the ADC clock (Hz) it gives.
 const fn adc_prescaler(pclk2_hz: u32) -> (u8, u32) {
@@ -226,9 +254,9 @@ const fn sample_time_code(cycles: u32) -> u8 {
 struct BusTiming {
     /// SYSCLK = HCLK (Hz).
     sysclk_hz: u32,
-    /// TIM2 PSC (1 µs count) and ARR (1 kHz update).
-    tim2_psc: u16,
-    tim2_arr: u32,
+    /// TIM6 PSC (1 µs count) and ARR (1 kHz update).
+    tim6_psc: u16,
+    tim6_arr: u16,
     /// TIM3 PSC (100 µs count) and ARR (20 Hz update).
     tim3_psc: u16,
     tim3_arr: u16,
@@ -246,10 +274,10 @@ impl BusTiming {
         let (adcpre, adc_hz) = adc_prescaler(pclk2_hz);
         BusTiming {
             sysclk_hz,
-            tim2_psc: prescaler(tim_hz, TIM2_COUNT_HZ),
-            tim2_arr: exact_div(TIM2_COUNT_HZ, SAMPLE_HZ) - 1,
+            tim6_psc: prescaler(tim_hz, TIM6_COUNT_HZ),
+            tim6_arr: reload16(TIM6_COUNT_HZ, SAMPLE_HZ),
             tim3_psc: prescaler(tim_hz, TIM3_COUNT_HZ),
-            tim3_arr: (exact_div(TIM3_COUNT_HZ, CONTROL_HZ) - 1) as u16,
+            tim3_arr: reload16(TIM3_COUNT_HZ, CONTROL_HZ),
             tim4_psc: prescaler(tim_hz, FEED_PWM_HZ * FEED_PWM_STEPS),
             adcpre,
             adc_hz,
@@ -297,7 +325,8 @@ const _: () = assert!(PCLK1_HZ == 42_000_000 && PCLK1_HZ <= 45_000_000);
 const _: () = assert!(PCLK2_HZ == 84_000_000 && PCLK2_HZ <= 90_000_000);
 const _: () = assert!(TIM_CLK_APB1_HZ == 84_000_000 && TIM_CLK_APB2_HZ == 168_000_000);
 const _: () = assert!(FLASH_WAIT_STATES == 5 && flash_wait_states(HSI_HZ) == 0);
-const _: () = assert!(PLL_TIMING.tim2_psc == 83 && PLL_TIMING.tim2_arr == 999);
+const _: () = assert!(PLL_TIMING.tim6_psc == 83 && PLL_TIMING.tim6_arr == 999);
+const _: () = assert!(HSI_TIMING.tim6_psc == 15 && HSI_TIMING.tim6_arr == 999);
 const _: () = assert!(PLL_TIMING.tim3_psc == 8_399 && PLL_TIMING.tim3_arr == 499);
 const _: () = assert!(PLL_TIMING.tim4_psc == 20 && HSI_TIMING.tim4_psc == 3);
 const _: () = assert!(PLL_TIMING.adc_hz == 21_000_000 && PLL_TIMING.adcpre == 1);
@@ -541,6 +570,111 @@ impl CpuLoad {
     }
 }
 
+/// FES edges the EXTI3 task has taken or lost by now: TIM2's hardware count of PB3's
+/// rising edges, less the one edge still pending in EXTI3, if any, which the task will
+/// take after the caller returns (every caller runs at the FES priority, so none runs
+/// while it waits). Reads EXTI_PR, then TIM2_CNT.
+///
+/// An edge that arrives within a few cycles of these two reads can be counted on the
+/// wrong side of them: the EXTI's edge detector is asynchronous (it works without a
+/// clock, to wake the chip from Stop mode) and sets the pending bit at once, while TIM2
+/// resynchronises TI2 to its 84 MHz kernel clock and counts a few of its cycles later
+/// (RM0390, external clock mode 1: "the delay between the rising edge on TI2 and the
+/// actual clock of the counter is due to the resynchronization circuit").
+/// Reading the pending bit first lets the later counter read make up part of that delay;
+/// an edge in the few core cycles left either is counted by TIM2 but was not yet pending
+/// when PR was read (the result is one too high) or was pending but is not yet counted
+/// (one too low). At most one pulse of error per call, and only for such an edge.
+fn fes_edges() -> u32 {
+    // SAFETY: reads of EXTI_PR and TIM2_CNT; reading PR clears nothing (write 1 to clear).
+    let pending = unsafe { (*pac::EXTI::ptr()).pr().read().bits() } & FES != 0;
+    // SAFETY: as above; TIM2 is owned by this count (set up once in `init`).
+    let count = unsafe { (*pac::TIM2::ptr()).cnt().read().bits() };
+    count.wrapping_sub(u32::from(pending))
+}
+
+/// Lost-FES-pulse accounting against TIM2's hardware count of the FES line (PB3).
+///
+/// The kernel counts the FES pulses its interrupt took since the cycle started
+/// (`MeasureOutputs::pulses`, wrapping at 2^32; counted only while armed); TIM2 counts
+/// every rising edge of the pin (32 bits, wrapping at 2^32 too). Their difference over a
+/// cycle is the number of FES edges the EXTI merged into a still-pending one: pulses the
+/// kernel never saw. Both wrap alike, so the wrapping difference is exact through any
+/// number of wraps. Owned by the measurement-priority tasks (CNC command, observe): no
+/// FES interrupt runs between the kernel's arm and the snapshot, so the cycle's first
+/// pulse and the snapshot agree.
+///
+/// The ±1 at the arm edge: an FES edge pending when the cycle starts is taken after the
+/// arm (same priority, lower IRQ number first) and counted by the kernel in the new
+/// cycle, so [`fes_edges`] leaves it out of the snapshot and the cycle's count includes
+/// it. If a second edge merged into that pending one before the arm, the lost one is
+/// charged to the time before the cycle, not to it (the kernel cannot tell which of the
+/// two it took). The same holds at the end of a cycle and at every report. Apart from
+/// that, an edge within a few core cycles of a snapshot can land on the wrong side of it
+/// (see [`fes_edges`]): the count can then read one too high, or wrap to `u32::MAX` —
+/// logged as −1 — for a cycle that lost nothing.
+#[derive(Clone, Copy, Default)]
+struct FesTally {
+    /// [`fes_edges`] when the current (or last) cycle started.
+    at_arm: u32,
+    /// [`fes_edges`] when the last cycle ended (valid while not `armed`).
+    at_disarm: u32,
+    /// A cycle is running (the kernel is armed).
+    armed: bool,
+    /// FES pulses the last finished cycle lost (wrapping; see [`FesTally::lost`]).
+    last_cycle_lost: u32,
+}
+
+impl FesTally {
+    /// A cycle starts; `edges` = [`fes_edges`] now.
+    fn arm(&mut self, edges: u32) {
+        self.at_arm = edges;
+        self.armed = true;
+    }
+
+    /// The cycle ends; `edges` = [`fes_edges`] now, `pulses` = the kernel's FES pulse count
+    /// of the cycle (it stops counting once disarmed).
+    fn disarm(&mut self, edges: u32, pulses: u32) {
+        self.at_disarm = edges;
+        self.armed = false;
+        self.last_cycle_lost = self.lost(edges, pulses);
+    }
+
+    /// FES pulses the current (or, when disarmed, the last) cycle lost so far: TIM2's edges
+    /// since the arm, up to `edges_now` ([`fes_edges`]) or to the disarm, less the kernel's
+    /// `pulses`. Wrapping: a count that reads `u32::MAX` is the −1 of the snapshot window
+    /// described on [`FesTally`].
+    const fn lost(&self, edges_now: u32, pulses: u32) -> u32 {
+        let end = if self.armed {
+            edges_now
+        } else {
+            self.at_disarm
+        };
+        end.wrapping_sub(self.at_arm).wrapping_sub(pulses)
+    }
+}
+
+/// A [`FesTally`] from its fields (for the `const` checks below).
+const fn tally(at_arm: u32, at_disarm: u32, armed: bool) -> FesTally {
+    FesTally {
+        at_arm,
+        at_disarm,
+        armed,
+        last_cycle_lost: 0,
+    }
+}
+
+// The lost-pulse arithmetic, checked at build time: nothing lost; two lost; TIM2 wrapping
+// during the cycle; the kernel's count wrapping past 2^32 with the timer's (2^32 + 30
+// edges, 2^32 + 28 pulses); disarmed: the count is frozen at the disarm, later edges
+// (the spindle keeps turning) are not charged to the cycle; the −1 of a misplaced edge.
+const _: () = assert!(tally(100, 0, true).lost(150, 50) == 0);
+const _: () = assert!(tally(100, 0, true).lost(150, 48) == 2);
+const _: () = assert!(tally(u32::MAX - 9, 0, true).lost(20, 28) == 2);
+const _: () = assert!(tally(7, 0, true).lost(37, 28) == 2);
+const _: () = assert!(tally(100, 150, false).lost(9_000, 50) == 0);
+const _: () = assert!(tally(100, 150, true).lost(150, 51) == u32::MAX);
+
 /// Acknowledges EXTI lines `mask` (write 1 to clear).
 fn ack(mask: u32) {
     // SAFETY: PR is write-1-to-clear; other lines are unaffected.
@@ -550,9 +684,9 @@ fn ack(mask: u32) {
 #[rtic::app(device = stm32f4::stm32f446, peripherals = true)]
 mod app {
     use super::{
-        ack, pac, start_pll, Nucleo, ADC_SMP, ARM, CONTACT, FEED_PWM_HZ, FEED_PWM_STEPS, FES,
-        FORCE_LINES, HSI_TIMING, INDEX, PENDING_COMMANDS, PLL_TIMING, REGISTER_NOW, SCALE_A,
-        SCALE_B, WEAR_ALARM,
+        ack, fes_edges, pac, start_pll, FesTally, Nucleo, ADC_SMP, ARM, CONTACT, FEED_PWM_HZ,
+        FEED_PWM_STEPS, FES, FORCE_LINES, HSI_TIMING, INDEX, PENDING_COMMANDS, PLL_TIMING,
+        REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
     };
     use core::sync::atomic::Ordering;
     use tooltouch_firmware::board::Board;
@@ -565,14 +699,32 @@ mod app {
     /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).
     const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
 
+    /// What [`observe`] hands to idle.
+    #[derive(Clone, Copy)]
+    pub struct Observed {
+        /// The measurement kernel's outputs.
+        outputs: MeasureOutputs,
+        /// FES pulses lost so far in the current cycle (in the last one once it ended):
+        /// TIM2's edge count since the arm less `outputs.pulses`, wrapping
+        /// ([`FesTally::lost`]; `u32::MAX` is the −1 its doc explains).
+        fes_lost: u32,
+        /// FES pulses the last finished cycle lost (same unit and wrap).
+        last_cycle_fes_lost: u32,
+    }
+
     #[shared]
     struct Shared {
         /// The measurement kernel. Lock-free: only the measurement tasks touch it, and
         /// they all run at one priority, so none can preempt another.
         #[lock_free]
         meas: Measurement,
-        /// The kernel's outputs as of the last [`observe`], for idle's log.
-        snapshot: MeasureOutputs,
+        /// TIM2's FES edge count at the cycle's start and end (lost-pulse count). Lock-free
+        /// like the kernel: only the measurement-priority tasks touch it.
+        #[lock_free]
+        fes_tally: FesTally,
+        /// The kernel's outputs and the lost-pulse counts as of the last [`observe`], for
+        /// idle's log.
+        snapshot: Observed,
         force: ForceKernel,
         counters: Counters,
     }
@@ -615,8 +767,8 @@ mod app {
             // Clocks: GPIOA, GPIOB, GPIOC (AHB1), SYSCFG (APB2).
             dp.RCC.ahb1enr().modify(|r, w| w.bits(r.bits() | 0b111));
             dp.RCC.apb2enr().modify(|r, w| w.bits(r.bits() | 1 << 14));
-            // PA5 push-pull output, low; the inputs in input mode (PB3 leaves its reset
-            // function, JTDO/SWO) with pull-downs so an unconnected line reads 0.
+            // PA5 push-pull output, low; the inputs in input mode with pull-downs so an
+            // unconnected line reads 0 (PB3 too, then put in AF1 below).
             dp.GPIOA.bsrr().write(|w| w.bits(REGISTER_NOW << 16));
             dp.GPIOA
                 .moder()
@@ -668,7 +820,7 @@ mod app {
             // ADC inputs analog: PC0–PC5, PB0, PB1. ADC1 clock on; ADC clock PCLK2 / 4 =
             // 21 MHz (PLL) or PCLK2 / 2 = 8 MHz (fallback), at most 36 MHz; every channel
             // sampled for ADC_SAMPLE_CYCLES; then ADC1 on (ADON), t_STAB = 3 µs before the
-            // first conversion, which the first TIM2 tick, 1 ms later, leaves.
+            // first conversion, which the first TIM6 tick, 1 ms later, leaves.
             dp.GPIOC.moder().modify(|r, w| w.bits(r.bits() | 0xfff));
             dp.GPIOB.moder().modify(|r, w| w.bits(r.bits() | 0xf));
             dp.RCC.apb2enr().modify(|r, w| w.bits(r.bits() | 1 << 8));
@@ -694,14 +846,17 @@ mod app {
                 .smpr2()
                 .write(|w| w.smp8().set(ADC_SMP).smp9().set(ADC_SMP));
             dp.ADC1.cr2().modify(|r, w| w.bits(r.bits() | 1));
-            // TIM2: 1 kHz sample tick; TIM3: 20 Hz control period; TIM4: override PWM.
-            // Prescalers from `timing` (84 MHz or 16 MHz timer clock); an update event (UG)
-            // loads them now rather than after a first period at prescaler 1, and its flag is
-            // cleared before the update interrupts are enabled.
-            dp.RCC.apb1enr().modify(|r, w| w.bits(r.bits() | 0b111));
+            // TIM6: 1 kHz sample tick; TIM3: 20 Hz control period; TIM4: override PWM;
+            // TIM2: FES edge count. Prescalers from `timing` (84 MHz or 16 MHz timer
+            // clock); an update event (UG) loads them now rather than after a first period
+            // at prescaler 1, and its flag is cleared before the update interrupts are
+            // enabled. RCC_APB1ENR: TIM2EN, TIM3EN, TIM4EN (bits 0–2), TIM6EN (bit 4).
+            dp.RCC
+                .apb1enr()
+                .modify(|r, w| w.bits(r.bits() | 0b111 | 1 << 4));
             let _ = dp.RCC.apb1enr().read();
-            dp.TIM2.psc().write(|w| w.psc().set(timing.tim2_psc));
-            dp.TIM2.arr().write(|w| w.arr().set(timing.tim2_arr));
+            dp.TIM6.psc().write(|w| w.psc().set(timing.tim6_psc));
+            dp.TIM6.arr().write(|w| w.arr().set(timing.tim6_arr));
             dp.TIM3.psc().write(|w| w.psc().set(timing.tim3_psc));
             dp.TIM3.arr().write(|w| w.arr().set(timing.tim3_arr));
             // PB6 alternate function 2 (TIM4_CH1), PWM mode 1 with preload, ARR = 255:
@@ -720,15 +875,46 @@ mod app {
                 .ccmr1_output()
                 .write(|w| w.bits(0b110 << 4 | 1 << 3));
             dp.TIM4.ccer().write(|w| w.bits(1));
+            // TIM2 counts FES rising edges on PB3 (TIM2_CH2, AF1), RM0390 "External clock
+            // source mode 1", its procedure for TI2: CC2S = 01 (channel 2 an input, IC2 on
+            // TI2), IC2F = 0000 (no filter: the EXTI has none either, so both see the same
+            // edges; the TI2 input is still resynchronised to the 84 MHz timer clock,
+            // which counts edges up to half that rate, over 200 times the SPEC's 204.8
+            // kHz), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external clock mode 1),
+            // TS = 110 (TI2FP2), then CEN. PSC 0 counts every edge; ARR at its 32-bit
+            // maximum wraps the count at 2^32 like the kernel's. CC2E stays 0 (no capture)
+            // and the update interrupt off: TIM2 raises no interrupt. The channel is an
+            // input, so in AF mode the pin stays undriven; EXTI3 taps the same input path
+            // (module doc: the one point a board must confirm).
+            dp.TIM2
+                .ccmr1_input()
+                .write(|w| w.cc2s().ti2().ic2f().no_filter());
+            dp.TIM2
+                .ccer()
+                .write(|w| w.cc2p().clear_bit().cc2np().clear_bit());
+            // TS before SMS: RM0390 asks for TS to change only while SMS = 000.
+            dp.TIM2.smcr().write(|w| w.ts().ti2fp2());
+            dp.TIM2.smcr().modify(|_, w| w.sms().ext_clock_mode());
+            dp.TIM2.psc().write(|w| w.psc().set(0));
+            dp.TIM2.arr().write(|w| w.arr().set(u32::MAX));
+            dp.GPIOB
+                .afrl()
+                .modify(|r, w| w.bits((r.bits() & !(0xf << 12)) | 0x1 << 12));
+            dp.GPIOB
+                .moder()
+                .modify(|r, w| w.bits((r.bits() & !(0b11 << 6)) | 0b10 << 6));
             dp.TIM2.egr().write(|w| w.ug().set_bit());
+            dp.TIM6.egr().write(|w| w.ug().set_bit());
             dp.TIM3.egr().write(|w| w.ug().set_bit());
             dp.TIM4.egr().write(|w| w.ug().set_bit());
             dp.TIM2.sr().write(|w| w.bits(0));
+            dp.TIM6.sr().write(|w| w.bits(0));
             dp.TIM3.sr().write(|w| w.bits(0));
             dp.TIM4.cr1().write(|w| w.bits(1 << 7 | 1));
-            dp.TIM2.dier().write(|w| w.bits(1));
+            dp.TIM6.dier().write(|w| w.uie().set_bit());
             dp.TIM3.dier().write(|w| w.bits(1));
-            dp.TIM2.cr1().write(|w| w.bits(1));
+            dp.TIM2.cr1().write(|w| w.cen().set_bit());
+            dp.TIM6.cr1().write(|w| w.cen().set_bit());
             dp.TIM3.cr1().write(|w| w.bits(1));
         }
         defmt::info!(
@@ -754,7 +940,12 @@ mod app {
         (
             Shared {
                 meas,
-                snapshot: meas.outputs(),
+                fes_tally: FesTally::default(),
+                snapshot: Observed {
+                    outputs: meas.outputs(),
+                    fes_lost: 0,
+                    last_cycle_fes_lost: 0,
+                },
                 force,
                 counters: Counters::default(),
             },
@@ -766,11 +957,12 @@ mod app {
         )
     }
 
-    /// Logs every change of "register now" with the latched position; sleeps otherwise.
-    /// The pin is read from the output data register; the rest of the outputs, which only
-    /// the measurement tasks may read, through [`observe`], and only on a change, so the
-    /// FES pulses that wake idle cost no snapshot.
-    #[idle(shared = [snapshot], local = [sysclk_hz])]
+    /// Logs every change of "register now" with the latched position, the FES pulses
+    /// lost so far in the cycle (TIM2's count, [`FesTally`]) and the ADC samples dropped;
+    /// sleeps otherwise. The pin is read from the output data register; the rest of the
+    /// outputs, which only the measurement tasks may read, through [`observe`], and only
+    /// on a change, so the FES pulses that wake idle cost no snapshot.
+    #[idle(shared = [snapshot, counters], local = [sysclk_hz])]
     fn idle(mut cx: idle::Context) -> ! {
         let mut reported = false;
         #[cfg(feature = "cpu-load")]
@@ -789,16 +981,29 @@ mod app {
                 rtic::pend(OBSERVE);
                 cortex_m::asm::dsb();
                 cortex_m::asm::isb();
-                let o = cx.shared.snapshot.lock(|s| *s);
+                let seen = cx.shared.snapshot.lock(|s| *s);
+                let dropped = cx.shared.counters.lock(|c| c.overflowed);
+                let o = seen.outputs;
+                // The lost counts are wrapping differences whose only plausible values
+                // near 2^32 are the −1 of a misplaced edge: logged signed.
                 if reported {
                     defmt::info!(
-                        "register now: position {} counts, first contact at {}, {} revolutions",
+                        "register now: position {} counts, first contact at {}, {} revolutions, \
+                         {} FES pulses, {} lost (TIM2 count); {} ADC samples dropped",
                         o.decision_position,
                         o.first_contact_position,
-                        o.revolutions
+                        o.revolutions,
+                        o.pulses,
+                        seen.fes_lost as i32,
+                        dropped
                     );
                 } else {
-                    defmt::info!("measurement cycle armed");
+                    defmt::info!(
+                        "measurement cycle armed; the last cycle lost {} FES pulses \
+                         (TIM2 count); {} ADC samples dropped",
+                        seen.last_cycle_fes_lost as i32,
+                        dropped
+                    );
                 }
             }
             #[cfg(feature = "cpu-load")]
@@ -820,11 +1025,20 @@ mod app {
     // edges are handled in that order and none preempts another: the kernel needs no
     // lock.
 
-    /// CNC arm / abort (PA0).
-    #[task(binds = EXTI0, priority = 15, shared = [meas])]
+    /// CNC arm / abort (PA0). A cycle's start and end also record TIM2's FES edge count
+    /// for the lost-pulse count; the FES task itself does nothing for it.
+    #[task(binds = EXTI0, priority = 15, shared = [meas, fes_tally])]
     fn cnc_command(cx: cnc_command::Context) {
         ack(ARM);
-        handlers::cnc_command::<Nucleo>(cx.shared.meas);
+        let meas = cx.shared.meas;
+        let was_armed = meas.outputs().armed;
+        handlers::cnc_command::<Nucleo>(meas);
+        let o = meas.outputs();
+        match (was_armed, o.armed) {
+            (false, true) => cx.shared.fes_tally.arm(fes_edges()),
+            (true, false) => cx.shared.fes_tally.disarm(fes_edges(), o.pulses),
+            _ => {}
+        }
     }
 
     /// Contact edge (PA1).
@@ -855,12 +1069,19 @@ mod app {
         handlers::scale::<Nucleo>(cx.shared.meas);
     }
 
-    /// Idle's snapshot of the outputs; after any edge pending with it.
-    #[task(binds = TIM7, priority = 15, shared = [meas, snapshot])]
+    /// Idle's snapshot of the outputs and the lost-pulse counts; after any edge pending
+    /// with it.
+    #[task(binds = TIM7, priority = 15, shared = [meas, fes_tally, snapshot])]
     fn observe(cx: observe::Context) {
-        let o = cx.shared.meas.outputs();
+        let outputs = cx.shared.meas.outputs();
+        let tally = cx.shared.fes_tally;
+        let seen = Observed {
+            outputs,
+            fes_lost: tally.lost(fes_edges(), outputs.pulses),
+            last_cycle_fes_lost: tally.last_cycle_lost,
+        };
         let mut snapshot = cx.shared.snapshot;
-        snapshot.lock(|s| *s = o);
+        snapshot.lock(|s| *s = seen);
     }
 
     /// CNC force-path commands (PC11–PC13).
@@ -874,11 +1095,11 @@ mod app {
             cx.shared.force.lock(handlers::force_command::<Nucleo>);
         }
     }
-    /// 1 kHz ADC sample (TIM2 update): convert the eight channels, queue them.
-    #[task(binds = TIM2, priority = 8, shared = [counters], local = [samples_in])]
+    /// 1 kHz ADC sample (TIM6 update): convert the eight channels, queue them.
+    #[task(binds = TIM6_DAC, priority = 8, shared = [counters], local = [samples_in])]
     fn adc_sample(mut cx: adc_sample::Context) {
-        // SAFETY: clears TIM2's update flag (write 0 to UIF; other flags unused).
-        unsafe { (*pac::TIM2::ptr()).sr().write(|w| w.bits(0)) };
+        // SAFETY: clears TIM6's update flag (write 0 to UIF, its only flag).
+        unsafe { (*pac::TIM6::ptr()).sr().write(|w| w.bits(0)) };
         if !handlers::adc_sample::<Nucleo>(cx.local.samples_in) {
             cx.shared
                 .counters
