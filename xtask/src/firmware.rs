@@ -54,9 +54,10 @@ pub fn build_all() -> Result<()> {
     Ok(())
 }
 
-/// fmt, clippy (`-D warnings`) and release builds of the firmware for every board, then
-/// the no-panic link check: with the `panic-check` feature the panic handler refers to an
-/// undefined symbol, so the link fails if any panic path is left in the image.
+/// fmt and clippy (`-D warnings`) of the firmware for every board, the no-panic link
+/// check (with the `panic-check` feature the panic handler refers to an undefined symbol,
+/// so the link fails if any panic path is left in the image), then the release builds of
+/// the shipped images with their sizes.
 pub fn check_all() -> Result<()> {
     let dir = firmware_dir()?;
     crate::run(&dir, "cargo", &["fmt", "--", "--check"])?;
@@ -70,12 +71,6 @@ pub fn check_all() -> Result<()> {
                 &["--bins", "--lib", "--", "-D", "warnings"],
             ),
         )?;
-        crate::run(
-            &dir,
-            "cargo",
-            &cargo_args("build", board, &["--bin", board.name]),
-        )?;
-        print_size(&dir, board)?;
     }
     for board in &BOARDS {
         let features = match board.name {
@@ -117,15 +112,8 @@ pub fn check_all() -> Result<()> {
     clippy.extend_from_slice(&load_variant);
     clippy.extend_from_slice(&["--", "-D", "warnings"]);
     crate::run(&dir, "cargo", &clippy)?;
-    // The check builds share the release folder: rebuild the shipped images last.
-    for board in &BOARDS {
-        crate::run(
-            &dir,
-            "cargo",
-            &cargo_args("build", board, &["--bin", board.name]),
-        )?;
-    }
-    Ok(())
+    // The check builds share the release folder: build the shipped images last.
+    build_all()
 }
 
 /// Prints text/data/bss of a board's release image with llvm-size (or
