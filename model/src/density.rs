@@ -98,6 +98,106 @@ impl DensityDetector {
         false
     }
 
+    /// `n` FES pulses, the first with contact bit `first`, the others with `rest` (a run at
+    /// one contact level, whose first pulse may carry the sticky bit): the same state as
+    /// `n` calls of [`DensityDetector::on_pulse`]. Returns `true` if one of them fired.
+    ///
+    /// Linear law: constant time. Exponential law: one step per pulse until a pulse
+    /// changes nothing (the charge has settled at `0` or full scale), so at most `n`
+    /// steps; the firmware bounds `n` by folding at least every
+    /// `tooltouch_firmware::handlers::FES_FOLD_LIMIT` pulses.
+    pub fn on_pulses(&mut self, first: bool, rest: bool, n: u32) -> bool {
+        if n == 0 {
+            return false;
+        }
+        let mut fired = self.on_pulse(first);
+        let others = n.saturating_sub(1);
+        if others == 0 {
+            return fired;
+        }
+        match self.law {
+            ChargeLaw::Linear {
+                charge_step,
+                discharge_step,
+            } => {
+                // After any pulse: armed => charge < fire threshold (else it would have
+                // fired), disarmed => charge >= re-arm threshold (else it would have
+                // re-armed), and re-arm < fire (validated). A run moves the charge one
+                // way only, so it can fire only if armed and charging, re-arm only if
+                // disarmed and discharging, each at most once, and does so exactly when
+                // the run's final charge crosses the threshold.
+                if rest {
+                    let rise = charge_step.saturating_mul(others);
+                    self.charge = self.charge.saturating_add(rise).min(self.full);
+                    if self.armed && self.charge >= self.fire_threshold {
+                        self.armed = false;
+                        self.fired = true;
+                        fired = true;
+                    }
+                } else {
+                    let fall = discharge_step.saturating_mul(others);
+                    self.charge = self.charge.saturating_sub(fall);
+                    if !self.armed && self.charge < self.rearm_threshold {
+                        self.armed = true;
+                    }
+                }
+            }
+            ChargeLaw::Exponential { .. } => {
+                for _ in 0..others {
+                    let (charge, armed) = (self.charge, self.armed);
+                    fired |= self.on_pulse(rest);
+                    // A pulse that changed nothing is a fixed point: so is every later
+                    // one of the run (same state, same contact bit).
+                    if self.charge == charge && self.armed == armed {
+                        break;
+                    }
+                }
+            }
+        }
+        fired
+    }
+
+    /// How many FES pulses of a run (first with contact bit `first`, then `rest`) the
+    /// detector needs to fire: `Some(k)` when the `k`-th would fire, `1 <= k <= limit`;
+    /// `None` when none of the next `limit` pulses fires. Linear law: constant time;
+    /// exponential law: up to `limit` charge steps.
+    pub fn pulses_to_fire(&self, first: bool, rest: bool, limit: u32) -> Option<u32> {
+        if limit == 0 {
+            return None;
+        }
+        let mut d = *self;
+        if d.on_pulse(first) {
+            return Some(1);
+        }
+        // Only an armed capacitor that charges can fire (the invariants of
+        // [`DensityDetector::on_pulses`]).
+        if !(d.armed && rest) {
+            return None;
+        }
+        let k = match d.law {
+            ChargeLaw::Linear { charge_step, .. } => {
+                // Armed: charge < fire threshold <= full, so the steps needed are at least
+                // one and the clamp at full scale never stops the climb short.
+                let missing = d.fire_threshold.saturating_sub(d.charge);
+                let steps = missing.div_ceil(charge_step.max(1));
+                steps.saturating_add(1)
+            }
+            ChargeLaw::Exponential { .. } => {
+                let mut k = 1u32;
+                loop {
+                    if k >= limit {
+                        return None;
+                    }
+                    k += 1;
+                    if d.on_pulse(true) {
+                        break k;
+                    }
+                }
+            }
+        };
+        (k <= limit).then_some(k)
+    }
+
     /// Charge, LSBs of full scale.
     pub fn charge(&self) -> u32 {
         self.charge

@@ -227,6 +227,56 @@ impl Measurement {
         (counter_decides || density_decides) && self.decision.capture(self.scale.position())
     }
 
+    /// `n` FES pulses with no other event between them, as a hardware counter reports
+    /// them: the same state as `n` calls of [`Measurement::on_fes`] (the first pulse takes
+    /// the contact rule's bit, the others the contact level), at the cost of one call
+    /// (constant time but for the exponential charge law, see
+    /// [`DensityDetector::on_pulses`]). Returns whether one of them raised "register now";
+    /// the position latched is the one all of them see. The firmware counts FES pulses in
+    /// a timer and folds them in with this before every other event.
+    pub fn on_fes_run(&mut self, n: u32) -> bool {
+        if n == 0 {
+            return false;
+        }
+        let first = match self.rule {
+            ContactRule::Sampled => self.contact,
+            ContactRule::Sticky => self.sticky,
+        };
+        self.sticky = self.contact;
+        if !self.armed {
+            return false;
+        }
+        self.pulses = self.pulses.wrapping_add(n);
+        let rest = self.contact;
+        let counter_decides =
+            self.counter.on_pulses(first, rest, n) && self.method == DecisionMethod::Counter;
+        let density_decides =
+            self.density.on_pulses(first, rest, n) && self.method == DecisionMethod::Density;
+        (counter_decides || density_decides) && self.decision.capture(self.scale.position())
+    }
+
+    /// How many more FES pulses, with no other event between them, raise "register now":
+    /// `Some(k)` when the `k`-th does, `1 <= k <= limit`; `None` when none of the next
+    /// `limit` does (disarmed, decided, single-pulse method, or not that soon). The
+    /// firmware sets its FES counter's compare interrupt from this, so the deciding pulse
+    /// interrupts and no other pulse need to.
+    pub fn fes_to_decision(&self, limit: u32) -> Option<u32> {
+        if !self.armed || self.decision.valid() {
+            return None;
+        }
+        let first = match self.rule {
+            ContactRule::Sampled => self.contact,
+            ContactRule::Sticky => self.sticky,
+        };
+        let rest = self.contact;
+        let k = match self.method {
+            DecisionMethod::Counter => self.counter.pulses_to_decision(first, rest),
+            DecisionMethod::Density => self.density.pulses_to_fire(first, rest, limit),
+            DecisionMethod::SinglePulse => None,
+        }?;
+        (k <= limit).then_some(k)
+    }
+
     /// New levels of the scale's A and B lines.
     pub fn on_scale(&mut self, a: bool, b: bool) {
         self.scale.on_ab(a, b);
@@ -285,7 +335,7 @@ impl Measurement {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::MeasureSettings;
+    use crate::config::{ChargeLaw, MeasureSettings};
     use proptest::prelude::*;
 
     fn measurement(method: DecisionMethod, rule: ContactRule) -> Measurement {
@@ -355,6 +405,123 @@ mod tests {
         assert_eq!(m.outputs().pulses, 0, "no counting while disarmed");
         m.on_arm(true);
         assert!(!m.register_now());
+    }
+
+    /// A random valid configuration over every method, rule and charge law, small enough
+    /// that runs of a few hundred pulses cross every threshold.
+    fn random_config(
+        method: u8,
+        sticky: bool,
+        exponential: bool,
+        charge_bits: u8,
+        a: u32,
+        b: u32,
+        fire: u32,
+        rearm: u32,
+        i_def: u32,
+    ) -> MeasureConfig {
+        let full = (1u32 << charge_bits) - 1;
+        let charge_law = if exponential {
+            ChargeLaw::Exponential {
+                charge_shift: (a % (u32::from(charge_bits) + 1)) as u8,
+                discharge_shift: (b % (u32::from(charge_bits) + 1)) as u8,
+            }
+        } else {
+            ChargeLaw::Linear {
+                charge_step: 1 + a % full,
+                discharge_step: 1 + b % full,
+            }
+        };
+        let fire_threshold = 1 + fire % full;
+        let s = MeasureSettings {
+            pulses_per_rev: 16,
+            window_revs: 2,
+            i_def: i_def % 32,
+            method: match method % 3 {
+                0 => DecisionMethod::Counter,
+                1 => DecisionMethod::Density,
+                _ => DecisionMethod::SinglePulse,
+            },
+            contact_rule: if sticky {
+                ContactRule::Sticky
+            } else {
+                ContactRule::Sampled
+            },
+            charge_bits,
+            charge_law,
+            fire_threshold,
+            rearm_threshold: rearm % fire_threshold,
+            ..Default::default()
+        };
+        s.validate().unwrap()
+    }
+
+    /// A random event: arm, contact, index, scale, or a run of FES pulses (`Err(n)`).
+    fn apply_op(m: &mut Measurement, op: u8) -> Result<(), u32> {
+        match op % 16 {
+            0 => m.on_arm(true),
+            1 => m.on_arm(false),
+            2 | 3 => m.on_contact(true),
+            4 | 5 => m.on_contact(false),
+            6 => m.on_index(),
+            7 => m.on_scale(op & 16 != 0, op & 32 != 0),
+            _ => return Err(u32::from(op >> 2)),
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #[test]
+        fn a_run_of_fes_pulses_equals_as_many_single_pulses(
+            method in 0u8..3, sticky in any::<bool>(), exponential in any::<bool>(),
+            charge_bits in 4u8..=9, a in any::<u32>(), b in any::<u32>(),
+            fire in any::<u32>(), rearm in any::<u32>(), i_def in any::<u32>(),
+            ops in proptest::collection::vec(any::<u8>(), 0..300),
+        ) {
+            let config = random_config(
+                method, sticky, exponential, charge_bits, a, b, fire, rearm, i_def,
+            );
+            let mut batched = Measurement::new(&config);
+            let mut single = batched;
+            for (i, op) in ops.into_iter().enumerate() {
+                match apply_op(&mut batched, op) {
+                    Ok(()) => {
+                        let _ = apply_op(&mut single, op);
+                    }
+                    Err(n) => {
+                        let raised = batched.on_fes_run(n);
+                        let mut any = false;
+                        for _ in 0..n {
+                            any |= single.on_fes_raises();
+                        }
+                        prop_assert_eq!(raised, any, "op {}: run of {} raised", i, n);
+                    }
+                }
+                prop_assert_eq!(batched, single, "state after op {}", i);
+            }
+        }
+
+        #[test]
+        fn fes_to_decision_names_the_pulse_that_raises_register_now(
+            method in 0u8..3, sticky in any::<bool>(), exponential in any::<bool>(),
+            charge_bits in 4u8..=9, a in any::<u32>(), b in any::<u32>(),
+            fire in any::<u32>(), rearm in any::<u32>(), i_def in any::<u32>(),
+            ops in proptest::collection::vec(any::<u8>(), 0..200), limit in 0u32..80,
+        ) {
+            let config = random_config(
+                method, sticky, exponential, charge_bits, a, b, fire, rearm, i_def,
+            );
+            let mut m = Measurement::new(&config);
+            for (i, op) in ops.into_iter().enumerate() {
+                if let Err(n) = apply_op(&mut m, op) {
+                    m.on_fes_run(n);
+                }
+                let predicted = m.fes_to_decision(limit);
+                let mut probe = m;
+                let first = (1..=limit).find(|_| probe.on_fes_raises());
+                prop_assert_eq!(predicted, first, "after op {}", i);
+            }
+        }
     }
 
     proptest! {

@@ -68,6 +68,48 @@ impl PulseCounter {
         false
     }
 
+    /// `n` FES pulses with no index pulse between them, the first with contact bit `first`
+    /// and the others with `rest` (a run at one contact level, whose first pulse may carry
+    /// the sticky bit): the same state and decision as `n` calls of
+    /// [`PulseCounter::on_pulse`], in constant time. Returns `true` if one of them decided.
+    pub fn on_pulses(&mut self, first: bool, rest: bool, n: u32) -> bool {
+        if n == 0 {
+            return false;
+        }
+        let others = if rest { n.saturating_sub(1) } else { 0 };
+        let contacts = u32::from(first).saturating_add(others);
+        // The count only rises in a run, saturating at `window_pulses`; while `reached` is
+        // false it starts at most `i_def` ([`PulseCounter::on_pulse`]), so the run decides
+        // exactly when it ends above `i_def`.
+        self.count = self.count.saturating_add(contacts).min(self.window_pulses);
+        if self.count > self.i_def && !self.reached {
+            self.reached = true;
+            return true;
+        }
+        false
+    }
+
+    /// How many FES pulses of a run (first with contact bit `first`, then `rest`, no index
+    /// pulse) the counter needs to decide: `Some(k)` when the `k`-th would decide (`k >=
+    /// 1`), `None` when the run never decides (already decided, or no contact to count).
+    pub fn pulses_to_decision(&self, first: bool, rest: bool) -> Option<u32> {
+        if self.reached {
+            return None;
+        }
+        // Contact pulses still needed to exceed `i_def` (at least 1: the count is at most
+        // `i_def` while not reached, and `i_def < window_pulses`, so saturation at
+        // `window_pulses` never stops it).
+        let needed = self.i_def.saturating_sub(self.count).saturating_add(1);
+        let after_first = needed.saturating_sub(u32::from(first));
+        if after_first == 0 {
+            Some(1)
+        } else if rest {
+            Some(after_first.saturating_add(1))
+        } else {
+            None
+        }
+    }
+
     /// One index pulse: at the end of a window the count moves to `last_window_count` and
     /// restarts from zero.
     pub fn on_index(&mut self) {
