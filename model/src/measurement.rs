@@ -407,53 +407,45 @@ mod tests {
         assert!(!m.register_now());
     }
 
-    /// A random valid configuration over every method, rule and charge law, small enough
-    /// that runs of a few hundred pulses cross every threshold.
-    fn random_config(
-        method: u8,
-        sticky: bool,
-        exponential: bool,
-        charge_bits: u8,
-        a: u32,
-        b: u32,
-        fire: u32,
-        rearm: u32,
-        i_def: u32,
-    ) -> MeasureConfig {
-        let full = (1u32 << charge_bits) - 1;
-        let charge_law = if exponential {
-            ChargeLaw::Exponential {
-                charge_shift: (a % (u32::from(charge_bits) + 1)) as u8,
-                discharge_shift: (b % (u32::from(charge_bits) + 1)) as u8,
-            }
-        } else {
-            ChargeLaw::Linear {
-                charge_step: 1 + a % full,
-                discharge_step: 1 + b % full,
-            }
-        };
-        let fire_threshold = 1 + fire % full;
-        let s = MeasureSettings {
-            pulses_per_rev: 16,
-            window_revs: 2,
-            i_def: i_def % 32,
-            method: match method % 3 {
-                0 => DecisionMethod::Counter,
-                1 => DecisionMethod::Density,
-                _ => DecisionMethod::SinglePulse,
-            },
-            contact_rule: if sticky {
-                ContactRule::Sticky
+    prop_compose! {
+        /// A random valid configuration over every method, rule and charge law, small
+        /// enough that runs of a few hundred pulses cross every threshold.
+        fn any_config()(
+            method in 0u8..3, sticky in any::<bool>(), exponential in any::<bool>(),
+            charge_bits in 4u8..=9, a in any::<u32>(), b in any::<u32>(),
+            fire in any::<u32>(), rearm in any::<u32>(), i_def in 0u32..32,
+        ) -> MeasureConfig {
+            let full = (1u32 << charge_bits) - 1;
+            let charge_law = if exponential {
+                ChargeLaw::Exponential {
+                    charge_shift: (a % (u32::from(charge_bits) + 1)) as u8,
+                    discharge_shift: (b % (u32::from(charge_bits) + 1)) as u8,
+                }
             } else {
-                ContactRule::Sampled
-            },
-            charge_bits,
-            charge_law,
-            fire_threshold,
-            rearm_threshold: rearm % fire_threshold,
-            ..Default::default()
-        };
-        s.validate().unwrap()
+                ChargeLaw::Linear {
+                    charge_step: 1 + a % full,
+                    discharge_step: 1 + b % full,
+                }
+            };
+            let fire_threshold = 1 + fire % full;
+            let s = MeasureSettings {
+                pulses_per_rev: 16,
+                window_revs: 2,
+                i_def,
+                method: match method {
+                    0 => DecisionMethod::Counter,
+                    1 => DecisionMethod::Density,
+                    _ => DecisionMethod::SinglePulse,
+                },
+                contact_rule: if sticky { ContactRule::Sticky } else { ContactRule::Sampled },
+                charge_bits,
+                charge_law,
+                fire_threshold,
+                rearm_threshold: rearm % fire_threshold,
+                ..Default::default()
+            };
+            s.validate().unwrap()
+        }
     }
 
     /// A random event: arm, contact, index, scale, or a run of FES pulses (`Err(n)`).
@@ -473,14 +465,9 @@ mod tests {
     proptest! {
         #[test]
         fn a_run_of_fes_pulses_equals_as_many_single_pulses(
-            method in 0u8..3, sticky in any::<bool>(), exponential in any::<bool>(),
-            charge_bits in 4u8..=9, a in any::<u32>(), b in any::<u32>(),
-            fire in any::<u32>(), rearm in any::<u32>(), i_def in any::<u32>(),
+            config in any_config(),
             ops in proptest::collection::vec(any::<u8>(), 0..300),
         ) {
-            let config = random_config(
-                method, sticky, exponential, charge_bits, a, b, fire, rearm, i_def,
-            );
             let mut batched = Measurement::new(&config);
             let mut single = batched;
             for (i, op) in ops.into_iter().enumerate() {
@@ -503,14 +490,9 @@ mod tests {
 
         #[test]
         fn fes_to_decision_names_the_pulse_that_raises_register_now(
-            method in 0u8..3, sticky in any::<bool>(), exponential in any::<bool>(),
-            charge_bits in 4u8..=9, a in any::<u32>(), b in any::<u32>(),
-            fire in any::<u32>(), rearm in any::<u32>(), i_def in any::<u32>(),
+            config in any_config(),
             ops in proptest::collection::vec(any::<u8>(), 0..200), limit in 0u32..80,
         ) {
-            let config = random_config(
-                method, sticky, exponential, charge_bits, a, b, fire, rearm, i_def,
-            );
             let mut m = Measurement::new(&config);
             for (i, op) in ops.into_iter().enumerate() {
                 if let Err(n) = apply_op(&mut m, op) {
