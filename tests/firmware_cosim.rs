@@ -12,7 +12,8 @@ use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, TestRunner};
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use tooltouch::cosim::{self, trace::EVENT_KIND_NAMES, Case, CosimError, Fault};
+use tooltouch::cosim::{self, trace::EVENT_KIND_NAMES, Case, CosimError, Fault, Observe};
+use tooltouch_model::MeasureEvent;
 use tooltouch_model::force::{ForceEvent, ForceSettings};
 use tooltouch_model::wire::{
     self, force_config_chunk, force_config_chunks, force_kind, Record, Records, FORCE_CHUNK_DATA,
@@ -76,6 +77,38 @@ fn run(cases: &[Case]) -> cosim::Report {
     }
 }
 
+/// Runs `cases` with outputs records after every event but FES pulses: the firmware
+/// folds runs of pulses as on a board; every output of every other event is compared.
+fn run_folding(cases: &[Case]) -> cosim::Report {
+    match cosim::run_batch_observing(&image(), cases, Observe::SkipFes) {
+        Ok(report) => report,
+        Err(e) => panic!("folding FES runs: {e}"),
+    }
+}
+
+/// FES pulses in `cases`.
+fn fes_pulses(cases: &[Case]) -> u64 {
+    cases
+        .iter()
+        .flat_map(|c| &c.events)
+        .filter(|e| e.event == MeasureEvent::Fes)
+        .count() as u64
+}
+
+/// The FES path's cost per pulse when runs are folded: the compare interrupts' and the
+/// other measurement edges' instructions (their folds included) spread over the pulses.
+fn print_fes_cost(cases: &[Case], r: &cosim::Report) {
+    let pulses = fes_pulses(cases);
+    let compares: u64 = r.profiles.iter().map(|p| u64::from(p.per_kind[3].0)).sum();
+    let per_compare = r.instructions_per_event(3).unwrap_or(0.0);
+    eprintln!(
+        "  FES: {pulses} pulses, {compares} compare interrupts (one per {:.1} pulses), \
+         {per_compare:.1} instructions each = {:.2} instructions per pulse",
+        pulses as f64 / compares.max(1) as f64,
+        per_compare * compares as f64 / pulses.max(1) as f64
+    );
+}
+
 fn print_report(what: &str, r: &cosim::Report) {
     eprintln!(
         "{what}: {} cases, {} events in {:.2} s of QEMU = {:.0} events/s; stack {} bytes",
@@ -95,7 +128,9 @@ fn print_report(what: &str, r: &cosim::Report) {
     }
     for (k, name) in EVENT_KIND_NAMES.iter().enumerate() {
         if let Some(i) = r.instructions_per_event(k) {
-            eprintln!("  {name:8} {i:7.1} instructions per event (pend to return, QEMU -icount)");
+            eprintln!(
+                "  {name:14} {i:7.1} instructions per interrupt (pend to return, QEMU -icount)"
+            );
         }
     }
 }
@@ -169,6 +204,20 @@ fn firmware_matches_the_golden_model_on_random_scenarios() {
     let report = run(&cases);
     assert_eq!(report.cases, cases.len());
     print_report("random scenarios", &report);
+    let folded = run_folding(&cases);
+    print_report("random scenarios, FES runs folded", &folded);
+    print_fes_cost(&cases, &folded);
+    // Folding must really batch: far fewer compare interrupts than pulses.
+    let compares: u64 = folded
+        .profiles
+        .iter()
+        .map(|p| u64::from(p.per_kind[3].0))
+        .sum();
+    assert!(
+        compares * 8 < fes_pulses(&cases),
+        "{compares} compare interrupts for {} FES pulses",
+        fes_pulses(&cases)
+    );
 }
 
 #[test]
@@ -210,6 +259,8 @@ fn firmware_and_model_agree_on_every_fault_case() {
     }
     let report = run(&cases);
     print_report("fault cases", &report);
+    let folded = run_folding(&cases);
+    print_report("fault cases, FES runs folded", &folded);
 }
 
 #[test]
@@ -279,6 +330,11 @@ fn firmware_matches_the_golden_model_on_lathe_simulator_streams() {
     }
     let report = run(&cases);
     print_report("lathe simulator streams", &report);
+    // The lathe's streams are the realistic FES load (1024 ppr, contact growing over
+    // revolutions): the per-pulse cost of the folded path is measured here.
+    let folded = run_folding(&cases);
+    print_report("lathe simulator streams, FES runs folded", &folded);
+    print_fes_cost(&cases, &folded);
 }
 
 /// Rebuilds `case`'s event file with `chunks` in place of its force configuration records

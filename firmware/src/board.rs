@@ -15,6 +15,14 @@ pub trait Board {
     fn contact() -> bool;
     /// Levels of the linear scale's A and B lines.
     fn scale() -> (bool, bool);
+    /// The hardware count of FES rising edges, wrapping at 2^32 (a timer in external clock
+    /// mode; on QEMU, the co-simulation driver's count).
+    fn fes_count() -> u32;
+    /// Sets the FES counter's compare interrupt to fire when the count reaches `at`.
+    fn set_fes_compare(at: u32);
+    /// Pends the FES counter's compare interrupt now (for a compare value the count has
+    /// already passed).
+    fn pend_fes_compare();
     /// Drives the "position reached, register now" output to the CNC.
     fn set_register_now(on: bool);
     /// The latest conversion of every spindle-drive channel, 12-bit codes.

@@ -10,7 +10,8 @@
 //! with `force_hash` 0 holds no force event and the force path idles in
 //! [`ForceSettings::default`]), measurement and force event records, `END`. Output, per input
 //! stream: `Header{stream: Outputs}` with the same hashes, one `MEASURE_OUTPUTS` record
-//! after every measurement event and one force `OUTPUTS` record after every force event
+//! after every measurement event (but FES pulses, when the stream's
+//! [`kind::FIRMWARE_OBSERVE`] record says so) and one force `OUTPUTS` record after every force event
 //! except a sample (model::force's convention), each at its event's time; then
 //! [`kind::FIRMWARE_PROFILE`], [`kind::FIRMWARE_FORCE_PROFILE`] and
 //! [`kind::FIRMWARE_STATUS`] records and `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
@@ -41,9 +42,14 @@ pub mod kind {
     /// then for a force configuration field out of range the field's name (UTF-8, up to
     /// 30 bytes).
     pub const FIRMWARE_ERROR: u8 = 0x5d;
-    /// Per event kind (arm, contact, index, FES, scale): events u32 and SysTick ticks
-    /// u32 spent delivering them (pend to return), 40 bytes.
+    /// Per event kind (arm, contact, index, FES, scale): interrupts u32 and SysTick ticks
+    /// u32 spent in them (pend to return), 40 bytes. FES: the counter's compare
+    /// interrupts (most FES events raise none).
     pub const FIRMWARE_PROFILE: u8 = 0x5e;
+    /// Input, before the first event of a stream: which measurement events get an outputs
+    /// record. Payload u8: 1 = every event (the default), 0 = every event but FES pulses,
+    /// whose runs the firmware then folds into the kernel many at a time, as on a board.
+    pub const FIRMWARE_OBSERVE: u8 = 0x5b;
     /// events u32, lost u32, overflowed u32, stack bytes used u32, calibration
     /// instructions u32, calibration ticks u32: 24 bytes.
     pub const FIRMWARE_STATUS: u8 = 0x5f;
@@ -77,8 +83,9 @@ pub trait Target {
     fn configure(&mut self, config: &MeasureConfig, force: &ForceConfig);
     /// Drives the event's pins (or ADC / command registers) and pends its interrupt (with
     /// the barriers that make the pend take effect at once); returns SysTick ticks from
-    /// the pend to the return.
-    fn inject(&mut self, event: Input) -> u32;
+    /// the pend to the return, or `None` when the event raised no interrupt (an FES pulse
+    /// the counter only counts).
+    fn inject(&mut self, event: Input) -> Option<u32>;
     /// Snapshot of the measurement kernel's outputs.
     fn outputs(&mut self) -> MeasureOutputs;
     /// Snapshot of the force kernel's outputs.
@@ -287,7 +294,7 @@ impl Writer {
     }
 }
 
-/// Events and SysTick ticks per event kind: arm, contact, index, FES, scale, then force
+/// Interrupts and SysTick ticks per event kind: arm, contact, index, FES (compare), scale, then force
 /// sample, tick, command.
 #[derive(Default)]
 struct Profile {
@@ -468,6 +475,7 @@ fn replay<P: Port, T: Target>(
     let mut previous = start;
     let mut profile = Profile::default();
     let mut events: u32 = 0;
+    let mut observe_fes = true;
     loop {
         let (record, offset) = reader.record(port)?;
         if record.time < previous {
@@ -484,6 +492,10 @@ fn replay<P: Port, T: Target>(
         if record.kind == wire::kind::END {
             break;
         }
+        if record.kind == kind::FIRMWARE_OBSERVE {
+            observe_fes = record.payload().first().is_none_or(|&b| b != 0);
+            continue;
+        }
         let input = match decode_event(&record, offset as usize) {
             Ok(Some(event)) => Input::Measure(event),
             Ok(None) if force_enabled => match decode_force_event(&record, offset as usize) {
@@ -494,10 +506,12 @@ fn replay<P: Port, T: Target>(
             Ok(None) => return Err(Error::UnexpectedKind(record.kind, offset)),
             Err(e) => return Err(Error::Wire(e, offset)),
         };
-        let ticks = target.inject(input);
-        profile.add(&input, ticks);
+        if let Some(ticks) = target.inject(input) {
+            profile.add(&input, ticks);
+        }
         events = events.saturating_add(1);
         match input {
+            Input::Measure(MeasureEvent::Fes) if !observe_fes => {}
             Input::Measure(_) => {
                 let outputs = encode_outputs(&target.outputs());
                 writer.record(

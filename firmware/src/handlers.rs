@@ -2,12 +2,18 @@
 //! [`Board`], steps a golden-model kernel once (the model's event level: one call per
 //! event) and drives the outputs.
 //!
-//! Priorities (highest first; RTIC applications bind them): the measurement edges (CNC
-//! arm/abort, contact, index, FES, scale) at one priority, their IRQ numbers in the
-//! model's canonical same-clock order, so that simultaneous edges are taken in that order
-//! (Cortex-M takes same-priority pending interrupts lowest number first) and none
-//! preempts another: the measurement kernel is a lock-free resource, and the FES pulse —
-//! 204 800 interrupts/s at 1024 ppr and 12 000 rpm — pays no lock. Below them the CNC's
+//! FES pulses raise no interrupt: a hardware counter counts them, and the measurement
+//! tasks fold them into the kernel in runs ([`MeasureDomain`]); the counter's compare
+//! interrupt fires on the pulse that would decide and at least every [`FES_FOLD_LIMIT`]
+//! pulses. At 1024 ppr and 12 000 rpm (204 800 pulses/s) that is 3 200 compare
+//! interrupts per second instead of 204 800 pulse interrupts.
+//!
+//! Priorities (highest first; RTIC applications bind them): the measurement tasks (CNC
+//! arm/abort, contact, index, FES compare, scale, observe) at one priority, their IRQ
+//! numbers in the model's canonical same-clock order where the board allows it, so that
+//! simultaneous edges are taken in that order (Cortex-M takes same-priority pending
+//! interrupts lowest number first) and none preempts another: the measurement domain is
+//! a lock-free resource. Below them the CNC's
 //! force-path commands, the 1 kHz ADC sample and the 20 Hz control period. The control
 //! period is long (tens of microseconds) and has 50 ms, so it runs below everything
 //! else. The ADC sample does not touch the force kernel: it queues the codes
@@ -18,58 +24,175 @@ use crate::board::Board;
 use heapless::spsc::{Consumer, Producer, Queue};
 use tooltouch_model::force::{ForceEvent, ForceKernel};
 use tooltouch_model::sampling::AdcCodes;
-use tooltouch_model::Measurement;
+use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
 
-/// FES pulse (rising edge): count the pulse's contact bit, charge the capacitor, decide.
+/// The most FES pulses folded into the kernel at once: the counter's compare interrupt
+/// is set at most this many pulses past the last fold even when none of them can decide.
+/// It bounds a fold's work (constant for the linear charge law; one step per pulse for
+/// the exponential law: at most this many) and so the delay a fold adds to the other
+/// measurement edges, at the cost of one compare interrupt per this many pulses
+/// (3 200 per second at 1024 ppr and 12 000 rpm).
+pub const FES_FOLD_LIMIT: u32 = 64;
+
+/// The measurement kernel fed by a hardware FES pulse counter ([`Board::fes_count`]).
 ///
-/// An FES pulse can raise "register now" (a decision) but never lower it (only the arm
-/// line does), so the pin is driven only on the pulse that raises it: the common pulse,
-/// which decides nothing, costs nothing for the output.
-#[inline(always)]
-pub fn fes<B: Board>(m: &mut Measurement) {
-    if m.on_fes_raises() {
+/// No interrupt per FES pulse: a timer counts them, and every measurement task first
+/// *folds* the pulses counted since the last fold into the kernel
+/// ([`Measurement::on_fes_run`], equal to that many single pulses — no other edge came
+/// between them, or its task would have folded them), then handles its own event, then
+/// sets the counter's compare interrupt at the pulse that would raise "register now"
+/// ([`Measurement::fes_to_decision`]) or [`FES_FOLD_LIMIT`] pulses on, whichever comes
+/// first. The deciding pulse thus interrupts as it did with one interrupt per pulse, and
+/// the latched position is the one it saw.
+///
+/// Timing: a pulse is counted at its edge but folded when the next measurement task
+/// runs; a pulse that arrives between another edge and its task's fold (the interrupt
+/// entry, a few dozen cycles) is folded before that edge rather than after it. With one
+/// interrupt per pulse the same window existed, in the other direction (same-priority
+/// pending interrupts are taken by IRQ number, not by arrival). The FPGA front end
+/// orders same-clock edges exactly.
+#[derive(Clone, Copy, Debug)]
+pub struct MeasureDomain {
+    kernel: Measurement,
+    /// The counter's value at the last fold.
+    folded: u32,
+    /// The counter value the compare interrupt is set at.
+    compare_at: u32,
+}
+
+impl MeasureDomain {
+    /// Starts `kernel` at the counter's current value (pulses counted before are not its)
+    /// and sets the compare interrupt.
+    #[inline]
+    pub fn start<B: Board>(kernel: Measurement) -> Self {
+        let folded = B::fes_count();
+        let mut d = MeasureDomain {
+            kernel,
+            folded,
+            compare_at: folded,
+        };
+        d.schedule::<B>();
+        d
+    }
+
+    /// The kernel as of the last fold.
+    pub fn kernel(&self) -> &Measurement {
+        &self.kernel
+    }
+
+    /// Folds the pulses counted since the last fold; whether one raised "register now".
+    #[inline(always)]
+    fn fold<B: Board>(&mut self) -> bool {
+        let now = B::fes_count();
+        let n = now.wrapping_sub(self.folded);
+        self.folded = now;
+        self.kernel.on_fes_run(n)
+    }
+
+    /// Sets the compare interrupt at the pulse that would decide or [`FES_FOLD_LIMIT`]
+    /// pulses past the last fold. A pulse counted since the fold may already have reached
+    /// that value, which the timer would then not match until it wraps: the interrupt is
+    /// pended by hand instead (a spare compare interrupt only folds nothing).
+    #[inline(always)]
+    fn schedule<B: Board>(&mut self) {
+        let due = self
+            .kernel
+            .fes_to_decision(FES_FOLD_LIMIT)
+            .unwrap_or(FES_FOLD_LIMIT);
+        self.compare_at = self.folded.wrapping_add(due);
+        B::set_fes_compare(self.compare_at);
+        if B::fes_count().wrapping_sub(self.folded) >= due {
+            B::pend_fes_compare();
+        }
+    }
+
+    /// Whether the counter has reached the compare value: a counted pulse not yet folded
+    /// may decide (its compare interrupt is pending).
+    #[inline(always)]
+    fn compare_reached<B: Board>(&self) -> bool {
+        let due = self.compare_at.wrapping_sub(self.folded);
+        B::fes_count().wrapping_sub(self.folded) >= due
+    }
+}
+
+/// FES counter compare: the pulse that may decide, or [`FES_FOLD_LIMIT`] pulses since the
+/// last fold. Drives "register now" from the kernel's state, not from this fold alone:
+/// another task may have folded the deciding pulse first (`observe` does not drive it).
+#[inline]
+pub fn fes_compare<B: Board>(d: &mut MeasureDomain) {
+    d.fold::<B>();
+    if d.kernel.register_now() {
         B::set_register_now(true);
     }
+    d.schedule::<B>();
 }
 
 /// Index pulse (start of a revolution): closes the counting window.
 #[inline]
-pub fn index<B: Board>(m: &mut Measurement) {
-    m.on_index();
+pub fn index<B: Board>(d: &mut MeasureDomain) {
+    if d.fold::<B>() {
+        B::set_register_now(true);
+    }
+    d.kernel.on_index();
+    d.schedule::<B>();
 }
 
 /// Contact edge (either direction): the new level is read from the pin. A rising edge
 /// sets the sticky bit and latches the first-contact position.
 #[inline]
-pub fn contact<B: Board>(m: &mut Measurement) {
-    m.on_contact(B::contact());
-    // Like an FES pulse, a contact edge can only raise "register now" (single-pulse
-    // method).
-    if m.register_now() {
+pub fn contact<B: Board>(d: &mut MeasureDomain) {
+    d.fold::<B>();
+    d.kernel.on_contact(B::contact());
+    // A fold or a contact edge can only raise "register now" (single-pulse method).
+    if d.kernel.register_now() {
         B::set_register_now(true);
     }
+    d.schedule::<B>();
 }
 
-/// Scale edge on A or B (either direction): the quadrature decoder steps.
+/// Scale edge on A or B (either direction): the quadrature decoder steps. Scale edges
+/// change no count, so they fold only when a counted pulse may have decided: its
+/// position is the one before this edge, whichever interrupt the NVIC takes first.
 #[inline]
-pub fn scale<B: Board>(m: &mut Measurement) {
+pub fn scale<B: Board>(d: &mut MeasureDomain) {
+    if d.compare_reached::<B>() {
+        fes_compare::<B>(d);
+    }
     let (a, b) = B::scale();
-    m.on_scale(a, b);
+    d.kernel.on_scale(a, b);
 }
 
 /// CNC command: the arm line changed. Rising: start a measurement cycle (clears the
 /// decision, so "register now" drops); falling: abort / end it, results held.
 #[inline]
-pub fn cnc_command<B: Board>(m: &mut Measurement) {
-    m.on_arm(B::arm());
-    B::set_register_now(m.register_now());
+pub fn cnc_command<B: Board>(d: &mut MeasureDomain) {
+    d.fold::<B>();
+    d.kernel.on_arm(B::arm());
+    B::set_register_now(d.kernel.register_now());
+    d.schedule::<B>();
 }
 
 /// Test event (co-simulation only, no pin): the FES pulse count since arm becomes
-/// `pulses`, so the count's 2^32 wrap is reached without 2^32 interrupts.
+/// `pulses`, so the count's 2^32 wrap is reached without 2^32 pulses.
 #[inline]
-pub fn preset_pulses(m: &mut Measurement, pulses: u32) {
-    m.apply(tooltouch_model::MeasureEvent::PresetPulses(pulses));
+pub fn preset_pulses<B: Board>(d: &mut MeasureDomain, pulses: u32) {
+    if d.fold::<B>() {
+        B::set_register_now(true);
+    }
+    d.kernel.apply(MeasureEvent::PresetPulses(pulses));
+    d.schedule::<B>();
+}
+
+/// Snapshot of every output for lower-priority code (idle's log, the co-simulation
+/// trace): folds the counted pulses first, so the snapshot is exact. It does not drive
+/// "register now": the compare interrupt, pending whenever a counted pulse decided and
+/// taken before this task, does (a co-simulation trace checks the pin, so a missed
+/// compare shows).
+#[inline]
+pub fn observe<B: Board>(d: &mut MeasureDomain) -> MeasureOutputs {
+    d.fold::<B>();
+    d.schedule::<B>();
+    d.kernel.outputs()
 }
 
 /// Queued ADC samples: one control period holds `samples_per_period` (50 at the SPEC's

@@ -13,8 +13,12 @@ pub mod kind {
     pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
     /// The firmware rejected its input.
     pub const FIRMWARE_ERROR: u8 = 0x5d;
-    /// Events and SysTick ticks per event kind.
+    /// Interrupts and SysTick ticks per event kind (FES: the counter's compare
+    /// interrupts).
     pub const FIRMWARE_PROFILE: u8 = 0x5e;
+    /// Input: which measurement events get an outputs record (1 every event, 0 all but
+    /// FES pulses).
+    pub const FIRMWARE_OBSERVE: u8 = 0x5b;
     /// Events, lost, overflowed, stack bytes, calibration.
     pub const FIRMWARE_STATUS: u8 = 0x5f;
 }
@@ -24,7 +28,7 @@ pub const EVENT_KIND_NAMES: [&str; 8] = [
     "arm",
     "contact",
     "index",
-    "fes",
+    "fes compare",
     "scale",
     "adc sample",
     "control period",
@@ -35,8 +39,10 @@ pub const EVENT_KIND_NAMES: [&str; 8] = [
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Profile {
     /// Per event kind (arm, contact, index, FES, scale, ADC sample, control period, force
-    /// command): events delivered and SysTick ticks spent from the pend to the return
+    /// command): interrupts taken and SysTick ticks spent from the pend to the return
     /// (interrupt entry, handler, exit; a control period includes applying its samples).
+    /// FES pulses are counted, not interrupts: their slot holds the counter's compare
+    /// interrupts.
     pub per_kind: [(u32, u32); 8],
     /// Events replayed.
     pub events: u32,
@@ -59,8 +65,8 @@ impl Profile {
         f64::from(self.calibration_instructions) / f64::from(self.calibration_ticks.max(1))
     }
 
-    /// Mean instructions per delivered event of kind `k` (index into
-    /// [`EVENT_KIND_NAMES`]), pend to return.
+    /// Mean instructions per interrupt of kind `k` (index into [`EVENT_KIND_NAMES`]), pend
+    /// to return.
     pub fn instructions_per_event(&self, k: usize) -> Option<f64> {
         let (n, ticks) = *self.per_kind.get(k)?;
         (n > 0).then(|| f64::from(ticks) * self.instructions_per_tick() / f64::from(n))

@@ -6,11 +6,17 @@
 //! measurement tasks share the highest priority, 7, with IRQ numbers in the model's
 //! canonical same-clock order (Cortex-M takes same-priority pending interrupts lowest
 //! number first): GPIOA (0) = CNC arm/abort, GPIOB (1) = contact, GPIOC (2) = index,
-//! GPIOD (3) = FES, GPIOE (4) = scale A/B, UART0 (5) = pulse-count preset (test event),
-//! UART1 (6) = observe (the driver's reset of and snapshot from the kernel). Below them:
+//! GPIOD (3) = FES counter compare, GPIOE (4) = scale A/B, UART0 (5) = pulse-count preset
+//! (test event), UART1 (6) = observe (the driver's reset of and snapshot from the
+//! kernel). Below them:
 //! GPIOF = CNC force-path command (5), ADC0 sequence 0 = 1 kHz ADC sample (4), TIMER0A =
 //! 20 Hz control period (2). The ADC's result registers and the command lines are virtual
 //! too; "register now" is a variable the driver reads back as the trace's output.
+//!
+//! The FES counter is virtual as well (QEMU's Stellaris timers have no edge-count mode):
+//! the driver counts each FES event in [`FES_COUNT`] and, when the count reaches the
+//! compare value the handlers set, pends the compare interrupt, as a timer's compare
+//! match would; other FES events raise no interrupt.
 #![no_std]
 #![no_main]
 
@@ -29,6 +35,10 @@ const SCALE_B: u8 = 8;
 
 /// Levels of the virtual input pins, written by the driver before each pend.
 static PINS: AtomicU8 = AtomicU8::new(0);
+/// The virtual FES counter: FES events so far (wrapping).
+static FES_COUNT: AtomicU32 = AtomicU32::new(0);
+/// The virtual FES counter's compare value.
+static FES_COMPARE: AtomicU32 = AtomicU32::new(0);
 /// The "register now" output.
 static REGISTER_NOW: AtomicBool = AtomicBool::new(false);
 /// The virtual ADC's result registers: speed, power, force, v_u, v_v, v_w, i_u, i_v,
@@ -113,6 +123,15 @@ impl Board for Qemu {
         let p = PINS.load(Ordering::Relaxed);
         (p & SCALE_A != 0, p & SCALE_B != 0)
     }
+    fn fes_count() -> u32 {
+        FES_COUNT.load(Ordering::Relaxed)
+    }
+    fn set_fes_compare(at: u32) {
+        FES_COMPARE.store(at, Ordering::Relaxed);
+    }
+    fn pend_fes_compare() {
+        rtic::pend(lm3s6965::Interrupt::GPIOD);
+    }
     fn set_register_now(on: bool) {
         REGISTER_NOW.store(on, Ordering::Relaxed);
     }
@@ -169,7 +188,8 @@ fn calibrate() -> (u32, u32) {
 mod app {
     use super::{
         encode_command, set_adc, Consumer, Producer, Qemu, Resets, Snapshots, ARM, COMMAND,
-        CONTACT, FEED_OVERRIDE, MAILBOX, PINS, PRESET, REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
+        CONTACT, FEED_OVERRIDE, FES_COMPARE, FES_COUNT, MAILBOX, PINS, PRESET, REGISTER_NOW,
+        SCALE_A, SCALE_B, WEAR_ALARM,
     };
     use core::sync::atomic::Ordering;
     use cortex_m::interrupt::InterruptNumber;
@@ -178,7 +198,7 @@ mod app {
     use lm3s6965::Interrupt;
     use tooltouch_firmware::cosim::{self, Input, Target};
     use tooltouch_firmware::handlers::{
-        self, Counters, SampleConsumer, SampleProducer, SampleQueue,
+        self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
     use tooltouch_firmware::model::force::{
         ForceConfig, ForceEvent, ForceKernel, ForceOutputs, ForceSettings,
@@ -192,10 +212,11 @@ mod app {
 
     #[shared]
     struct Shared {
-        /// The measurement kernel. Lock-free: only the measurement tasks touch it, and
-        /// they all run at one priority, so none can preempt another.
+        /// The measurement kernel and its FES pulse count. Lock-free: only the
+        /// measurement tasks touch it, and they all run at one priority, so none can
+        /// preempt another.
         #[lock_free]
-        meas: Measurement,
+        meas: MeasureDomain,
         force: ForceKernel,
         counters: Counters,
     }
@@ -247,7 +268,7 @@ mod app {
         };
         (
             Shared {
-                meas: Measurement::new(&MeasureConfig::default()),
+                meas: MeasureDomain::start::<Qemu>(Measurement::new(&MeasureConfig::default())),
                 force,
                 counters: Counters::default(),
             },
@@ -308,7 +329,7 @@ mod app {
             self.counters.lock(|c| *c = Counters::default());
         }
 
-        fn inject(&mut self, input: Input) -> u32 {
+        fn inject(&mut self, input: Input) -> Option<u32> {
             let event = match input {
                 Input::Measure(event) => event,
                 Input::Force(event) => return self.inject_force(event),
@@ -318,7 +339,15 @@ mod app {
                 MeasureEvent::Arm(on) => (Interrupt::GPIOA, set(pins, ARM, on)),
                 MeasureEvent::Contact(on) => (Interrupt::GPIOB, set(pins, CONTACT, on)),
                 MeasureEvent::Index => (Interrupt::GPIOC, pins),
-                MeasureEvent::Fes => (Interrupt::GPIOD, pins),
+                MeasureEvent::Fes => {
+                    // The counter counts the edge; only a compare match interrupts.
+                    let count = FES_COUNT.load(Ordering::Relaxed).wrapping_add(1);
+                    FES_COUNT.store(count, Ordering::Relaxed);
+                    if count != FES_COMPARE.load(Ordering::Relaxed) {
+                        return None;
+                    }
+                    (Interrupt::GPIOD, pins)
+                }
                 MeasureEvent::Scale { a, b } => {
                     (Interrupt::GPIOE, set(set(pins, SCALE_A, a), SCALE_B, b))
                 }
@@ -328,7 +357,7 @@ mod app {
                 }
             };
             PINS.store(pins, Ordering::Relaxed);
-            self.pend_and_time(irq)
+            Some(self.pend_and_time(irq))
         }
 
         fn outputs(&mut self) -> MeasureOutputs {
@@ -365,7 +394,7 @@ mod app {
         F: rtic::Mutex<T = ForceKernel>,
         C: rtic::Mutex<T = Counters>,
     {
-        fn inject_force(&mut self, event: ForceEvent) -> u32 {
+        fn inject_force(&mut self, event: ForceEvent) -> Option<u32> {
             let irq = match event {
                 ForceEvent::Sample(codes) => {
                     set_adc(&codes);
@@ -377,7 +406,7 @@ mod app {
                     Interrupt::GPIOF
                 }
             };
-            self.pend_and_time(irq)
+            Some(self.pend_and_time(irq))
         }
 
         /// Pends `irq` and returns the SysTick ticks until it has run. An edge whose
@@ -479,10 +508,10 @@ mod app {
         handlers::index::<Qemu>(cx.shared.meas);
     }
 
-    /// FES pulse: the most frequent edge.
+    /// FES counter compare: the pulse that may decide, or the fold limit.
     #[task(binds = GPIOD, priority = 7, shared = [meas])]
-    fn fes(cx: fes::Context) {
-        handlers::fes::<Qemu>(cx.shared.meas);
+    fn fes_compare(cx: fes_compare::Context) {
+        handlers::fes_compare::<Qemu>(cx.shared.meas);
     }
 
     /// Scale edge.
@@ -494,20 +523,21 @@ mod app {
     /// Test event: preset the FES pulse count (UART0 stands in for a debug request).
     #[task(binds = UART0, priority = 7, shared = [meas])]
     fn preset_pulses(cx: preset_pulses::Context) {
-        handlers::preset_pulses(cx.shared.meas, PRESET.load(Ordering::Relaxed));
+        handlers::preset_pulses::<Qemu>(cx.shared.meas, PRESET.load(Ordering::Relaxed));
     }
 
     /// The driver's access to the kernel (UART1 stands in for a debug request): installs
-    /// a queued fresh kernel, then queues a snapshot of the outputs. Runs after any edge
-    /// pending with it.
+    /// a queued fresh kernel, then queues a snapshot of the outputs (folding the counted
+    /// FES pulses first). Runs after any edge pending with it.
     #[task(binds = UART1, priority = 7, shared = [meas], local = [resets_out, snapshots_in])]
     fn observe(cx: observe::Context) {
         let meas = cx.shared.meas;
         if let Some(fresh) = cx.local.resets_out.dequeue() {
-            *meas = fresh;
+            *meas = MeasureDomain::start::<Qemu>(fresh);
         }
+        let outputs = handlers::observe::<Qemu>(meas);
         // Full only if the driver skipped a snapshot; it then reads the older one.
-        let _ = cx.local.snapshots_in.enqueue(meas.outputs());
+        let _ = cx.local.snapshots_in.enqueue(outputs);
     }
 
     /// CNC force-path command (identify, control on/off, conditions, tool changed).
