@@ -1,6 +1,6 @@
 //! The real board: a Nucleo-F446RE (STM32F446RE, Cortex-M4F). The pins' edges raise EXTI
-//! interrupts bound to the same shared handlers as the QEMU board; defmt logs over RTT
-//! (probe-rs prints them).
+//! interrupts bound to the same shared handlers as the QEMU board, and TIM2 counts the FES
+//! pulses; defmt logs over RTT (probe-rs prints them).
 //!
 //! Pin map (Arduino / Morpho header names in brackets; README has the wiring):
 //!
@@ -9,7 +9,7 @@
 //! | PA0  | A0       | CNC arm / abort (in)           | EXTI0, prio 15   | both    |
 //! | PA1  | A1       | tool–workpiece contact (in)    | EXTI1, prio 15   | both    |
 //! | PB2  | CN10-22  | index pulse (in)               | EXTI2, prio 15   | rising  |
-//! | PB3  | D3       | FES encoder pulse (in; AF1 = TIM2_CH2, counted by TIM2) | EXTI3, prio 15 | rising |
+//! | PB3  | D3       | FES encoder pulse (in; AF1 = TIM2_CH2, counted by TIM2) | TIM2 compare, prio 15 | rising |
 //! | PB8  | D15      | linear scale A (in)            | EXTI9_5, prio 15 | both    |
 //! | PB9  | D14      | linear scale B (in)            | EXTI9_5, prio 15 | both    |
 //! | —    | —        | observe (idle's output snapshot)| TIM7, prio 15   | —       |
@@ -22,33 +22,27 @@
 //! | PA6  | D12      | wear alarm (out)               | —                | —       |
 //! | PB6  | D10      | feed override, PWM 15.625 kHz, duty = % / 256 (TIM4_CH1) | — | — |
 //!
-//! The measurement edges share the highest priority with their IRQ numbers (EXTI0 = 6,
-//! EXTI1 = 7, EXTI2 = 8, EXTI3 = 9, EXTI9_5 = 23, TIM7 = 55) in the model's canonical
-//! same-clock order arm, contact, index, FES, scale: Cortex-M takes same-priority pending
-//! interrupts lowest number first, so simultaneous edges are handled in that order, and
-//! none preempts another, so the measurement kernel needs no lock. The pins are chosen
-//! for their EXTI lines (line n is pin n of any one port); PB3 leaves its reset function
-//! (JTDO/SWO; probe-rs needs only SWD) for alternate function 1, TIM2_CH2 (STM32F446
-//! datasheet, alternate-function table).
+//! The measurement tasks share the highest priority, so none preempts another and the
+//! measurement domain needs no lock. Their IRQ numbers (EXTI0 = 6, EXTI1 = 7, EXTI2 = 8,
+//! EXTI9_5 = 23, TIM2 = 28, TIM7 = 55) decide the order of simultaneous edges (Cortex-M
+//! takes same-priority pending interrupts lowest number first): arm, contact, index as
+//! the model's canonical same-clock order has them; the FES compare comes after the scale
+//! here, so the scale task first folds the counted pulses whenever the counter has
+//! reached its compare value (`handlers::scale`), and a deciding pulse counted before a
+//! scale edge latches the position from before it, as in the model. The pins are chosen
+//! for their EXTI lines (line n is pin n of any one port) and, for the FES line, its
+//! timer channel: PB3 leaves its reset function (JTDO/SWO; probe-rs needs only SWD) for
+//! alternate function 1, TIM2_CH2 (STM32F446 datasheet, alternate-function table).
 //!
-//! Lost FES pulses are counted in hardware, at no cost to the FES interrupt: an FES edge
-//! that arrives while EXTI3 is still pending is merged into it by the EXTI and never
-//! reaches the kernel, but TIM2 counts every rising edge of PB3 (external clock mode 1 on
-//! TI2FP2, 32 bits). The CNC task records TIM2's count when a measurement cycle starts
-//! and ends ([`FesTally`]); the observe task compares the count since the start with the
-//! kernel's own FES pulse count, and idle logs the difference with the outputs. The timer
-//! channel is an input (CC2S = 01), so the pin is never driven. TIM2 used to be the 1 kHz
-//! sample tick; that is TIM6 now, a basic timer nothing else uses (its interrupt is shared
-//! with the DAC, which is off).
-//!
-//! EXTI3 on a pin in AF mode, the one point a board must settle: RM0390's GPIO chapter
-//! says "to use external interrupt lines, the port must be configured in input mode".
-//! Its alternate-function configuration, though, keeps the input path of input mode —
-//! Schmitt trigger on, pull-down as set, the pin sampled into IDR every AHB cycle — and
-//! the EXTI multiplexer taps that path; practitioners report EXTI working in every mode
-//! but analog. Should EXTI3 stay silent with PB3 in AF1, the fallback keeps PB3 an input
-//! and jumpers D3 to PA15 (CN7-17, JTDI, free under SWD), AF1 = TIM2_CH1, counted on
-//! TI1FP1 (TS = 101, CC1S = 01) instead.
+//! FES pulses raise no interrupt. TIM2 counts every rising edge of PB3 (external clock
+//! mode 1 on TI2FP2, 32 bits, wrapping like the kernel's pulse count), and its channel 1
+//! compare interrupt fires on the pulse that would decide or at most
+//! `handlers::FES_FOLD_LIMIT` pulses after the last fold (`handlers::MeasureDomain`).
+//! A timer loses no pulse below half its 84 MHz kernel clock (the datasheet's f_EXT
+//! limit for an external clock on CH1–CH4), so the FES rate is no longer bounded by an
+//! interrupt per pulse; the README gives the cycle budget. The channel is an input
+//! (CC2S = 01), so the pin is never driven; channel 1 is an output compare in frozen
+//! mode (OC1M = 000, CC1E = 0) that drives no pin either.
 //!
 //! Clocks, set up first in `init` register by register after RM0390 (the constants below
 //! hold every number, checked by `const` assertions): SYSCLK = HCLK = 168 MHz from the main
@@ -94,12 +88,11 @@ use tooltouch_firmware::board::Board;
 use tooltouch_firmware::model::force::ForceEvent;
 use tooltouch_firmware::model::sampling::AdcCodes;
 
-/// GPIO bits (= EXTI lines) of the inputs: arm PA0, contact PA1, index PB2, FES PB3,
-/// scale PB8 / PB9, force commands PC11–PC13; outputs PA5, PA6.
+/// GPIO bits (= EXTI lines) of the inputs: arm PA0, contact PA1, index PB2, scale PB8 /
+/// PB9, force commands PC11–PC13; outputs PA5, PA6. (FES, PB3, is TIM2's clock input.)
 const ARM: u32 = 1 << 0;
 const CONTACT: u32 = 1 << 1;
 const INDEX: u32 = 1 << 2;
-const FES: u32 = 1 << 3;
 const SCALE_A: u32 = 1 << 8;
 const SCALE_B: u32 = 1 << 9;
 const REGISTER_NOW: u32 = 1 << 5;
@@ -453,6 +446,18 @@ impl Board for Nucleo {
         let b = idr_b();
         (b & SCALE_A != 0, b & SCALE_B != 0)
     }
+    fn fes_count() -> u32 {
+        // SAFETY: a read of TIM2's counter; TIM2 counts FES edges (set up once in `init`).
+        unsafe { (*pac::TIM2::ptr()).cnt().read().bits() }
+    }
+    fn set_fes_compare(at: u32) {
+        // SAFETY: CCR1 of TIM2 (32 bits, no preload: takes effect at once) is the FES
+        // compare value and written only by the measurement tasks.
+        unsafe { (*pac::TIM2::ptr()).ccr1().write(|w| w.bits(at)) };
+    }
+    fn pend_fes_compare() {
+        rtic::pend(pac::Interrupt::TIM2);
+    }
     fn set_register_now(on: bool) {
         let bits = if on { REGISTER_NOW } else { REGISTER_NOW << 16 };
         // SAFETY: BSRR is write-only and atomic per bit: sets or resets PA5 alone.
@@ -570,111 +575,6 @@ impl CpuLoad {
     }
 }
 
-/// FES edges the EXTI3 task has taken or lost by now: TIM2's hardware count of PB3's
-/// rising edges, less the one edge still pending in EXTI3, if any, which the task will
-/// take after the caller returns (every caller runs at the FES priority, so none runs
-/// while it waits). Reads EXTI_PR, then TIM2_CNT.
-///
-/// An edge that arrives within a few cycles of these two reads can be counted on the
-/// wrong side of them: the EXTI's edge detector is asynchronous (it works without a
-/// clock, to wake the chip from Stop mode) and sets the pending bit at once, while TIM2
-/// resynchronises TI2 to its 84 MHz kernel clock and counts a few of its cycles later
-/// (RM0390, external clock mode 1: "the delay between the rising edge on TI2 and the
-/// actual clock of the counter is due to the resynchronization circuit").
-/// Reading the pending bit first lets the later counter read make up part of that delay;
-/// an edge in the few core cycles left either is counted by TIM2 but was not yet pending
-/// when PR was read (the result is one too high) or was pending but is not yet counted
-/// (one too low). At most one pulse of error per call, and only for such an edge.
-fn fes_edges() -> u32 {
-    // SAFETY: reads of EXTI_PR and TIM2_CNT; reading PR clears nothing (write 1 to clear).
-    let pending = unsafe { (*pac::EXTI::ptr()).pr().read().bits() } & FES != 0;
-    // SAFETY: as above; TIM2 is owned by this count (set up once in `init`).
-    let count = unsafe { (*pac::TIM2::ptr()).cnt().read().bits() };
-    count.wrapping_sub(u32::from(pending))
-}
-
-/// Lost-FES-pulse accounting against TIM2's hardware count of the FES line (PB3).
-///
-/// The kernel counts the FES pulses its interrupt took since the cycle started
-/// (`MeasureOutputs::pulses`, wrapping at 2^32; counted only while armed); TIM2 counts
-/// every rising edge of the pin (32 bits, wrapping at 2^32 too). Their difference over a
-/// cycle is the number of FES edges the EXTI merged into a still-pending one: pulses the
-/// kernel never saw. Both wrap alike, so the wrapping difference is exact through any
-/// number of wraps. Owned by the measurement-priority tasks (CNC command, observe): no
-/// FES interrupt runs between the kernel's arm and the snapshot, so the cycle's first
-/// pulse and the snapshot agree.
-///
-/// The ±1 at the arm edge: an FES edge pending when the cycle starts is taken after the
-/// arm (same priority, lower IRQ number first) and counted by the kernel in the new
-/// cycle, so [`fes_edges`] leaves it out of the snapshot and the cycle's count includes
-/// it. If a second edge merged into that pending one before the arm, the lost one is
-/// charged to the time before the cycle, not to it (the kernel cannot tell which of the
-/// two it took). The same holds at the end of a cycle and at every report. Apart from
-/// that, an edge within a few core cycles of a snapshot can land on the wrong side of it
-/// (see [`fes_edges`]): the count can then read one too high, or wrap to `u32::MAX` —
-/// logged as −1 — for a cycle that lost nothing.
-#[derive(Clone, Copy, Default)]
-struct FesTally {
-    /// [`fes_edges`] when the current (or last) cycle started.
-    at_arm: u32,
-    /// [`fes_edges`] when the last cycle ended (valid while not `armed`).
-    at_disarm: u32,
-    /// A cycle is running (the kernel is armed).
-    armed: bool,
-    /// FES pulses the last finished cycle lost (wrapping; see [`FesTally::lost`]).
-    last_cycle_lost: u32,
-}
-
-impl FesTally {
-    /// A cycle starts; `edges` = [`fes_edges`] now.
-    fn arm(&mut self, edges: u32) {
-        self.at_arm = edges;
-        self.armed = true;
-    }
-
-    /// The cycle ends; `edges` = [`fes_edges`] now, `pulses` = the kernel's FES pulse count
-    /// of the cycle (it stops counting once disarmed).
-    fn disarm(&mut self, edges: u32, pulses: u32) {
-        self.at_disarm = edges;
-        self.armed = false;
-        self.last_cycle_lost = self.lost(edges, pulses);
-    }
-
-    /// FES pulses the current (or, when disarmed, the last) cycle lost so far: TIM2's edges
-    /// since the arm, up to `edges_now` ([`fes_edges`]) or to the disarm, less the kernel's
-    /// `pulses`. Wrapping: a count that reads `u32::MAX` is the −1 of the snapshot window
-    /// described on [`FesTally`].
-    const fn lost(&self, edges_now: u32, pulses: u32) -> u32 {
-        let end = if self.armed {
-            edges_now
-        } else {
-            self.at_disarm
-        };
-        end.wrapping_sub(self.at_arm).wrapping_sub(pulses)
-    }
-}
-
-/// A [`FesTally`] from its fields (for the `const` checks below).
-const fn tally(at_arm: u32, at_disarm: u32, armed: bool) -> FesTally {
-    FesTally {
-        at_arm,
-        at_disarm,
-        armed,
-        last_cycle_lost: 0,
-    }
-}
-
-// The lost-pulse arithmetic, checked at build time: nothing lost; two lost; TIM2 wrapping
-// during the cycle; the kernel's count wrapping past 2^32 with the timer's (2^32 + 30
-// edges, 2^32 + 28 pulses); disarmed: the count is frozen at the disarm, later edges
-// (the spindle keeps turning) are not charged to the cycle; the −1 of a misplaced edge.
-const _: () = assert!(tally(100, 0, true).lost(150, 50) == 0);
-const _: () = assert!(tally(100, 0, true).lost(150, 48) == 2);
-const _: () = assert!(tally(u32::MAX - 9, 0, true).lost(20, 28) == 2);
-const _: () = assert!(tally(7, 0, true).lost(37, 28) == 2);
-const _: () = assert!(tally(100, 150, false).lost(9_000, 50) == 0);
-const _: () = assert!(tally(100, 150, true).lost(150, 51) == u32::MAX);
-
 /// Acknowledges EXTI lines `mask` (write 1 to clear).
 fn ack(mask: u32) {
     // SAFETY: PR is write-1-to-clear; other lines are unaffected.
@@ -684,14 +584,14 @@ fn ack(mask: u32) {
 #[rtic::app(device = stm32f4::stm32f446, peripherals = true)]
 mod app {
     use super::{
-        ack, fes_edges, pac, start_pll, FesTally, Nucleo, ADC_SMP, ARM, CONTACT, FEED_PWM_HZ,
-        FEED_PWM_STEPS, FES, FORCE_LINES, HSI_TIMING, INDEX, PENDING_COMMANDS, PLL_TIMING,
-        REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
+        ack, pac, start_pll, Nucleo, ADC_SMP, ARM, CONTACT, FEED_PWM_HZ, FEED_PWM_STEPS,
+        FORCE_LINES, HSI_TIMING, INDEX, PENDING_COMMANDS, PLL_TIMING, REGISTER_NOW, SCALE_A,
+        SCALE_B, WEAR_ALARM,
     };
     use core::sync::atomic::Ordering;
     use tooltouch_firmware::board::Board;
     use tooltouch_firmware::handlers::{
-        self, Counters, SampleConsumer, SampleProducer, SampleQueue,
+        self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
     use tooltouch_firmware::model::force::{ForceKernel, ForceSettings};
     use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
@@ -699,32 +599,15 @@ mod app {
     /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).
     const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
 
-    /// What [`observe`] hands to idle.
-    #[derive(Clone, Copy)]
-    pub struct Observed {
-        /// The measurement kernel's outputs.
-        outputs: MeasureOutputs,
-        /// FES pulses lost so far in the current cycle (in the last one once it ended):
-        /// TIM2's edge count since the arm less `outputs.pulses`, wrapping
-        /// ([`FesTally::lost`]; `u32::MAX` is the −1 its doc explains).
-        fes_lost: u32,
-        /// FES pulses the last finished cycle lost (same unit and wrap).
-        last_cycle_fes_lost: u32,
-    }
-
     #[shared]
     struct Shared {
-        /// The measurement kernel. Lock-free: only the measurement tasks touch it, and
-        /// they all run at one priority, so none can preempt another.
+        /// The measurement kernel and TIM2's FES count as of its last fold. Lock-free:
+        /// only the measurement tasks touch it, and they all run at one priority, so none
+        /// can preempt another.
         #[lock_free]
-        meas: Measurement,
-        /// TIM2's FES edge count at the cycle's start and end (lost-pulse count). Lock-free
-        /// like the kernel: only the measurement-priority tasks touch it.
-        #[lock_free]
-        fes_tally: FesTally,
-        /// The kernel's outputs and the lost-pulse counts as of the last [`observe`], for
-        /// idle's log.
-        snapshot: Observed,
+        meas: MeasureDomain,
+        /// The kernel's outputs as of the last [`observe`], for idle's log.
+        snapshot: MeasureOutputs,
         force: ForceKernel,
         counters: Counters,
     }
@@ -768,7 +651,8 @@ mod app {
             dp.RCC.ahb1enr().modify(|r, w| w.bits(r.bits() | 0b111));
             dp.RCC.apb2enr().modify(|r, w| w.bits(r.bits() | 1 << 14));
             // PA5 push-pull output, low; the inputs in input mode with pull-downs so an
-            // unconnected line reads 0 (PB3 too, then put in AF1 below).
+            // unconnected line reads 0 (PB3 too, then put in AF1 below: the pull-down
+            // stays).
             dp.GPIOA.bsrr().write(|w| w.bits(REGISTER_NOW << 16));
             dp.GPIOA
                 .moder()
@@ -785,14 +669,14 @@ mod app {
             dp.GPIOC
                 .pupdr()
                 .modify(|r, w| w.bits((r.bits() & !(0b1111 << 22)) | 0b1010 << 22));
-            // EXTI line sources: 0, 1 = port A (reset value); 2, 3, 8, 9 = port B.
+            // EXTI line sources: 0, 1 = port A (reset value); 2, 8, 9 = port B.
             dp.SYSCFG
                 .exticr1()
-                .modify(|r, w| w.bits((r.bits() & !0xff00) | 0x1 << 8 | 0x1 << 12));
+                .modify(|r, w| w.bits((r.bits() & !0x0f00) | 0x1 << 8));
             dp.SYSCFG
                 .exticr3()
                 .modify(|r, w| w.bits((r.bits() & !0xff) | 0x1 | 0x1 << 4));
-            let lines = ARM | CONTACT | INDEX | FES | SCALE_A | SCALE_B;
+            let lines = ARM | CONTACT | INDEX | SCALE_A | SCALE_B;
             dp.EXTI.rtsr().modify(|r, w| w.bits(r.bits() | lines));
             dp.EXTI
                 .ftsr()
@@ -877,15 +761,15 @@ mod app {
             dp.TIM4.ccer().write(|w| w.bits(1));
             // TIM2 counts FES rising edges on PB3 (TIM2_CH2, AF1), RM0390 "External clock
             // source mode 1", its procedure for TI2: CC2S = 01 (channel 2 an input, IC2 on
-            // TI2), IC2F = 0000 (no filter: the EXTI has none either, so both see the same
-            // edges; the TI2 input is still resynchronised to the 84 MHz timer clock,
-            // which counts edges up to half that rate, over 200 times the SPEC's 204.8
-            // kHz), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external clock mode 1),
-            // TS = 110 (TI2FP2), then CEN. PSC 0 counts every edge; ARR at its 32-bit
-            // maximum wraps the count at 2^32 like the kernel's. CC2E stays 0 (no capture)
-            // and the update interrupt off: TIM2 raises no interrupt. The channel is an
-            // input, so in AF mode the pin stays undriven; EXTI3 taps the same input path
-            // (module doc: the one point a board must confirm).
+            // TI2), IC2F = 0000 (no filter; the TI2 input is still resynchronised to the
+            // 84 MHz timer clock, which counts edges up to half that rate, over 200 times
+            // the SPEC's 204.8 kHz), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external
+            // clock mode 1), TS = 110 (TI2FP2), then CEN. PSC 0 counts every edge; ARR at
+            // its 32-bit maximum wraps the count at 2^32 like the kernel's. Channel 1 is
+            // the fold's compare: CC1S = 00 and OC1M = 000 (the same CCMR1 write: output
+            // compare, frozen, no preload, so a CCR1 write takes effect at once), CC1E = 0
+            // (no pin); CC1IE raises the TIM2 interrupt when the count reaches CCR1. The
+            // update interrupt stays off.
             dp.TIM2
                 .ccmr1_input()
                 .write(|w| w.cc2s().ti2().ic2f().no_filter());
@@ -912,6 +796,7 @@ mod app {
             dp.TIM3.sr().write(|w| w.bits(0));
             dp.TIM4.cr1().write(|w| w.bits(1 << 7 | 1));
             dp.TIM6.dier().write(|w| w.uie().set_bit());
+            dp.TIM2.dier().write(|w| w.cc1ie().set_bit());
             dp.TIM3.dier().write(|w| w.bits(1));
             dp.TIM2.cr1().write(|w| w.cen().set_bit());
             dp.TIM6.cr1().write(|w| w.cen().set_bit());
@@ -936,16 +821,12 @@ mod app {
             }
         };
         Nucleo::set_feed_override(force.outputs().override_pct);
-        let meas = Measurement::new(&MeasureConfig::default());
+        // TIM2 is counting: the domain starts at its count and sets the first compare.
+        let meas = MeasureDomain::start::<Nucleo>(Measurement::new(&MeasureConfig::default()));
         (
             Shared {
                 meas,
-                fes_tally: FesTally::default(),
-                snapshot: Observed {
-                    outputs: meas.outputs(),
-                    fes_lost: 0,
-                    last_cycle_fes_lost: 0,
-                },
+                snapshot: meas.kernel().outputs(),
                 force,
                 counters: Counters::default(),
             },
@@ -957,11 +838,10 @@ mod app {
         )
     }
 
-    /// Logs every change of "register now" with the latched position, the FES pulses
-    /// lost so far in the cycle (TIM2's count, [`FesTally`]) and the ADC samples dropped;
-    /// sleeps otherwise. The pin is read from the output data register; the rest of the
-    /// outputs, which only the measurement tasks may read, through [`observe`], and only
-    /// on a change, so the FES pulses that wake idle cost no snapshot.
+    /// Logs every change of "register now" with the latched position and the ADC samples
+    /// dropped; sleeps otherwise. The pin is read from the output data register; the rest
+    /// of the outputs, which only the measurement tasks may read, through [`observe`], and
+    /// only on a change.
     #[idle(shared = [snapshot, counters], local = [sysclk_hz])]
     fn idle(mut cx: idle::Context) -> ! {
         let mut reported = false;
@@ -981,29 +861,20 @@ mod app {
                 rtic::pend(OBSERVE);
                 cortex_m::asm::dsb();
                 cortex_m::asm::isb();
-                let seen = cx.shared.snapshot.lock(|s| *s);
+                let o = cx.shared.snapshot.lock(|s| *s);
                 let dropped = cx.shared.counters.lock(|c| c.overflowed);
-                let o = seen.outputs;
-                // The lost counts are wrapping differences whose only plausible values
-                // near 2^32 are the −1 of a misplaced edge: logged signed.
                 if reported {
                     defmt::info!(
                         "register now: position {} counts, first contact at {}, {} revolutions, \
-                         {} FES pulses, {} lost (TIM2 count); {} ADC samples dropped",
+                         {} FES pulses; {} ADC samples dropped",
                         o.decision_position,
                         o.first_contact_position,
                         o.revolutions,
                         o.pulses,
-                        seen.fes_lost as i32,
                         dropped
                     );
                 } else {
-                    defmt::info!(
-                        "measurement cycle armed; the last cycle lost {} FES pulses \
-                         (TIM2 count); {} ADC samples dropped",
-                        seen.last_cycle_fes_lost as i32,
-                        dropped
-                    );
+                    defmt::info!("measurement cycle armed; {} ADC samples dropped", dropped);
                 }
             }
             #[cfg(feature = "cpu-load")]
@@ -1020,25 +891,14 @@ mod app {
         }
     }
 
-    // The measurement tasks: one priority (15, the highest), IRQ numbers in the model's
-    // canonical same-clock order (arm, contact, index, FES, scale), so simultaneous
-    // edges are handled in that order and none preempts another: the kernel needs no
-    // lock.
+    // The measurement tasks: one priority (15, the highest), so none preempts another:
+    // the measurement domain needs no lock (module doc: the order of simultaneous edges).
 
-    /// CNC arm / abort (PA0). A cycle's start and end also record TIM2's FES edge count
-    /// for the lost-pulse count; the FES task itself does nothing for it.
-    #[task(binds = EXTI0, priority = 15, shared = [meas, fes_tally])]
+    /// CNC arm / abort (PA0).
+    #[task(binds = EXTI0, priority = 15, shared = [meas])]
     fn cnc_command(cx: cnc_command::Context) {
         ack(ARM);
-        let meas = cx.shared.meas;
-        let was_armed = meas.outputs().armed;
-        handlers::cnc_command::<Nucleo>(meas);
-        let o = meas.outputs();
-        match (was_armed, o.armed) {
-            (false, true) => cx.shared.fes_tally.arm(fes_edges()),
-            (true, false) => cx.shared.fes_tally.disarm(fes_edges(), o.pulses),
-            _ => {}
-        }
+        handlers::cnc_command::<Nucleo>(cx.shared.meas);
     }
 
     /// Contact edge (PA1).
@@ -1055,13 +915,6 @@ mod app {
         handlers::index::<Nucleo>(cx.shared.meas);
     }
 
-    /// FES pulse (PB3): the most frequent edge.
-    #[task(binds = EXTI3, priority = 15, shared = [meas])]
-    fn fes(cx: fes::Context) {
-        ack(FES);
-        handlers::fes::<Nucleo>(cx.shared.meas);
-    }
-
     /// Scale edge on A or B (PB8, PB9).
     #[task(binds = EXTI9_5, priority = 15, shared = [meas])]
     fn scale(cx: scale::Context) {
@@ -1069,19 +922,24 @@ mod app {
         handlers::scale::<Nucleo>(cx.shared.meas);
     }
 
-    /// Idle's snapshot of the outputs and the lost-pulse counts; after any edge pending
-    /// with it.
-    #[task(binds = TIM7, priority = 15, shared = [meas, fes_tally, snapshot])]
+    /// TIM2 channel 1: the FES count reached the compare value (the pulse that may
+    /// decide, or the fold limit). The flag is cleared first, so a match after the new
+    /// compare value is set raises the interrupt again.
+    #[task(binds = TIM2, priority = 15, shared = [meas])]
+    fn fes_compare(cx: fes_compare::Context) {
+        // SAFETY: TIM2_SR is read-clear-write-0: writing all ones but CC1IF clears CC1IF
+        // alone.
+        unsafe { (*pac::TIM2::ptr()).sr().write(|w| w.bits(!(1 << 1))) };
+        handlers::fes_compare::<Nucleo>(cx.shared.meas);
+    }
+
+    /// Idle's snapshot of the outputs (folding the counted FES pulses first); after any
+    /// edge pending with it.
+    #[task(binds = TIM7, priority = 15, shared = [meas, snapshot])]
     fn observe(cx: observe::Context) {
-        let outputs = cx.shared.meas.outputs();
-        let tally = cx.shared.fes_tally;
-        let seen = Observed {
-            outputs,
-            fes_lost: tally.lost(fes_edges(), outputs.pulses),
-            last_cycle_fes_lost: tally.last_cycle_lost,
-        };
+        let outputs = handlers::observe::<Nucleo>(cx.shared.meas);
         let mut snapshot = cx.shared.snapshot;
-        snapshot.lock(|s| *s = seen);
+        snapshot.lock(|s| *s = outputs);
     }
 
     /// CNC force-path commands (PC11–PC13).
