@@ -116,6 +116,12 @@ fn print_fes_cost(cases: &[Case], r: &cosim::Report) {
         pulses / compares.max(1) as f64,
         per_compare * compares as f64 / pulses
     );
+    let costliest = r
+        .profiles
+        .iter()
+        .filter_map(|p| p.instructions_per_event(3))
+        .fold(0.0, f64::max);
+    eprintln!("  costliest case: {costliest:.1} instructions per compare interrupt");
     eprintln!(
         "  all measurement tasks: {:.4} interrupts and {:.2} instructions per FES pulse",
         all_interrupts as f64 / pulses,
