@@ -52,8 +52,8 @@ impl DensityDetector {
     /// The charge is always in `0..=full` and `full < 2^24` (`charge_bits <= 24`), every
     /// step at most `full`, and an exponential step at most the distance it covers, so
     /// the sums and differences below cannot wrap: they are written wrapping, and only
-    /// the clamps at `0` and `full` are compared (this runs in the firmware's FES
-    /// interrupt).
+    /// the clamps at `0` and `full` are compared (this runs once per pulse in every fold
+    /// of the exponential law).
     #[inline]
     pub fn next_charge(&self, contact: bool) -> u32 {
         let q = self.charge;

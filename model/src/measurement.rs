@@ -206,8 +206,7 @@ impl Measurement {
 
     /// [`Measurement::on_fes`], returning whether this pulse raised "register now" (its
     /// decision latched the position). A pulse never lowers it, so a caller driving the
-    /// output pin needs to drive it only when this is `true` (the firmware's FES
-    /// interrupt, the most frequent one: inlined there).
+    /// output pin needs to drive it only when this is `true`.
     #[inline(always)]
     pub fn on_fes_raises(&mut self) -> bool {
         let bit = match self.rule {

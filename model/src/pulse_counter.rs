@@ -59,7 +59,7 @@ impl PulseCounter {
             // The count changes only here, by one, or is cleared (index, reset), and a
             // reset clears `reached` with it; so while `reached` is false the count is at
             // most `i_def` between calls, and it can first exceed `i_def` only at an
-            // increment: the compare is needed only here (the FES interrupt's path).
+            // increment: the compare is needed only here (the per-pulse path).
             if self.count > self.i_def && !self.reached {
                 self.reached = true;
                 return true;

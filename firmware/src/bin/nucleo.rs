@@ -637,8 +637,8 @@ mod app {
             Ok(()) => PLL_TIMING,
             Err(fault) => {
                 defmt::error!(
-                    "clock setup failed ({}): running from the 16 MHz HSI, every FES interrupt \
-                     takes 10.5 times longer than the README's 168 MHz budget",
+                    "clock setup failed ({}): running from the 16 MHz HSI, the measurement \
+                     tasks take 10.5 times longer than the README's 168 MHz budget",
                     fault
                 );
                 HSI_TIMING
