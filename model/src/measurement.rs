@@ -209,10 +209,7 @@ impl Measurement {
     /// output pin needs to drive it only when this is `true`.
     #[inline(always)]
     pub fn on_fes_raises(&mut self) -> bool {
-        let bit = match self.rule {
-            ContactRule::Sampled => self.contact,
-            ContactRule::Sticky => self.sticky,
-        };
+        let bit = self.next_pulse_bit();
         self.sticky = self.contact;
         if !self.armed {
             return false;
@@ -237,10 +234,7 @@ impl Measurement {
         if n == 0 {
             return false;
         }
-        let first = match self.rule {
-            ContactRule::Sampled => self.contact,
-            ContactRule::Sticky => self.sticky,
-        };
+        let first = self.next_pulse_bit();
         self.sticky = self.contact;
         if !self.armed {
             return false;
@@ -263,10 +257,7 @@ impl Measurement {
         if !self.armed || self.decision.valid() {
             return None;
         }
-        let first = match self.rule {
-            ContactRule::Sampled => self.contact,
-            ContactRule::Sticky => self.sticky,
-        };
+        let first = self.next_pulse_bit();
         let rest = self.contact;
         let k = match self.method {
             DecisionMethod::Counter => self.counter.pulses_to_decision(first, rest),
@@ -274,6 +265,16 @@ impl Measurement {
             DecisionMethod::SinglePulse => None,
         }?;
         (k <= limit).then_some(k)
+    }
+
+    /// The contact bit the next FES pulse carries under the configured rule: the contact
+    /// level (sampled) or whether contact was seen since the previous pulse (sticky).
+    #[inline(always)]
+    fn next_pulse_bit(&self) -> bool {
+        match self.rule {
+            ContactRule::Sampled => self.contact,
+            ContactRule::Sticky => self.sticky,
+        }
     }
 
     /// New levels of the scale's A and B lines.
