@@ -38,9 +38,9 @@
 //! mode 1 on TI2FP2, 32 bits, wrapping like the kernel's pulse count), and its channel 1
 //! compare interrupt fires on the pulse that would decide or at most
 //! `handlers::FES_FOLD_LIMIT` pulses after the last fold (`handlers::MeasureDomain`).
-//! A timer loses no pulse below half its 84 MHz kernel clock (the datasheet's f_EXT
-//! limit for an external clock on CH1–CH4), so the FES rate is no longer bounded by an
-//! interrupt per pulse; the README gives the cycle budget. The channel is an input
+//! The timer's input filter (IC2F = 0011) counts a level that holds for 8 of its 84 MHz
+//! clocks, so it rejects spikes under 95 ns and counts FES rates up to about 5 MHz, no
+//! longer bounded by an interrupt per pulse; the README gives the cycle budget. The channel is an input
 //! (CC2S = 01), so the pin is never driven; channel 1 is an output compare in frozen
 //! mode (OC1M = 000, CC1E = 0) that drives no pin either.
 //!
@@ -55,8 +55,8 @@
 //! setup is bounded; should one run out, the board logs the step with defmt and stays on
 //! the reset clocks (HSI 16 MHz, every bus /1) with timer and ADC settings derived for
 //! those, so the 1 kHz and 20 Hz periods and the 15.625 kHz PWM stay exact and only the
-//! FES-rate budget shrinks (10.5 times fewer cycles; TIM2's pulse count needs no clock
-//! setting, only an FES rate below half the timer clock). The handlers' cost is counted in
+//! FES-rate budget shrinks (10.5 times fewer cycles; TIM2's input filter then needs levels
+//! of 500 ns, FES rates up to about 1 MHz). The handlers' cost is counted in
 //! instructions and cycles, see README for the rates 168 MHz allows. The
 //! cutting-conditions command has no pin: condition set 0 is used on this board.
 #![no_std]
@@ -761,9 +761,10 @@ mod app {
             dp.TIM4.ccer().write(|w| w.bits(1));
             // TIM2 counts FES rising edges on PB3 (TIM2_CH2, AF1), RM0390 "External clock
             // source mode 1", its procedure for TI2: CC2S = 01 (channel 2 an input, IC2 on
-            // TI2), IC2F = 0000 (no filter; the TI2 input is still resynchronised to the
-            // 84 MHz timer clock, which counts edges up to half that rate, over 200 times
-            // the SPEC's 204.8 kHz), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external
+            // TI2), IC2F = 0011 (a level must hold for 8 timer clocks, 95 ns at 84 MHz, to
+            // count: rejects spikes on the encoder line and still counts up to about 5 MHz,
+            // 25 times the SPEC's 204.8 kHz; the TI2 input is resynchronised to the timer
+            // clock either way), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external
             // clock mode 1), TS = 110 (TI2FP2), then CEN. PSC 0 counts every edge; ARR at
             // its 32-bit maximum wraps the count at 2^32 like the kernel's. Channel 1 is
             // the fold's compare: CC1S = 00 and OC1M = 000 (the same CCMR1 write: output
@@ -772,7 +773,7 @@ mod app {
             // update interrupt stays off.
             dp.TIM2
                 .ccmr1_input()
-                .write(|w| w.cc2s().ti2().ic2f().no_filter());
+                .write(|w| w.cc2s().ti2().ic2f().fck_int_n8());
             dp.TIM2
                 .ccer()
                 .write(|w| w.cc2p().clear_bit().cc2np().clear_bit());
@@ -927,9 +928,9 @@ mod app {
     /// compare value is set raises the interrupt again.
     #[task(binds = TIM2, priority = 15, shared = [meas])]
     fn fes_compare(cx: fes_compare::Context) {
-        // SAFETY: TIM2_SR is read-clear-write-0: writing all ones but CC1IF clears CC1IF
-        // alone.
-        unsafe { (*pac::TIM2::ptr()).sr().write(|w| w.bits(!(1 << 1))) };
+        // SAFETY: TIM2_SR's flags clear on a written 0 (rc_w0); the PAC's `clear` writes 0
+        // to CC1IF and 1 to every other flag, which leaves them as they are.
+        unsafe { (*pac::TIM2::ptr()).sr().write(|w| w.cc1if().clear()) };
         handlers::fes_compare::<Nucleo>(cx.shared.meas);
     }
 
