@@ -31,29 +31,9 @@ use tooltouch_model::wire::{
 };
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs};
 
-/// Record kinds the firmware adds to its output trace, from the range model::wire
-/// reserves for other output traces (`0x41..=0x5f`), counted down from the top so the
-/// force path can take the bottom of the range.
-pub mod kind {
-    /// Per force event kind (sample, tick, command): events u32 and SysTick ticks u32,
-    /// 24 bytes. A tick's ticks include applying the period's queued samples.
-    pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
-    /// The input was rejected; payload: code u8, wire error u8, byte offset u64, detail u64,
-    /// then for a force configuration field out of range the field's name (UTF-8, up to
-    /// 30 bytes).
-    pub const FIRMWARE_ERROR: u8 = 0x5d;
-    /// Per event kind (arm, contact, index, FES, scale): interrupts u32 and SysTick ticks
-    /// u32 spent in them (pend to return), 40 bytes. FES: the counter's compare
-    /// interrupts (most FES events raise none).
-    pub const FIRMWARE_PROFILE: u8 = 0x5e;
-    /// Input, before the first event of a stream: which measurement events get an outputs
-    /// record. Payload u8: 1 = every event (the default), 0 = every event but FES pulses,
-    /// whose runs the firmware then folds into the kernel many at a time, as on a board.
-    pub const FIRMWARE_OBSERVE: u8 = 0x5b;
-    /// events u32, lost u32, overflowed u32, stack bytes used u32, calibration
-    /// instructions u32, calibration ticks u32: 24 bytes.
-    pub const FIRMWARE_STATUS: u8 = 0x5f;
-}
+/// Record kinds of the co-simulation: the firmware's trace records and its input option
+/// (defined in model::wire, which the host reads them with too).
+pub use tooltouch_model::wire::firmware_kind as kind;
 
 /// A file transfer failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -71,6 +71,31 @@ pub mod kind {
     pub const END: u8 = 0x7f;
 }
 
+/// Record kinds of the firmware's co-simulation (firmware/src/cosim.rs writes and reads them,
+/// the host's `tooltouch::cosim` reads and writes them), from the range reserved for other
+/// output traces (`0x41..=0x5f`), counted down from the top so the force path can take the
+/// bottom of the range.
+pub mod firmware_kind {
+    /// Per force event kind (sample, tick, command): events u32 and SysTick ticks u32,
+    /// 24 bytes. A tick's ticks include applying the period's queued samples.
+    pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
+    /// The input was rejected; payload: code u8, wire error u8, byte offset u64, detail u64,
+    /// then for a force configuration field out of range the field's name (UTF-8, up to
+    /// 30 bytes).
+    pub const FIRMWARE_ERROR: u8 = 0x5d;
+    /// Per event kind (arm, contact, index, FES, scale): interrupts u32 and SysTick ticks
+    /// u32 spent in them (pend to return), 40 bytes. FES: the counter's compare
+    /// interrupts (most FES events raise none).
+    pub const FIRMWARE_PROFILE: u8 = 0x5e;
+    /// Input, before the first event of a stream: which measurement events get an outputs
+    /// record. Payload u8: 1 = every event (the default), 0 = every event but FES pulses,
+    /// whose runs the firmware then folds into the kernel many at a time, as on a board.
+    pub const FIRMWARE_OBSERVE: u8 = 0x5b;
+    /// events u32, lost u32, overflowed u32, stack bytes used u32, calibration
+    /// instructions u32, calibration ticks u32: 24 bytes.
+    pub const FIRMWARE_STATUS: u8 = 0x5f;
+}
+
 /// What a stream holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u16)]
@@ -1268,6 +1293,25 @@ mod tests {
             let c = s.validate().unwrap();
             let r = encode_config(&c);
             assert_eq!(decode_config(r.payload()).unwrap(), c);
+        }
+    }
+
+    #[test]
+    fn firmware_kinds_are_distinct_and_inside_the_output_trace_range() {
+        use firmware_kind::*;
+        let kinds = [
+            FIRMWARE_OBSERVE,
+            FIRMWARE_FORCE_PROFILE,
+            FIRMWARE_ERROR,
+            FIRMWARE_PROFILE,
+            FIRMWARE_STATUS,
+        ];
+        for (i, k) in kinds.iter().enumerate() {
+            assert!(
+                (kind::OUTPUT_FIRST..=kind::OUTPUT_LAST).contains(k),
+                "{k:#x}"
+            );
+            assert!(!kinds[..i].contains(k), "{k:#x} twice");
         }
     }
 

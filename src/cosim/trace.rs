@@ -7,21 +7,9 @@ use tooltouch_model::force::{self, decode_force_outputs, ForceOutputs};
 use tooltouch_model::wire::{self, decode_outputs, Header, Record, StreamKind, HEADER_LEN};
 use tooltouch_model::MeasureOutputs;
 
-/// Record kinds the firmware adds (firmware/src/cosim.rs `kind`, same values).
-pub mod kind {
-    /// Events and SysTick ticks of the force path (sample, tick, command).
-    pub const FIRMWARE_FORCE_PROFILE: u8 = 0x5c;
-    /// The firmware rejected its input.
-    pub const FIRMWARE_ERROR: u8 = 0x5d;
-    /// Interrupts and SysTick ticks per event kind (FES: the counter's compare
-    /// interrupts).
-    pub const FIRMWARE_PROFILE: u8 = 0x5e;
-    /// Input: which measurement events get an outputs record (1 every event, 0 all but
-    /// FES pulses).
-    pub const FIRMWARE_OBSERVE: u8 = 0x5b;
-    /// Events, lost, overflowed, stack bytes, calibration.
-    pub const FIRMWARE_STATUS: u8 = 0x5f;
-}
+/// Record kinds the firmware adds, and its input option (model::wire, shared with the
+/// firmware).
+pub use tooltouch_model::wire::firmware_kind as kind;
 
 /// Names of the event kinds in [`Profile::per_kind`]'s order.
 pub const EVENT_KIND_NAMES: [&str; 8] = [
