@@ -1,4 +1,4 @@
-//! Tool-wear monitor from spindle power (SPEC 4, paper W): the updating threshold of W8–W9
+//! Tool-wear monitor from spindle power (docs/domain.md §4, paper W): the updating threshold of W8–W9
 //! and, for comparison, a constant threshold.
 //!
 //! Why precomputed: the mean-power limit `[P̄]` of W7 needs `a^(−x)` with a non-integer x
@@ -17,8 +17,8 @@
 //!
 //! Formats: watts I32F32, saturating; low-pass `p̄ += (P − p̄) >> lowpass_shift`.
 
-use crate::estimator::{check_range, positive};
-use crate::force::{ForceConfigError, Fx, Watts};
+use crate::units::{Fx, Watts};
+use crate::validation::{check_range, positive, ForceConfigError};
 
 /// Most condition sets a configuration holds.
 pub const MAX_CONDITION_SETS: usize = 8;
@@ -58,6 +58,27 @@ pub struct WearSettings {
     pub threshold: Threshold,
 }
 
+impl Default for WearSettings {
+    /// The default plant's monitor (`tooltouch control`): one condition set, `[P̄]` =
+    /// 1800 W at 300 W idle power, η = 0.8, low-pass 2^−3, 10 periods of debounce, the
+    /// updating threshold.
+    fn default() -> Self {
+        let mut sets = [ConditionSet::default(); MAX_CONDITION_SETS];
+        sets[0] = ConditionSet {
+            mean_power_limit: Fx::const_from_int(1800),
+            idle_power: Fx::const_from_int(300),
+        };
+        WearSettings {
+            sets,
+            set_count: 1,
+            efficiency: const { Fx::lit("0.8") },
+            lowpass_shift: 3,
+            debounce_periods: 10,
+            threshold: Threshold::Updating,
+        }
+    }
+}
+
 impl WearSettings {
     /// Checks every field (`wear.<field>`).
     pub fn validate(&self) -> Result<(), ForceConfigError> {
@@ -92,7 +113,7 @@ impl WearSettings {
     }
 }
 
-/// Allowed motor power `[P] = p_i + [P̄]/η` (SPEC W9), W, I32F32, saturating; `η` must be
+/// Allowed motor power `[P] = p_i + [P̄]/η` (eq. W9, docs/domain.md), W, I32F32, saturating; `η` must be
 /// positive (validated), else `[P̄]` is taken as is.
 pub fn allowed_power(set: &ConditionSet, efficiency: Fx) -> Watts {
     let cutting = set

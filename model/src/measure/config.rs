@@ -3,14 +3,13 @@
 //!
 //! Build it from [`MeasureSettings`] (plain public fields, e.g. parsed from TOML) with
 //! [`MeasureSettings::validate`]; every bad field is a [`ConfigError`] naming the field and
-//! its allowed range. Register widths (`*_bits`) are derived here and nowhere else.
+//! its allowed range. Register widths (`*_bits`) are derived here and nowhere else. The
+//! configuration's canonical bytes and its hash belong to the wire format
+//! ([`crate::wire::measure_config`]).
 
-use core::fmt;
+use crate::validation::{check, ConfigError};
 
-/// Version of the configuration's canonical encoding; part of [`MeasureConfig::hash`].
-pub const CONFIG_FORMAT_VERSION: u16 = 1;
-
-/// Which contact bit a pulse counts with (SPEC 2.3).
+/// Which contact bit a pulse counts with (docs/domain.md §2.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
@@ -22,7 +21,7 @@ pub enum ContactRule {
     Sticky,
 }
 
-/// How the digital capacitor charges and discharges once per FES pulse (SPEC 2.4).
+/// How the digital capacitor charges and discharges once per FES pulse (docs/domain.md §2.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case", tag = "law"))]
@@ -45,16 +44,16 @@ pub enum ChargeLaw {
     },
 }
 
-/// Which detector decides "position reached, register now" (SPEC 2.1, 2.3, 2.4).
+/// Which detector decides "position reached, register now" (docs/domain.md §2.1, §2.3, §2.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum DecisionMethod {
-    /// The first (filtered) contact edge: measures near the largest diameter (SPEC 2.1).
+    /// The first (filtered) contact edge: measures near the largest diameter (docs/domain.md §2.1).
     SinglePulse,
-    /// Device 1: the pulse counter's count exceeds `i_def` within the window (SPEC 2.3).
+    /// Device 1: the pulse counter's count exceeds `i_def` within the window (docs/domain.md §2.3).
     Counter,
-    /// Device 2: the capacitor charge crosses the fire threshold upward (SPEC 2.4).
+    /// Device 2: the capacitor charge crosses the fire threshold upward (docs/domain.md §2.4).
     Density,
 }
 
@@ -64,7 +63,7 @@ pub enum DecisionMethod {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 pub struct MeasureSettings {
-    /// FES encoder pulses per spindle revolution, `16..=16384` (SPEC: 1024).
+    /// FES encoder pulses per spindle revolution, `16..=16384` (docs/domain.md: 1024).
     pub pulses_per_rev: u16,
     /// Decision when the window's contact-pulse count exceeds this, `0..pulses_per_rev *
     /// window_revs` (50 % of 1024 is 512).
@@ -114,42 +113,6 @@ impl Default for MeasureSettings {
             scale_bits: 24,
             method: DecisionMethod::Counter,
         }
-    }
-}
-
-/// A configuration field outside its allowed range.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ConfigError {
-    /// The field's name as in [`MeasureSettings`].
-    pub field: &'static str,
-    /// The rejected value.
-    pub value: u64,
-    /// Smallest allowed value.
-    pub min: u64,
-    /// Largest allowed value.
-    pub max: u64,
-}
-
-impl fmt::Display for ConfigError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "configuration field `{}` = {} is out of range: allowed {}..={}",
-            self.field, self.value, self.min, self.max
-        )
-    }
-}
-
-fn check(field: &'static str, value: u64, min: u64, max: u64) -> Result<(), ConfigError> {
-    if value < min || value > max {
-        Err(ConfigError {
-            field,
-            value,
-            min,
-            max,
-        })
-    } else {
-        Ok(())
     }
 }
 
@@ -295,61 +258,6 @@ impl MeasureConfig {
     pub fn latency_cycles(&self) -> u32 {
         3 + u32::from(self.settings.glitch_cycles)
     }
-
-    /// Canonical little-endian encoding of the configuration, fed to [`Self::hash`].
-    /// Returns the buffer and the number of bytes used.
-    pub fn canonical_bytes(&self) -> ([u8; 32], usize) {
-        let s = &self.settings;
-        let mut out = [0u8; 32];
-        let mut n = 0;
-        let mut put = |bytes: &[u8]| {
-            for &b in bytes {
-                out[n] = b;
-                n += 1;
-            }
-        };
-        put(&CONFIG_FORMAT_VERSION.to_le_bytes());
-        put(&s.pulses_per_rev.to_le_bytes());
-        put(&s.i_def.to_le_bytes());
-        put(&[s.window_revs, s.contact_rule as u8, s.charge_bits]);
-        match s.charge_law {
-            ChargeLaw::Linear {
-                charge_step,
-                discharge_step,
-            } => {
-                put(&[0]);
-                put(&charge_step.to_le_bytes());
-                put(&discharge_step.to_le_bytes());
-            }
-            ChargeLaw::Exponential {
-                charge_shift,
-                discharge_shift,
-            } => {
-                put(&[1, charge_shift, discharge_shift, 0, 0, 0, 0, 0, 0]);
-            }
-        }
-        put(&s.fire_threshold.to_le_bytes());
-        put(&s.rearm_threshold.to_le_bytes());
-        put(&[s.glitch_cycles, s.scale_bits, s.method as u8]);
-        (out, n)
-    }
-
-    /// 64-bit FNV-1a hash of [`Self::canonical_bytes`]: stamped into every vector file and
-    /// every generated Verilog header, so a configuration mismatch is an error, not a diff.
-    pub fn hash(&self) -> u64 {
-        let (bytes, n) = self.canonical_bytes();
-        fnv1a(&bytes[..n])
-    }
-}
-
-/// 64-bit FNV-1a over `bytes`.
-pub fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in bytes {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
 }
 
 #[cfg(test)]
@@ -395,18 +303,6 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(s.validate().unwrap_err().field, "charge_step");
-    }
-
-    #[test]
-    fn hash_changes_with_any_field() {
-        let a = MeasureConfig::default();
-        let b = MeasureSettings {
-            glitch_cycles: 5,
-            ..Default::default()
-        }
-        .validate()
-        .unwrap();
-        assert_ne!(a.hash(), b.hash());
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! PI force controller with anti-windup (SPEC 3, controller 1).
+//! PI force controller with anti-windup (docs/domain.md §3, controller 1).
 //!
 //! Position form, evaluated once per period h:
 //! `u(i) = K_p·e(i) + I(i)`, `e = F_r − F̂_c`, then
@@ -12,9 +12,11 @@
 //! Formats: gains and state I32F32 (`K_p` in %/N, `K_i` in %/(N·s), I in %); every product
 //! and sum saturates; `K_i·h` is computed once at construction.
 
-use super::{clamp_override, quantize, ControlOutput, ForceController, Percent, OVERRIDE_MAX_FX};
-use crate::estimator::{check_range, positive};
-use crate::force::{ForceConfigError, Fx, Newtons};
+use super::interface::{
+    clamp_override, quantize, ControlOutput, ForceController, Percent, OVERRIDE_MAX_FX,
+};
+use crate::units::{Fx, Newtons};
+use crate::validation::{check_range, positive, ForceConfigError};
 
 /// PI settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -48,6 +50,16 @@ impl PiSettings {
         )
     }
 }
+
+/// Default PI: Ziegler–Nichols (reaction curve) on the default nominal process of
+/// `tooltouch::drive` (K = 6 N/%, τ_p = 0.08 s, dead time 0.075 s):
+/// `K_p = 0.9τ/(K·L) = 0.16 %/N`, `T_i = 3.33·L = 0.25 s`, `K_i = K_p/T_i = 0.64 %/(N·s)`.
+pub const DEFAULT_PI: PiSettings = PiSettings {
+    kp: Fx::lit("0.16"),
+    ki: Fx::lit("0.64"),
+    integrator_min: Fx::ZERO,
+    integrator_max: Fx::const_from_int(255),
+};
 
 /// The PI kernel's state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -1,4 +1,4 @@
-//! Fuzzy PI force controller, Mamdani inference in exact integer arithmetic (SPEC 3,
+//! Fuzzy PI force controller, Mamdani inference in exact integer arithmetic (docs/domain.md §3,
 //! controller 3).
 //!
 //! Inputs: error `e = F_r − F̂_c` and its change `Δe = e(i) − e(i−1)` (N), scaled by `ge`
@@ -23,9 +23,9 @@
 //!
 //! Everything after the input scaling is integer, so firmware and model agree bit for bit.
 
-use super::{clamp_override, quantize, ControlOutput, ForceController, Percent};
-use crate::estimator::{check_range, positive};
-use crate::force::{ForceConfigError, Fx, Newtons};
+use super::interface::{clamp_override, quantize, ControlOutput, ForceController, Percent};
+use crate::units::{Fx, Newtons};
+use crate::validation::{check_range, positive, ForceConfigError};
 
 /// Number of fuzzy sets per variable.
 pub const SETS: usize = 7;
@@ -103,6 +103,15 @@ impl FuzzySettings {
         )
     }
 }
+
+/// Default fuzzy PI: e saturates the universe at ±300 N (GE = 3072/300), and GΔU, GΔE
+/// reproduce [`crate::force::control::pi::DEFAULT_PI`] in the linear region (`K_i·h = GΔU·GE`, `K_p = GΔU·GΔE`).
+pub const DEFAULT_FUZZY: FuzzySettings = FuzzySettings {
+    ge: Fx::lit("10.24"),
+    gde: Fx::lit("51.2"),
+    gdu: Fx::lit("0.003125"),
+    rules: STANDARD_RULES,
+};
 
 /// Memberships of `x` (clamped to `±LIMIT`) in the 7 sets, `0..=SPAN`.
 pub fn memberships(x: i32) -> [i32; SETS] {

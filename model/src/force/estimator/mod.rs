@@ -1,7 +1,8 @@
-//! Cutting-force estimator from the spindle drive's electrical signals (SPEC 3, F1–F9), one
+//! Cutting-force estimator from the spindle drive's electrical signals (docs/domain.md §3, eq. F1–F9), one
 //! step per control period, plus the no-load identification of B and T_fco.
 //!
-//! Per period, from the sampling chain's averages ([`crate::sampling::Averages`]):
+//! Per period, from the sampling chain's averages in physical units
+//! ([`crate::force::sampling::DriveSignals`]):
 //!
 //! 1. line voltage and current `V = √(Σv²/3)`, `I = √(Σi²/3)` by an exact integer square
 //!    root ([`sqrt_fx`], `u128::isqrt`: the floor of the true root, in I32F32);
@@ -34,16 +35,11 @@
 //!
 //! All quantities are I32F32 ([`Fx`]) in SI units; every product and sum saturates.
 
-use crate::force::{
-    Amps, ForceConfigError, Fx, Metres, NewtonMetres, Newtons, Ohms, RadPerSec, Seconds, Volts,
-    Watts,
-};
-use crate::sampling::{Averages, FILTER_FRAC_BITS};
+pub mod settings;
 
-/// Moment of inertia, kg·m², I32F32.
-pub type KilogramSquareMetres = Fx;
-/// Viscous friction coefficient B, N·m·s/rad, I32F32.
-pub type NmsPerRad = Fx;
+use crate::force::estimator::settings::{inverse_b, viscous_max, EstimatorSettings};
+use crate::force::sampling::DriveSignals;
+use crate::units::{Fx, NewtonMetres, Newtons, NmsPerRad, RadPerSec, Seconds, Watts};
 
 /// Square root of a non-negative I32F32 value, I32F32, by the exact integer square root of
 /// the raw bits shifted by 32 (the floor of the true root in the last bit). Negative
@@ -56,196 +52,6 @@ pub fn sqrt_fx(x: Fx) -> Fx {
     let root = ((bits as u128) << 32).isqrt();
     // root < 2^48: always fits.
     Fx::from_bits(i64::try_from(root).unwrap_or(i64::MAX))
-}
-
-/// ADC scales of the sampling chain (SPEC 3), I32F32 units per LSB.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct AdcScales {
-    /// Motor speed per LSB, rad/s, `(0, 1]`.
-    pub speed_per_lsb: RadPerSec,
-    /// Measured power per LSB, W, `(0, 100]`.
-    pub power_per_lsb: Watts,
-    /// Dynamometer force per LSB, N, `(0, 100]`.
-    pub force_per_lsb: Newtons,
-    /// Phase voltage per LSB, V, `(0, 10]`.
-    pub volts_per_lsb: Volts,
-    /// Phase current per LSB, A, `(0, 1]`.
-    pub amps_per_lsb: Amps,
-}
-
-/// The period's averaged signals in physical units.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct DriveSignals {
-    /// Motor speed ω_M, rad/s.
-    pub omega: RadPerSec,
-    /// Measured (lagging) power P_o, W.
-    pub p_o: Watts,
-    /// Dynamometer force, N.
-    pub force_measured: Newtons,
-    /// Line voltage V_line = √(Σv²/3), V.
-    pub v_line: Volts,
-    /// Line current I_line = √(Σi²/3), A.
-    pub i_line: Amps,
-    /// Σi² = i_u² + i_v² + i_w², A².
-    pub amps_sq: Fx,
-}
-
-fn code_to_fx(avg: i64) -> Fx {
-    // avg has FILTER_FRAC_BITS fractional bits; I32F32 has 32. Saturating shift by multiply.
-    Fx::from_bits(avg.saturating_mul(1 << (32 - FILTER_FRAC_BITS)))
-}
-
-fn rms_of_sum3(avg_sq: i64) -> Fx {
-    // √(x/3) with x = avg·2^−8: bits = √(avg·2^56/3). avg ≥ 0 and < 2^34, so this fits.
-    let avg = u128::try_from(avg_sq).unwrap_or(0);
-    let root = ((avg << (64 - FILTER_FRAC_BITS)) / 3).isqrt();
-    Fx::from_bits(i64::try_from(root).unwrap_or(i64::MAX))
-}
-
-impl AdcScales {
-    /// Converts the period's averages to physical units (saturating products).
-    pub fn convert(&self, a: &Averages) -> DriveSignals {
-        DriveSignals {
-            omega: code_to_fx(a.speed).saturating_mul(self.speed_per_lsb),
-            p_o: code_to_fx(a.power).saturating_mul(self.power_per_lsb),
-            force_measured: code_to_fx(a.force).saturating_mul(self.force_per_lsb),
-            v_line: rms_of_sum3(a.volts_sq).saturating_mul(self.volts_per_lsb),
-            i_line: rms_of_sum3(a.amps_sq).saturating_mul(self.amps_per_lsb),
-            amps_sq: code_to_fx(a.amps_sq)
-                .saturating_mul(self.amps_per_lsb)
-                .saturating_mul(self.amps_per_lsb),
-        }
-    }
-}
-
-/// Estimator settings (SPEC 3), all I32F32 in SI units.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct EstimatorSettings {
-    /// Stator resistance per phase R_s, Ω, `[0, 100]`.
-    pub stator_resistance: Ohms,
-    /// Rotor + spindle inertia J, kg·m², `(0, 100]`.
-    pub inertia: KilogramSquareMetres,
-    /// Nominal viscous friction B (used until identified), N·m·s/rad, `[0, J/(2h)]`.
-    pub viscous_nominal: NmsPerRad,
-    /// Nominal Coulomb friction T_fco (used until identified), N·m, `[0, 1000]`.
-    pub coulomb_nominal: NewtonMetres,
-    /// Load-dependent friction f(ω) = f0 + f1·ω (F8): `[f0, f1]`, f0 in `[-0.5, 1]`,
-    /// f1 in s/rad `[-0.01, 0.01]`.
-    pub friction_f: [Fx; 2],
-    /// Load-dependent friction g(ω) = g0 + g1·ω (F8): `[g0, g1]`, g0 in 1/(N·m)
-    /// `[-1, 1]`, g1 in s/(rad·N·m) `[-0.01, 0.01]`.
-    pub friction_g: [Fx; 2],
-    /// Below this speed the torque is taken as 0 (F4 would divide by ~0), rad/s, `(0, 100]`.
-    pub min_speed: RadPerSec,
-    /// Switch threshold Δ_th of F9 (relative), `(0, 10]`.
-    pub switch_threshold: Fx,
-    /// Slip-compensation gain applied to the fast estimate (F9), `(0, 2]`.
-    pub slip_gain: Fx,
-    /// Periods the fast estimate is held after F9 triggers, `1..=100` (4 = 0.2 s at 20 Hz).
-    pub slip_hold_periods: u8,
-    /// Workpiece radius at the cut, m, `(0, 1]`.
-    pub workpiece_radius: Metres,
-}
-
-/// `v` must be in `min..=max`, else an error naming `field`.
-pub(crate) fn check_range(
-    field: &'static str,
-    v: Fx,
-    min: Fx,
-    max: Fx,
-) -> Result<(), ForceConfigError> {
-    if v < min || v > max {
-        Err(ForceConfigError {
-            field,
-            value: v,
-            min,
-            max,
-        })
-    } else {
-        Ok(())
-    }
-}
-
-/// `v` must be in `(0, max]`: reported with the smallest positive value as the minimum.
-pub(crate) fn positive(field: &'static str, v: Fx, max: Fx) -> Result<(), ForceConfigError> {
-    check_range(field, v, Fx::DELTA, max)
-}
-
-impl EstimatorSettings {
-    /// Checks every field (names as `estimator.<field>`); `h` is the control period.
-    pub fn validate(&self, h: Seconds) -> Result<(), ForceConfigError> {
-        const HUNDRED: Fx = Fx::const_from_int(100);
-        const ONE: Fx = Fx::ONE;
-        const F1: Fx = Fx::lit("0.01");
-        check_range(
-            "estimator.stator_resistance",
-            self.stator_resistance,
-            Fx::ZERO,
-            HUNDRED,
-        )?;
-        positive("estimator.inertia", self.inertia, HUNDRED)?;
-        let b_max = viscous_max(self.inertia, h);
-        check_range(
-            "estimator.viscous_nominal",
-            self.viscous_nominal,
-            Fx::ZERO,
-            b_max,
-        )?;
-        check_range(
-            "estimator.coulomb_nominal",
-            self.coulomb_nominal,
-            Fx::ZERO,
-            Fx::const_from_int(1000),
-        )?;
-        check_range(
-            "estimator.friction_f[0]",
-            self.friction_f[0],
-            const { Fx::lit("-0.5") },
-            ONE,
-        )?;
-        check_range("estimator.friction_f[1]", self.friction_f[1], -F1, F1)?;
-        check_range("estimator.friction_g[0]", self.friction_g[0], -ONE, ONE)?;
-        check_range("estimator.friction_g[1]", self.friction_g[1], -F1, F1)?;
-        positive("estimator.min_speed", self.min_speed, HUNDRED)?;
-        positive(
-            "estimator.switch_threshold",
-            self.switch_threshold,
-            Fx::const_from_int(10),
-        )?;
-        positive("estimator.slip_gain", self.slip_gain, Fx::const_from_int(2))?;
-        check_range(
-            "estimator.slip_hold_periods",
-            Fx::from_num(self.slip_hold_periods),
-            ONE,
-            HUNDRED,
-        )?;
-        positive("estimator.workpiece_radius", self.workpiece_radius, ONE)?;
-        Ok(())
-    }
-}
-
-/// Largest B for which `x = Bh/J ≤ 1/2` (the series for 1/b is valid): `J/(2h)`.
-pub fn viscous_max(inertia: KilogramSquareMetres, h: Seconds) -> NmsPerRad {
-    // An explicit positive divisor keeps the firmware free of a division-by-zero panic
-    // path the optimiser cannot see through (h > 0 for every validated configuration).
-    let two_h = h.saturating_add(h);
-    if two_h <= Fx::ZERO {
-        return Fx::ZERO;
-    }
-    inertia.checked_div(two_h).unwrap_or(Fx::ZERO)
-}
-
-/// `1/b` of F6 for viscous friction `b_visc`, inertia `j` and period `h`:
-/// `(J/h)·(1 + x/2 + x²/12 − x⁴/720)`, `x = Bh/J`; N·m·s/rad, I32F32, saturating.
-pub fn inverse_b(b_visc: NmsPerRad, j: KilogramSquareMetres, h: Seconds) -> Fx {
-    let j_over_h = j.checked_div(h).unwrap_or(Fx::ZERO);
-    let x = b_visc.saturating_mul(h).checked_div(j).unwrap_or(Fx::ZERO);
-    let x2 = x.saturating_mul(x);
-    let series = Fx::ONE
-        .saturating_add(x / 2)
-        .saturating_add(x2 / 12)
-        .saturating_sub(x2.saturating_mul(x2) / 720);
-    j_over_h.saturating_mul(series)
 }
 
 /// One period's estimate.
@@ -482,19 +288,6 @@ mod tests {
         assert!(r.saturating_mul(r) <= Fx::const_from_int(2));
         let up = r + Fx::DELTA;
         assert!(up.wide_mul(up) > Fx::const_from_int(2).wide_mul(Fx::ONE));
-    }
-
-    #[test]
-    fn inverse_b_tends_to_j_over_h() {
-        let j = Fx::lit("0.05");
-        let h = Fx::lit("0.05");
-        assert_eq!(inverse_b(Fx::ZERO, j, h), Fx::ONE);
-        // B = 0.01: x = 0.01, 1/b = 1·(1 + 0.005 + 0.0000083) ≈ 1.0050083
-        let ib = inverse_b(Fx::lit("0.01"), j, h);
-        assert!(
-            (ib - Fx::lit("1.0050083")).abs() < Fx::lit("0.000001"),
-            "{ib}"
-        );
     }
 
     fn settings() -> EstimatorSettings {

@@ -6,7 +6,7 @@
 //! lists them in that order with the same timestamp, so replaying it here reproduces every
 //! count, charge and latched position.
 
-use crate::measurement::Measurement;
+use crate::measure::kernel::Measurement;
 
 /// One measurement input event.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -1,4 +1,4 @@
-//! Variable-gain adaptive force controller, Lin & Masory form (SPEC 3, F11).
+//! Variable-gain adaptive force controller, Lin & Masory form (docs/domain.md §3, eq. F11).
 //!
 //! `f(i) = f(i−1) + K̄_c(i−1)·h·(F_r − F̂_c(i))` — an integral controller on the feed
 //! override f (percent) whose gain is re-tuned every period so that the open-loop gain
@@ -13,9 +13,11 @@
 //!
 //! Formats: I32F32 throughout (K̂ in N/%, K̄_c in %/(N·s), f in %), saturating.
 
-use super::{clamp_override, quantize, ControlOutput, ForceController, Percent, OVERRIDE_MAX_FX};
-use crate::estimator::{check_range, positive};
-use crate::force::{ForceConfigError, Fx, Newtons};
+use super::interface::{
+    clamp_override, quantize, ControlOutput, ForceController, Percent, OVERRIDE_MAX_FX,
+};
+use crate::units::{Fx, Newtons};
+use crate::validation::{check_range, positive, ForceConfigError};
 
 /// Adaptive-controller settings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -65,6 +67,17 @@ impl AdaptiveSettings {
         )
     }
 }
+
+/// Default adaptive controller: open-loop gain 4 /s (K·h = 0.2), K̂ in 0.5..=100 N/%.
+pub const DEFAULT_ADAPTIVE: AdaptiveSettings = AdaptiveSettings {
+    open_loop_gain: Fx::const_from_int(4),
+    gain_min: Fx::lit("0.5"),
+    gain_max: Fx::const_from_int(100),
+    initial_gain: Fx::const_from_int(6),
+    gain_filter_shift: 2,
+    min_override: Fx::const_from_int(5),
+    min_force: Fx::const_from_int(50),
+};
 
 /// The adaptive kernel's state.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

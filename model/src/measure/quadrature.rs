@@ -1,11 +1,11 @@
-//! The linear scale's x4 quadrature decoder (SPEC 1): the cross-slide position in scale
+//! The linear scale's x4 quadrature decoder (docs/domain.md §1): the cross-slide position in scale
 //! counts, with an error count for illegal transitions.
 //!
 //! Phase order for positive motion: (A,B) = 00 → 10 → 11 → 01 → 00 (A leads B). A change
 //! of both lines at once skips a phase: the direction is unknown, so the position is left
 //! unchanged and the error count goes up.
 
-use crate::config::MeasureConfig;
+use crate::measure::config::MeasureConfig;
 
 /// Quadrature decoder with a `scale_bits`-wide two's-complement position counter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -81,7 +81,7 @@ impl QuadratureDecoder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::MeasureSettings;
+    use crate::measure::config::MeasureSettings;
 
     fn decoder(bits: u8) -> QuadratureDecoder {
         let s = MeasureSettings {

@@ -1,4 +1,4 @@
-//! Device 2, the contact-density detector (SPEC 2.4): a digital capacitor charged per FES
+//! Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor charged per FES
 //! pulse in contact and discharged per pulse without, firing on an upward threshold
 //! crossing, with hysteresis.
 //!
@@ -7,7 +7,7 @@
 //! `charge_bits`-wide register (UQ0.`charge_bits` of full scale); every step saturates at
 //! zero and at full scale.
 
-use crate::config::{ChargeLaw, MeasureConfig};
+use crate::measure::config::{ChargeLaw, MeasureConfig};
 
 /// The digital capacitor with its fire/re-arm hysteresis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -224,7 +224,7 @@ fn exp_step(distance: u32, shift: u8) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::MeasureSettings;
+    use crate::measure::config::MeasureSettings;
     use proptest::prelude::*;
 
     fn detector(law: ChargeLaw) -> DensityDetector {
@@ -288,7 +288,7 @@ mod tests {
         assert_eq!((0..20).filter(|_| d.on_pulse(true)).count(), 1);
     }
 
-    /// SPEC 2.4's charge law with every step saturating: the reference for
+    /// docs/domain.md §2.4's charge law with every step saturating: the reference for
     /// [`DensityDetector::next_charge`], which leaves out the saturations that cannot
     /// happen.
     fn next_charge_reference(law: ChargeLaw, full: u32, q: u32, contact: bool) -> u32 {

@@ -1,13 +1,13 @@
-//! Device 1, the pulse counter (SPEC 2.3): counts the FES pulses that carry contact and
+//! Device 1, the pulse counter (docs/domain.md §2.3): counts the FES pulses that carry contact and
 //! decides when the count exceeds `i_def` within a window of revolutions.
 //!
 //! The decision is taken on the very pulse that makes the count exceed `i_def` (the last
-//! pulse of the series, SPEC S9), not at the following index pulse: the comparator CU is
+//! pulse of the series, eq. S9, docs/domain.md), not at the following index pulse: the comparator CU is
 //! combinational on the count, and the index pulse only resets a count that did not get
 //! there. Deciding at the pulse removes up to one revolution of latency and decides on the
 //! same pulse an index-time compare would have accepted.
 
-use crate::config::MeasureConfig;
+use crate::measure::config::MeasureConfig;
 
 /// Contact-pulse counter over a window of `window_revs` revolutions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -142,7 +142,7 @@ impl PulseCounter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::MeasureSettings;
+    use crate::measure::config::MeasureSettings;
     use proptest::prelude::*;
 
     fn counter(i_def: u32, window_revs: u8) -> PulseCounter {
@@ -193,7 +193,7 @@ mod tests {
         assert_eq!((c.count(), c.last_window_count()), (0, 21));
     }
 
-    /// SPEC 2.3's counter as first written, comparing the count with `i_def` after every
+    /// docs/domain.md §2.3's counter as first written, comparing the count with `i_def` after every
     /// pulse: the reference for [`PulseCounter::on_pulse`], which compares only after an
     /// increment.
     fn on_pulse_reference(c: &mut PulseCounter, contact: bool) -> bool {

@@ -14,9 +14,10 @@
 //! Every register is updated from the values of the previous clock (non-blocking
 //! assignment semantics); the order of statements in [`FrontEnd::clock`] mirrors that.
 
-use crate::config::MeasureConfig;
-use crate::events::MeasureEvent;
-use crate::measurement::{MeasureOutputs, Measurement};
+use crate::measure::config::MeasureConfig;
+use crate::measure::events::MeasureEvent;
+use crate::measure::kernel::Measurement;
+use crate::measure::outputs::MeasureOutputs;
 
 /// Bit positions of the input pins in [`Pins`].
 pub mod pin {
@@ -224,7 +225,7 @@ impl FrontEnd {
 mod tests {
     extern crate std;
     use super::*;
-    use crate::config::MeasureSettings;
+    use crate::measure::config::MeasureSettings;
 
     fn front_end(glitch: u8) -> FrontEnd {
         let s = MeasureSettings {

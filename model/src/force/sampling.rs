@@ -1,10 +1,10 @@
-//! The spindle-drive sampling chain (SPEC 3): 1 kHz ADC codes, a first-order low-pass near
+//! The spindle-drive sampling chain (docs/domain.md §3): 1 kHz ADC codes, a first-order low-pass near
 //! 100 Hz, and a boxcar average over each control period (h = 0.05 s at 20 Hz).
 //!
 //! Why this shape: the phase voltages and currents are sinusoids at the electrical frequency
 //! (tens of Hz), so they cannot be low-passed themselves. The chain therefore squares them
 //! per sample first — for a balanced three-phase set, Σv² and Σi² are constant, so
-//! `V_line = √(Σv²/3)` (SPEC F3) is exact at every sample — and filters the squares. Speed,
+//! `V_line = √(Σv²/3)` (eq. F3, docs/domain.md) is exact at every sample — and filters the squares. Speed,
 //! measured power and the dynamometer force are filtered as they are.
 //!
 //! ## Formats
@@ -17,10 +17,14 @@
 //!   overflow, and every one is still written saturating.
 //! - Low-pass: `y ← y + (x·2^8 − y) >> k` (arithmetic shift, rounds toward −∞), one step per
 //!   sample; `k = lowpass_shift`. Its −3 dB frequency is `−ln(1 − 2^−k)·f_s / 2π`: k = 1 gives
-//!   110 Hz at 1 kHz — the "100 Hz low-pass" of SPEC 3.
+//!   110 Hz at 1 kHz — the "100 Hz low-pass" of docs/domain.md §3.
 //! - Average: the filter outputs of the samples since the previous control tick are summed
 //!   and divided by their number (integer division, rounding toward zero). A tick with no
 //!   sample repeats the previous averages.
+//! - Physical units: [`AdcScales::convert`] turns a period's averages into
+//!   [`DriveSignals`] (I32F32, SI units), the estimator's input.
+
+use crate::units::{Amps, Fx, Newtons, RadPerSec, Volts, Watts};
 
 /// Mid-scale code of the bipolar channels.
 pub const ADC_MID: i32 = 2048;
@@ -148,6 +152,80 @@ impl Sampler {
         self.sums = [0; CHANNELS];
         self.count = 0;
         self.last
+    }
+}
+
+/// ADC scales of the sampling chain (docs/domain.md §3), I32F32 units per LSB.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AdcScales {
+    /// Motor speed per LSB, rad/s, `(0, 1]`.
+    pub speed_per_lsb: RadPerSec,
+    /// Measured power per LSB, W, `(0, 100]`.
+    pub power_per_lsb: Watts,
+    /// Dynamometer force per LSB, N, `(0, 100]`.
+    pub force_per_lsb: Newtons,
+    /// Phase voltage per LSB, V, `(0, 10]`.
+    pub volts_per_lsb: Volts,
+    /// Phase current per LSB, A, `(0, 1]`.
+    pub amps_per_lsb: Amps,
+}
+
+impl Default for AdcScales {
+    /// The default plant's channels (`tooltouch control`): 0.05 rad/s, 2.5 W, 1 N, 0.25 V
+    /// and 5 mA per LSB.
+    fn default() -> Self {
+        AdcScales {
+            speed_per_lsb: const { Fx::lit("0.05") },
+            power_per_lsb: const { Fx::lit("2.5") },
+            force_per_lsb: Fx::ONE,
+            volts_per_lsb: const { Fx::lit("0.25") },
+            amps_per_lsb: const { Fx::lit("0.005") },
+        }
+    }
+}
+
+/// The period's averaged signals in physical units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct DriveSignals {
+    /// Motor speed ω_M, rad/s.
+    pub omega: RadPerSec,
+    /// Measured (lagging) power P_o, W.
+    pub p_o: Watts,
+    /// Dynamometer force, N.
+    pub force_measured: Newtons,
+    /// Line voltage V_line = √(Σv²/3), V.
+    pub v_line: Volts,
+    /// Line current I_line = √(Σi²/3), A.
+    pub i_line: Amps,
+    /// Σi² = i_u² + i_v² + i_w², A².
+    pub amps_sq: Fx,
+}
+
+fn code_to_fx(avg: i64) -> Fx {
+    // avg has FILTER_FRAC_BITS fractional bits; I32F32 has 32. Saturating shift by multiply.
+    Fx::from_bits(avg.saturating_mul(1 << (32 - FILTER_FRAC_BITS)))
+}
+
+fn rms_of_sum3(avg_sq: i64) -> Fx {
+    // √(x/3) with x = avg·2^−8: bits = √(avg·2^56/3). avg ≥ 0 and < 2^34, so this fits.
+    let avg = u128::try_from(avg_sq).unwrap_or(0);
+    let root = ((avg << (64 - FILTER_FRAC_BITS)) / 3).isqrt();
+    Fx::from_bits(i64::try_from(root).unwrap_or(i64::MAX))
+}
+
+impl AdcScales {
+    /// Converts the period's averages to physical units (saturating products).
+    pub fn convert(&self, a: &Averages) -> DriveSignals {
+        DriveSignals {
+            omega: code_to_fx(a.speed).saturating_mul(self.speed_per_lsb),
+            p_o: code_to_fx(a.power).saturating_mul(self.power_per_lsb),
+            force_measured: code_to_fx(a.force).saturating_mul(self.force_per_lsb),
+            v_line: rms_of_sum3(a.volts_sq).saturating_mul(self.volts_per_lsb),
+            i_line: rms_of_sum3(a.amps_sq).saturating_mul(self.amps_per_lsb),
+            amps_sq: code_to_fx(a.amps_sq)
+                .saturating_mul(self.amps_per_lsb)
+                .saturating_mul(self.amps_per_lsb),
+        }
     }
 }
 

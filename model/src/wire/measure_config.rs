@@ -1,0 +1,257 @@
+//! The measurement configuration's canonical bytes: the payload of the
+//! [`kind::MEASURE_CONFIG`] record that starts every event stream, and the input of
+//! [`MeasureConfig::hash`], the configuration's identity in vector headers and generated
+//! Verilog.
+//!
+//! ```text
+//! 0..2   format version u16 (CONFIG_FORMAT_VERSION)   2..4   pulses_per_rev u16
+//! 4..8   i_def u32                                    8      window_revs u8
+//! 9      contact_rule u8 (0 sampled, 1 sticky)        10     charge_bits u8
+//! 11     charge law u8 (0 linear, 1 exponential)
+//! 12..20 linear: charge_step u32, discharge_step u32
+//!        exponential: charge_shift u8, discharge_shift u8, 6 zero bytes
+//! 20..24 fire_threshold u32                           24..28 rearm_threshold u32
+//! 28     glitch_cycles u8                             29     scale_bits u8
+//! 30     method u8 (0 single pulse, 1 counter, 2 density)
+//! ```
+//! All little-endian, [`CANONICAL_CONFIG_LEN`] bytes. A new field is appended here (both
+//! the encoder and the decoder below) with a new format version.
+
+use crate::fnv::fnv1a;
+use crate::measure::config::{
+    ChargeLaw, ContactRule, DecisionMethod, MeasureConfig, MeasureSettings,
+};
+use crate::wire::{kind, le_u16, le_u32, Record, WireError};
+use core::ops::Range;
+
+/// Version of the configuration's canonical encoding; part of [`MeasureConfig::hash`].
+pub const CONFIG_FORMAT_VERSION: u16 = 1;
+
+/// Length of [`MeasureConfig::canonical_bytes`]' used part, bytes.
+pub const CANONICAL_CONFIG_LEN: usize = 31;
+
+/// Where each field is.
+mod at {
+    use super::Range;
+    pub const VERSION: Range<usize> = 0..2;
+    pub const PULSES_PER_REV: Range<usize> = 2..4;
+    pub const I_DEF: Range<usize> = 4..8;
+    pub const WINDOW_REVS: usize = 8;
+    pub const CONTACT_RULE: usize = 9;
+    pub const CHARGE_BITS: usize = 10;
+    pub const CHARGE_LAW: usize = 11;
+    /// Linear law: `charge_step` u32; exponential: `charge_shift` u8 at its first byte.
+    pub const LAW_CHARGE: Range<usize> = 12..16;
+    /// Linear law: `discharge_step` u32; exponential: `discharge_shift` u8 at byte 13.
+    pub const LAW_DISCHARGE: Range<usize> = 16..20;
+    pub const EXPONENTIAL_DISCHARGE_SHIFT: usize = 13;
+    pub const FIRE_THRESHOLD: Range<usize> = 20..24;
+    pub const REARM_THRESHOLD: Range<usize> = 24..28;
+    pub const GLITCH_CYCLES: usize = 28;
+    pub const SCALE_BITS: usize = 29;
+    pub const METHOD: usize = 30;
+}
+
+/// [`ChargeLaw`] tags.
+const LAW_LINEAR: u8 = 0;
+const LAW_EXPONENTIAL: u8 = 1;
+
+impl MeasureConfig {
+    /// Canonical little-endian encoding of the configuration (layout in the module header),
+    /// fed to [`Self::hash`]. Returns the buffer and the number of bytes used.
+    pub fn canonical_bytes(&self) -> ([u8; 32], usize) {
+        let s = self.settings();
+        let mut out = [0u8; 32];
+        out[at::VERSION].copy_from_slice(&CONFIG_FORMAT_VERSION.to_le_bytes());
+        out[at::PULSES_PER_REV].copy_from_slice(&s.pulses_per_rev.to_le_bytes());
+        out[at::I_DEF].copy_from_slice(&s.i_def.to_le_bytes());
+        out[at::WINDOW_REVS] = s.window_revs;
+        out[at::CONTACT_RULE] = s.contact_rule as u8;
+        out[at::CHARGE_BITS] = s.charge_bits;
+        match s.charge_law {
+            ChargeLaw::Linear {
+                charge_step,
+                discharge_step,
+            } => {
+                out[at::CHARGE_LAW] = LAW_LINEAR;
+                out[at::LAW_CHARGE].copy_from_slice(&charge_step.to_le_bytes());
+                out[at::LAW_DISCHARGE].copy_from_slice(&discharge_step.to_le_bytes());
+            }
+            ChargeLaw::Exponential {
+                charge_shift,
+                discharge_shift,
+            } => {
+                out[at::CHARGE_LAW] = LAW_EXPONENTIAL;
+                out[at::LAW_CHARGE.start] = charge_shift;
+                out[at::EXPONENTIAL_DISCHARGE_SHIFT] = discharge_shift;
+            }
+        }
+        out[at::FIRE_THRESHOLD].copy_from_slice(&s.fire_threshold.to_le_bytes());
+        out[at::REARM_THRESHOLD].copy_from_slice(&s.rearm_threshold.to_le_bytes());
+        out[at::GLITCH_CYCLES] = s.glitch_cycles;
+        out[at::SCALE_BITS] = s.scale_bits;
+        out[at::METHOD] = s.method as u8;
+        (out, CANONICAL_CONFIG_LEN)
+    }
+
+    /// 64-bit FNV-1a hash of [`Self::canonical_bytes`]: stamped into every vector file and
+    /// every generated Verilog header, so a configuration mismatch is an error, not a diff.
+    pub fn hash(&self) -> u64 {
+        let (bytes, n) = self.canonical_bytes();
+        fnv1a(&bytes[..n])
+    }
+}
+
+/// A configuration record at time 0.
+pub fn encode_config(config: &MeasureConfig) -> Record {
+    let (bytes, n) = config.canonical_bytes();
+    Record::new(kind::MEASURE_CONFIG, 0, &bytes[..n])
+}
+
+/// Decodes a configuration record's payload and validates it.
+pub fn decode_config(p: &[u8]) -> Result<MeasureConfig, WireError> {
+    let bad = WireError::BadConfigEncoding;
+    if p.len() != CANONICAL_CONFIG_LEN || le_u16(&p[at::VERSION]) != CONFIG_FORMAT_VERSION {
+        return Err(bad);
+    }
+    let contact_rule = match p[at::CONTACT_RULE] {
+        0 => ContactRule::Sampled,
+        1 => ContactRule::Sticky,
+        _ => return Err(bad),
+    };
+    let charge_law = match p[at::CHARGE_LAW] {
+        LAW_LINEAR => ChargeLaw::Linear {
+            charge_step: le_u32(&p[at::LAW_CHARGE]),
+            discharge_step: le_u32(&p[at::LAW_DISCHARGE]),
+        },
+        LAW_EXPONENTIAL => ChargeLaw::Exponential {
+            charge_shift: p[at::LAW_CHARGE.start],
+            discharge_shift: p[at::EXPONENTIAL_DISCHARGE_SHIFT],
+        },
+        _ => return Err(bad),
+    };
+    let method = match p[at::METHOD] {
+        0 => DecisionMethod::SinglePulse,
+        1 => DecisionMethod::Counter,
+        2 => DecisionMethod::Density,
+        _ => return Err(bad),
+    };
+    let settings = MeasureSettings {
+        pulses_per_rev: le_u16(&p[at::PULSES_PER_REV]),
+        i_def: le_u32(&p[at::I_DEF]),
+        window_revs: p[at::WINDOW_REVS],
+        contact_rule,
+        charge_bits: p[at::CHARGE_BITS],
+        charge_law,
+        fire_threshold: le_u32(&p[at::FIRE_THRESHOLD]),
+        rearm_threshold: le_u32(&p[at::REARM_THRESHOLD]),
+        glitch_cycles: p[at::GLITCH_CYCLES],
+        scale_bits: p[at::SCALE_BITS],
+        method,
+    };
+    Ok(settings.validate()?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn config_round_trips_through_its_record() {
+        let mut s = MeasureSettings::default();
+        for method in [
+            DecisionMethod::SinglePulse,
+            DecisionMethod::Counter,
+            DecisionMethod::Density,
+        ] {
+            s.method = method;
+            s.charge_law = ChargeLaw::Exponential {
+                charge_shift: 3,
+                discharge_shift: 5,
+            };
+            let c = s.validate().unwrap();
+            let r = encode_config(&c);
+            assert_eq!(decode_config(r.payload()).unwrap(), c);
+        }
+    }
+
+    #[test]
+    fn hash_changes_with_any_field() {
+        let a = MeasureConfig::default();
+        let b = MeasureSettings {
+            glitch_cycles: 5,
+            ..Default::default()
+        }
+        .validate()
+        .unwrap();
+        assert_ne!(a.hash(), b.hash());
+    }
+
+    #[test]
+    fn the_default_encoding_is_pinned() {
+        // Vector files and generated Verilog carry this hash: a change here is a format change.
+        let (bytes, n) = MeasureConfig::default().canonical_bytes();
+        assert_eq!(
+            &bytes[..n],
+            &[
+                1, 0, 0, 4, 0, 2, 0, 0, 1, 1, 16, 0, 64, 0, 0, 0, 64, 0, 0, 0, 0, 128, 0, 0, 0, 32,
+                0, 0, 4, 24, 1
+            ]
+        );
+    }
+
+    prop_compose! {
+        /// Any valid settings (every field drawn inside its range).
+        fn any_settings()(
+            pulses_per_rev in 16u16..=16384, window_revs in 1u8..=16, charge_bits in 4u8..=24,
+            sticky in any::<bool>(), exponential in any::<bool>(), method in 0u8..3,
+            words in any::<[u32; 5]>(), glitch_cycles in any::<u8>(), scale_bits in 8u8..=32,
+        ) -> MeasureSettings {
+            let window = u32::from(pulses_per_rev) * u32::from(window_revs);
+            let full = (1u32 << charge_bits) - 1;
+            let shift = |w: u32| (w % (u32::from(charge_bits) + 1)) as u8;
+            let fire_threshold = 1 + words[2] % full;
+            MeasureSettings {
+                pulses_per_rev,
+                i_def: words[0] % window,
+                window_revs,
+                contact_rule: if sticky { ContactRule::Sticky } else { ContactRule::Sampled },
+                charge_bits,
+                charge_law: if exponential {
+                    ChargeLaw::Exponential { charge_shift: shift(words[1]), discharge_shift: shift(words[3]) }
+                } else {
+                    ChargeLaw::Linear { charge_step: 1 + words[1] % full, discharge_step: 1 + words[3] % full }
+                },
+                fire_threshold,
+                rearm_threshold: words[4] % fire_threshold,
+                glitch_cycles,
+                scale_bits,
+                method: match method {
+                    0 => DecisionMethod::SinglePulse,
+                    1 => DecisionMethod::Counter,
+                    _ => DecisionMethod::Density,
+                },
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn any_config_round_trips(s in any_settings()) {
+            let c = s.validate().unwrap();
+            let r = encode_config(&c);
+            prop_assert_eq!(r.kind, kind::MEASURE_CONFIG);
+            prop_assert_eq!(r.payload().len(), CANONICAL_CONFIG_LEN);
+            prop_assert_eq!(decode_config(r.payload()), Ok(c));
+        }
+
+        #[test]
+        fn a_wrong_length_or_version_is_rejected(s in any_settings(), cut in 1usize..CANONICAL_CONFIG_LEN) {
+            let (mut bytes, n) = s.validate().unwrap().canonical_bytes();
+            prop_assert_eq!(decode_config(&bytes[..n - cut]), Err(WireError::BadConfigEncoding));
+            bytes[0] ^= 0x80;
+            prop_assert_eq!(decode_config(&bytes[..n]), Err(WireError::BadConfigEncoding));
+        }
+    }
+}

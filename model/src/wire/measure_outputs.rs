@@ -1,0 +1,145 @@
+//! The measurement outputs record ([`kind::MEASURE_OUTPUTS`], [`OUTPUTS_LEN`] bytes): every
+//! [`MeasureOutputs`] field, in the order of [`MeasureOutputs::fields`] but with the flags
+//! packed into the first byte.
+//!
+//! ```text
+//! 0      flags u8: armed, contact, register_now, first_contact, density_armed,
+//!        density_fired from bit 0
+//! 1..5   decision_position i32      5..9   first_contact_position i32
+//! 9..13  position i32               13     scale_errors u8
+//! 14..18 count u32                  18..22 last_window_count u32
+//! 22..26 charge u32                 26..28 revolutions u16
+//! 28..32 pulses u32
+//! ```
+
+use crate::measure::outputs::MeasureOutputs;
+use crate::wire::{le_u16, le_u32};
+use core::ops::Range;
+
+/// Encoded length of [`MeasureOutputs`], bytes.
+pub const OUTPUTS_LEN: usize = 32;
+
+/// Where each field is.
+mod at {
+    use super::Range;
+    pub const FLAGS: usize = 0;
+    pub const DECISION_POSITION: Range<usize> = 1..5;
+    pub const FIRST_CONTACT_POSITION: Range<usize> = 5..9;
+    pub const POSITION: Range<usize> = 9..13;
+    pub const SCALE_ERRORS: usize = 13;
+    pub const COUNT: Range<usize> = 14..18;
+    pub const LAST_WINDOW_COUNT: Range<usize> = 18..22;
+    pub const CHARGE: Range<usize> = 22..26;
+    pub const REVOLUTIONS: Range<usize> = 26..28;
+    pub const PULSES: Range<usize> = 28..32;
+}
+
+/// Bits of the flags byte.
+mod flag {
+    pub const ARMED: u8 = 1 << 0;
+    pub const CONTACT: u8 = 1 << 1;
+    pub const REGISTER_NOW: u8 = 1 << 2;
+    pub const FIRST_CONTACT: u8 = 1 << 3;
+    pub const DENSITY_ARMED: u8 = 1 << 4;
+    pub const DENSITY_FIRED: u8 = 1 << 5;
+}
+
+/// Encodes every measurement output (layout in the module header).
+pub fn encode_outputs(o: &MeasureOutputs) -> [u8; OUTPUTS_LEN] {
+    let bit = |on: bool, mask: u8| if on { mask } else { 0 };
+    let mut out = [0u8; OUTPUTS_LEN];
+    out[at::FLAGS] = bit(o.armed, flag::ARMED)
+        | bit(o.contact, flag::CONTACT)
+        | bit(o.register_now, flag::REGISTER_NOW)
+        | bit(o.first_contact, flag::FIRST_CONTACT)
+        | bit(o.density_armed, flag::DENSITY_ARMED)
+        | bit(o.density_fired, flag::DENSITY_FIRED);
+    out[at::DECISION_POSITION].copy_from_slice(&o.decision_position.to_le_bytes());
+    out[at::FIRST_CONTACT_POSITION].copy_from_slice(&o.first_contact_position.to_le_bytes());
+    out[at::POSITION].copy_from_slice(&o.position.to_le_bytes());
+    out[at::SCALE_ERRORS] = o.scale_errors;
+    out[at::COUNT].copy_from_slice(&o.count.to_le_bytes());
+    out[at::LAST_WINDOW_COUNT].copy_from_slice(&o.last_window_count.to_le_bytes());
+    out[at::CHARGE].copy_from_slice(&o.charge.to_le_bytes());
+    out[at::REVOLUTIONS].copy_from_slice(&o.revolutions.to_le_bytes());
+    out[at::PULSES].copy_from_slice(&o.pulses.to_le_bytes());
+    out
+}
+
+/// Decodes [`encode_outputs`]' bytes; `None` if `p` is not [`OUTPUTS_LEN`] long.
+pub fn decode_outputs(p: &[u8]) -> Option<MeasureOutputs> {
+    if p.len() != OUTPUTS_LEN {
+        return None;
+    }
+    let f = p[at::FLAGS];
+    Some(MeasureOutputs {
+        armed: f & flag::ARMED != 0,
+        contact: f & flag::CONTACT != 0,
+        register_now: f & flag::REGISTER_NOW != 0,
+        first_contact: f & flag::FIRST_CONTACT != 0,
+        density_armed: f & flag::DENSITY_ARMED != 0,
+        density_fired: f & flag::DENSITY_FIRED != 0,
+        decision_position: le_u32(&p[at::DECISION_POSITION]) as i32,
+        first_contact_position: le_u32(&p[at::FIRST_CONTACT_POSITION]) as i32,
+        position: le_u32(&p[at::POSITION]) as i32,
+        scale_errors: p[at::SCALE_ERRORS],
+        count: le_u32(&p[at::COUNT]),
+        last_window_count: le_u32(&p[at::LAST_WINDOW_COUNT]),
+        charge: le_u32(&p[at::CHARGE]),
+        revolutions: le_u16(&p[at::REVOLUTIONS]),
+        pulses: le_u32(&p[at::PULSES]),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn outputs_round_trip() {
+        let o = MeasureOutputs {
+            armed: true,
+            register_now: true,
+            decision_position: -5,
+            position: 1 << 20,
+            charge: 65535,
+            pulses: u32::MAX,
+            density_fired: true,
+            ..Default::default()
+        };
+        assert_eq!(decode_outputs(&encode_outputs(&o)), Some(o));
+    }
+
+    proptest! {
+        #[test]
+        fn any_outputs_round_trip(
+            flags in any::<[bool; 6]>(),
+            positions in any::<[i32; 3]>(),
+            counts in any::<[u32; 4]>(),
+            scale_errors in any::<u8>(),
+            revolutions in any::<u16>(),
+        ) {
+            let o = MeasureOutputs {
+                armed: flags[0],
+                contact: flags[1],
+                register_now: flags[2],
+                first_contact: flags[3],
+                density_armed: flags[4],
+                density_fired: flags[5],
+                decision_position: positions[0],
+                first_contact_position: positions[1],
+                position: positions[2],
+                scale_errors,
+                count: counts[0],
+                last_window_count: counts[1],
+                charge: counts[2],
+                revolutions,
+                pulses: counts[3],
+            };
+            let bytes = encode_outputs(&o);
+            prop_assert_eq!(decode_outputs(&bytes), Some(o));
+            prop_assert_eq!(decode_outputs(&bytes[..OUTPUTS_LEN - 1]), None);
+        }
+    }
+}
