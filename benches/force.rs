@@ -2,11 +2,15 @@
 //! 20 Hz `step` alone), the kernel's tick (one ADC sample + the tick: estimator,
 //! controller, wear monitor), and one ADC sample (the 1 kHz handler's work).
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use tooltouch_model::control::{Controller, ControllerSettings, ForceController};
-use tooltouch_model::force::{
-    ForceEvent, ForceKernel, ForceSettings, Fx, DEFAULT_ADAPTIVE, DEFAULT_FUZZY, DEFAULT_PI,
-};
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::force::config::ForceSettings;
+use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
+use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
+use tooltouch_model::force::control::pi::DEFAULT_PI;
+use tooltouch_model::force::control::{Controller, ControllerSettings, ForceController};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
+use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::units::Fx;
 
 fn controllers(c: &mut Criterion) {
     let h = Fx::lit("0.05");

@@ -11,7 +11,7 @@ use std::time::Instant;
 use tooltouch::hdl::runner::Simulator;
 use tooltouch::speed::{self, hdl::time_simulator, verilator::time_bare_verilator};
 use tooltouch::stimulus::Stimulus;
-use tooltouch_model::force::ForceSettings;
+use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::MeasureConfig;
 
 /// Measurements of the closed-loop cycle in the realistic stimulus.

@@ -12,9 +12,12 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use std::f64::consts::PI;
-use tooltouch_model::force::{ForceConfig, ForceEvent, ForceKernel, ForceSettings, Fx};
-use tooltouch_model::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::force::config::{ForceConfig, ForceSettings};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
+use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::force::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::units::Fx;
 
 /// Cutter, workpiece and machine data (strategy step 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -262,7 +265,7 @@ impl WearScenario {
     pub fn config(
         &self,
         constant: bool,
-    ) -> Result<ForceConfig, tooltouch_model::force::ForceConfigError> {
+    ) -> Result<ForceConfig, tooltouch_model::validation::ForceConfigError> {
         let mut s = ForceSettings::default();
         let mut sets = [ConditionSet::default(); MAX_CONDITION_SETS];
         sets[0] = self
@@ -275,7 +278,7 @@ impl WearScenario {
         s.wear.set_count = 2;
         s.wear.efficiency = Fx::from_num(self.milling.efficiency);
         s.wear.threshold = if constant {
-            let p = tooltouch_model::wear::allowed_power(&sets[0], s.wear.efficiency);
+            let p = tooltouch_model::force::wear::allowed_power(&sets[0], s.wear.efficiency);
             Threshold::Constant(p)
         } else {
             Threshold::Updating

@@ -25,7 +25,7 @@
 use crate::lathe::{LatheScenario, ScenarioError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use tooltouch_model::config::ConfigError;
+use tooltouch_model::validation::ConfigError;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 
 /// The whole settings file.
@@ -98,7 +98,7 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tooltouch_model::config::{ChargeLaw, DecisionMethod};
+    use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod};
 
     #[test]
     fn a_partial_file_keeps_the_other_defaults() {

@@ -1,7 +1,7 @@
 //! Cycle-level pin stimulus, run-length encoded: a scenario of millions of FPGA clocks is
 //! a few thousand segments, one per pin change, not one struct per cycle.
 
-use tooltouch_model::frontend::Pins;
+use tooltouch_model::measure::frontend::Pins;
 
 /// `cycles` consecutive FPGA clocks with the input pins held at `pins`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -13,11 +13,12 @@ use proptest::test_runner::{Config, TestRunner};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use tooltouch::cosim::{self, trace::EVENT_KIND_NAMES, Case, CosimError, Fault, Observe};
-use tooltouch_model::force::{ForceEvent, ForceSettings};
-use tooltouch_model::wire::{
-    self, force_config_chunk, force_config_chunks, force_kind, Record, Records, FORCE_CHUNK_DATA,
-    MAX_PAYLOAD, RECORD_HEADER_LEN,
+use tooltouch_model::force::config::ForceSettings;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::wire::force_chunks::{
+    force_config_chunk, force_config_chunks, FORCE_CHUNK_DATA,
 };
+use tooltouch_model::wire::{self, kind, Record, Records, MAX_PAYLOAD, RECORD_HEADER_LEN};
 use tooltouch_model::MeasureEvent;
 
 /// Builds the QEMU firmware once per test binary.
@@ -373,7 +374,7 @@ fn with_force_chunks(case: &Case, chunks: &[Record], force_hash: u64) -> Vec<u8>
     for r in records {
         let r = r.expect("a valid record");
         match r.kind {
-            force_kind::FORCE_CONFIG_CHUNK => {}
+            kind::FORCE_CONFIG_CHUNK => {}
             wire::kind::MEASURE_CONFIG => {
                 put(&r, &mut out);
                 for c in chunks {

@@ -1,9 +1,15 @@
 //! Bad force-path settings are errors naming the field and its allowed range.
 
-use tooltouch_model::control::fuzzy::{NO_RULE, SETS};
-use tooltouch_model::control::{AdaptiveSettings, ControllerSettings, FuzzySettings, PiSettings};
-use tooltouch_model::force::{ForceSettings, Fx, DEFAULT_ADAPTIVE, DEFAULT_FUZZY, DEFAULT_PI};
-use tooltouch_model::wear::Threshold;
+use tooltouch_model::force::config::ForceSettings;
+use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
+use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
+use tooltouch_model::force::control::fuzzy::{NO_RULE, SETS};
+use tooltouch_model::force::control::pi::DEFAULT_PI;
+use tooltouch_model::force::control::{
+    AdaptiveSettings, ControllerSettings, FuzzySettings, PiSettings,
+};
+use tooltouch_model::force::wear::Threshold;
+use tooltouch_model::units::Fx;
 
 fn field_of(s: ForceSettings) -> String {
     let e = s.validate().expect_err("settings must be rejected");

@@ -5,13 +5,17 @@
 
 use proptest::prelude::*;
 use tooltouch::reference::{controller_f, ReferenceStack};
-use tooltouch_model::control::{
+use tooltouch_model::force::config::ForceSettings;
+use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
+use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
+use tooltouch_model::force::control::pi::DEFAULT_PI;
+use tooltouch_model::force::control::{
     clamp_override, Controller, ControllerSettings, ForceController, PiSettings,
 };
-use tooltouch_model::force::{
-    ForceEvent, ForceKernel, ForceSettings, Fx, DEFAULT_ADAPTIVE, DEFAULT_FUZZY, DEFAULT_PI,
-};
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
+use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::units::Fx;
 
 fn cases() -> u32 {
     std::env::var("TOOLTOUCH_CASES")

@@ -3,7 +3,7 @@
 //! model; and the estimator against the plant's truth.
 
 use tooltouch::drive::scenario::{run, scenario_settings, ControlScenario, ControllerKind, Engine};
-use tooltouch_model::force::ForceSource;
+use tooltouch_model::force::config::ForceSource;
 
 fn scenario(kind: ControllerKind, source: ForceSource) -> ControlScenario {
     let config = scenario_settings(kind, source)

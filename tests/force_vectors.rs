@@ -4,13 +4,13 @@
 
 use std::process::Command;
 use tooltouch::drive::scenario::{scenario_settings, ControllerKind};
-use tooltouch_model::force::ForceSource;
-use tooltouch_model::force::{
-    decode_force_event, decode_force_outputs, kind as fkind, ForceEvent, ForceKernel,
-};
-use tooltouch_model::wire::{
-    force_kind, kind, ForceConfigAssembler, Records, StreamKind, WireError,
-};
+use tooltouch_model::force::config::ForceSource;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
+use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
+use tooltouch_model::wire::force_event::decode_force_event;
+use tooltouch_model::wire::force_outputs::decode_force_outputs;
+use tooltouch_model::wire::{kind, Records, StreamKind, WireError};
 
 fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
     let config = scenario_settings(ControllerKind::Fuzzy, ForceSource::Estimated)
@@ -30,7 +30,7 @@ fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
     let mut ev = ev.peekable();
     let mut assembler = ForceConfigAssembler::new();
     while let Some(Ok(rec)) =
-        ev.next_if(|r| matches!(r, Ok(r) if r.kind == force_kind::FORCE_CONFIG_CHUNK))
+        ev.next_if(|r| matches!(r, Ok(r) if r.kind == kind::FORCE_CONFIG_CHUNK))
     {
         assembler.push(rec.payload()).map_err(|e| e.to_string())?;
     }
@@ -58,7 +58,7 @@ fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
             .next()
             .ok_or("outputs stream ends early")?
             .map_err(|e| e.to_string())?;
-        assert_eq!(exp.kind, fkind::OUTPUTS);
+        assert_eq!(exp.kind, kind::FORCE_OUTPUTS);
         let want = decode_force_outputs(exp.payload()).ok_or("bad outputs record")?;
         if exp.time != rec.time || want != kernel.outputs() {
             return Err(format!(

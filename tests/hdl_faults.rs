@@ -35,7 +35,7 @@ fn plan(fault: Fault, plusargs: &[&str]) -> CosimPlan {
 fn hdl_injected_faults_fail_the_self_checking_testbench() {
     // Equal steps that divide the fire threshold: every rise from empty passes through it.
     let config = tooltouch_model::MeasureSettings {
-        charge_law: tooltouch_model::config::ChargeLaw::Linear {
+        charge_law: tooltouch_model::measure::config::ChargeLaw::Linear {
             charge_step: 4096,
             discharge_step: 4096,
         },
@@ -56,7 +56,8 @@ fn hdl_injected_faults_fail_the_self_checking_testbench() {
         let before = fe.outputs();
         let edges = fe.clock(p);
         on_threshold |= fe.outputs().charge == fire;
-        let both = tooltouch_model::frontend::pin::INDEX | tooltouch_model::frontend::pin::FES;
+        let both = tooltouch_model::measure::frontend::pin::INDEX
+            | tooltouch_model::measure::frontend::pin::FES;
         index_with_fes |= edges.changed & edges.levels & both == both && before.armed;
     }
     assert!(

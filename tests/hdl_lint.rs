@@ -9,7 +9,7 @@ use tooltouch::hdl::random::random_config;
 use tooltouch::hdl::runner::{lint_verilator, yosys_check};
 use tooltouch::hdl::write_design;
 use tooltouch_hdl_gen::{generate, Options};
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 
 fn variants() -> Vec<MeasureConfig> {

@@ -16,8 +16,8 @@ use tooltouch::stimulus::Stimulus;
 use tooltouch::vectors::{
     clock_every_cycle, clock_through, events_from_stimulus, outputs_after_each_event,
 };
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
-use tooltouch_model::frontend::pin;
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
+use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 fn cases() -> u32 {

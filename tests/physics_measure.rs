@@ -3,7 +3,7 @@
 
 use tooltouch::lathe::{LatheScenario, RetractAt};
 use tooltouch::measurement_cycle::{self, CycleRun};
-use tooltouch_model::config::DecisionMethod;
+use tooltouch_model::measure::config::DecisionMethod;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 
 fn config(method: DecisionMethod) -> MeasureConfig {

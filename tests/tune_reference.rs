@@ -4,7 +4,7 @@
 use tooltouch::tune::evaluate::{evaluate, model_decision, Outcome};
 use tooltouch::tune::reference::{decision_cycle, Intent};
 use tooltouch::tune::scenario::{approach, Approach, ApproachSettings};
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
 
 fn scenarios() -> Vec<Approach> {
     let s = ApproachSettings {

@@ -10,7 +10,7 @@ use tooltouch::vectors::vcd::{output_values, period_ns, write_golden, Dump};
 use tooltouch::vectors::{
     binary, clock_every_cycle, events_from_stimulus, outputs_after_each_event,
 };
-use tooltouch_model::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::wire::{self, Header, StreamKind};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 
@@ -238,7 +238,8 @@ fn corrupt_binary_files_give_clear_errors() {
     assert!(e.contains("configuration hash"), "{e}");
     // Time going backwards: set the second event's time below the first's.
     let mut bad = ev.clone();
-    let first_event = wire::HEADER_LEN + wire::RECORD_HEADER_LEN + wire::CANONICAL_CONFIG_LEN;
+    let first_event =
+        wire::HEADER_LEN + wire::RECORD_HEADER_LEN + wire::measure_config::CANONICAL_CONFIG_LEN;
     let second = first_event + wire::RECORD_HEADER_LEN + usize::from(ev[first_event + 1]);
     bad[second + 2..second + 10].copy_from_slice(&0u64.to_le_bytes());
     let e = err(&bad, None);

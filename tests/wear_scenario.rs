@@ -66,8 +66,8 @@ fn mean_power_w7_is_the_mean_of_w6() {
 
 #[test]
 fn fixed_point_monitor_matches_its_float_reference() {
-    use tooltouch_model::force::Fx;
-    use tooltouch_model::wear::WearMonitor;
+    use tooltouch_model::force::wear::WearMonitor;
+    use tooltouch_model::units::Fx;
     let sc = WearScenario::default();
     let config = sc.config(false).unwrap();
     let run = sc.run(&WORN_TOOL, &config);
@@ -91,7 +91,7 @@ fn fixed_point_monitor_matches_its_float_reference() {
         assert_eq!(st.alarm, float.alarm, "period {i}");
     }
     // replaying the recorded events through a fresh kernel reproduces the run's alarm
-    let mut k = tooltouch_model::force::ForceKernel::new(&config);
+    let mut k = tooltouch_model::force::kernel::ForceKernel::new(&config);
     for (_, ev) in &run.events {
         k.apply(*ev);
     }

@@ -4,8 +4,8 @@
 //! memory-mapped registers, or on QEMU the virtual pins the co-simulation driver sets
 //! before it pends an interrupt), so the same handler code runs on every board.
 
-use tooltouch_model::force::ForceEvent;
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::sampling::AdcCodes;
 
 /// Pin levels the handlers read and the outputs they drive.
 pub trait Board {

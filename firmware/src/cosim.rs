@@ -21,19 +21,22 @@
 //! delivers an event through its interrupt.
 
 use crate::handlers::Counters;
-use tooltouch_model::force::{
-    self, decode_force_event, ForceConfig, ForceEvent, ForceOutputs, ForceSettings,
-};
+use tooltouch_model::force::config::{ForceConfig, ForceSettings};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceOutputs;
+use tooltouch_model::wire::force_chunks::{ForceChunkError, ForceConfigAssembler};
+use tooltouch_model::wire::force_event::decode_force_event;
+use tooltouch_model::wire::measure_config::decode_config;
+use tooltouch_model::wire::measure_event::decode_event;
+use tooltouch_model::wire::measure_outputs::encode_outputs;
 use tooltouch_model::wire::{
-    self, decode_config, decode_event, encode_outputs, force_kind, ForceChunkError,
-    ForceConfigAssembler, Header, Record, StreamKind, WireError, HEADER_LEN, MAX_PAYLOAD,
-    RECORD_HEADER_LEN,
+    self, Header, Record, StreamKind, WireError, HEADER_LEN, MAX_PAYLOAD, RECORD_HEADER_LEN,
 };
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs};
 
 /// Record kinds of the co-simulation: the firmware's trace records and its input option
 /// (defined in model::wire, which the host reads them with too).
-pub use tooltouch_model::wire::firmware_kind as kind;
+pub use tooltouch_model::wire::kind;
 
 /// A file transfer failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -425,7 +428,7 @@ fn read_force_config<P: Port>(
     let mut last = config_offset;
     while !assembler.is_complete() {
         let (record, offset) = reader.record(port)?;
-        if record.kind != force_kind::FORCE_CONFIG_CHUNK {
+        if record.kind != kind::FORCE_CONFIG_CHUNK {
             // A stream that names a force configuration must carry all of it first.
             let e = match assembler.finish(force_hash) {
                 Err(e) => e,
@@ -503,7 +506,7 @@ fn replay<P: Port, T: Target>(
             Input::Force(ForceEvent::Sample(_)) => {}
             Input::Force(_) => {
                 let o = target.force_outputs();
-                writer.record(port, &force::outputs_record(record.time, &o))?;
+                writer.record(port, &wire::force_outputs::outputs_record(record.time, &o))?;
             }
         }
     }

@@ -22,8 +22,9 @@
 
 use crate::board::Board;
 use heapless::spsc::{Consumer, Producer, Queue};
-use tooltouch_model::force::{ForceEvent, ForceKernel};
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
+use tooltouch_model::force::sampling::AdcCodes;
 use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
 
 /// The most FES pulses folded into the kernel at once: the counter's compare interrupt

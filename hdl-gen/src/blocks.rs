@@ -2,8 +2,8 @@
 //! filled with widths and constants read from the [`MeasureConfig`].
 
 use crate::{describe, mcu_words, output_fields, Fault, Options, VerilogFile, MCU_REGISTERS, TOP};
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
-use tooltouch_model::frontend::pin;
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
 
 /// Fills `${NAME}` holes of `template`. A hole without a value is a generator bug, caught
@@ -126,7 +126,7 @@ impl Gen {
     pub(crate) fn synchronizer(&self) -> VerilogFile {
         let body = fill(
             r#"// Two-flip-flop synchronizer for the six asynchronous input pins (bit order of
-// tooltouch_model::frontend::pin: arm, contact, index, fes, scale_a, scale_b).
+// tooltouch_model::measure::frontend::pin: arm, contact, index, fes, scale_a, scale_b).
 // A level sampled at clock k is on `synced` after clock k+1.
 module tt_synchronizer (
     input  wire       clk,

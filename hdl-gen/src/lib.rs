@@ -42,7 +42,7 @@
 mod blocks;
 mod testbench;
 
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 pub use testbench::{

@@ -22,7 +22,7 @@
 //! <cycles>` with `+nostop`.
 
 use crate::{describe, mcu_words, output_fields, outputs_width, MCU_ADDR_BITS, MCU_DATA_BITS, TOP};
-use tooltouch_model::frontend::pin;
+use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
 
 /// Stimulus file name.

@@ -9,8 +9,11 @@ use anyhow::{Context, Result};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use tooltouch_model::force::{encode_force_event, outputs_record, ForceConfig, ForceSource};
-use tooltouch_model::wire::{force_config_chunks, kind, Header, Record, StreamKind};
+use tooltouch_model::force::config::{ForceConfig, ForceSource};
+use tooltouch_model::wire::force_chunks::force_config_chunks;
+use tooltouch_model::wire::force_event::encode_force_event;
+use tooltouch_model::wire::force_outputs::outputs_record;
+use tooltouch_model::wire::{kind, Header, Record, StreamKind};
 
 /// Which controller(s).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,7 +11,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
 
 /// Decision method.

@@ -17,12 +17,14 @@ use crate::drive::scenario::ClosedLoop;
 use crate::drive::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
 use rand::Rng;
-use tooltouch_model::control::fuzzy::{NO_RULE, STANDARD_RULES};
-use tooltouch_model::control::ControllerSettings;
-use tooltouch_model::estimator::AdcScales;
-use tooltouch_model::force::{ForceConfig, ForceEvent, ForceSettings, ForceSource, Fx};
-use tooltouch_model::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::force::config::{ForceConfig, ForceSettings, ForceSource};
+use tooltouch_model::force::control::fuzzy::{NO_RULE, STANDARD_RULES};
+use tooltouch_model::force::control::ControllerSettings;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::sampling::AdcScales;
+use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::force::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::units::Fx;
 
 /// ADC sample rates drawn, Hz (each divides the 50 MHz tick rate).
 pub const SAMPLE_RATES: [u16; 4] = [500, 1000, 1250, 2000];

@@ -15,10 +15,13 @@ pub mod scenario;
 pub mod trace;
 
 use std::time::Duration;
-use tooltouch_model::force::{encode_force_event, ForceEvent, ForceKernel, ForceOutputs};
-use tooltouch_model::wire::{
-    self, encode_config, encode_event, force_config_chunks, Header, Record, StreamKind,
-};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::{ForceKernel, ForceOutputs};
+use tooltouch_model::wire::force_chunks::force_config_chunks;
+use tooltouch_model::wire::force_event::encode_force_event;
+use tooltouch_model::wire::measure_config::encode_config;
+use tooltouch_model::wire::measure_event::encode_event;
+use tooltouch_model::wire::{self, Header, Record, StreamKind};
 use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
 
 pub use scenario::{generate, Case, Fault};

@@ -16,8 +16,9 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
-use tooltouch_model::force::{ForceConfig, ForceEvent, ForceSettings};
+use tooltouch_model::force::config::{ForceConfig, ForceSettings};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureSettings, Measurement, TimedEvent};
 
 /// Tick rate of generated streams: the FPGA clock, 50 MHz (20 ns per tick).

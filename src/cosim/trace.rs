@@ -3,13 +3,15 @@
 //! or an error record that says why the firmware rejected its input.
 
 use super::CosimError;
-use tooltouch_model::force::{self, decode_force_outputs, ForceOutputs};
-use tooltouch_model::wire::{self, decode_outputs, Header, Record, StreamKind, HEADER_LEN};
+use tooltouch_model::force::kernel::ForceOutputs;
+use tooltouch_model::wire::force_outputs::decode_force_outputs;
+use tooltouch_model::wire::measure_outputs::decode_outputs;
+use tooltouch_model::wire::{self, Header, Record, StreamKind, HEADER_LEN};
 use tooltouch_model::MeasureOutputs;
 
 /// Record kinds the firmware adds, and its input option (model::wire, shared with the
 /// firmware).
-pub use tooltouch_model::wire::firmware_kind as kind;
+pub use tooltouch_model::wire::kind;
 
 /// Names of the event kinds in [`Profile::per_kind`]'s order.
 pub const EVENT_KIND_NAMES: [&str; 8] = [
@@ -138,7 +140,7 @@ pub fn describe_firmware_error(p: &[u8]) -> String {
                 8 => format!("does not decode at byte {detail} of its encoding"),
                 9 => format!(
                     "field `{field}` out of range (value {})",
-                    tooltouch_model::force::Fx::from_bits(detail as i64)
+                    tooltouch_model::units::Fx::from_bits(detail as i64)
                 ),
                 10 => format!("decodes to hash {detail:#018x}, not the header's force_hash"),
                 _ => format!("chunk error {wire_code}"),
@@ -183,7 +185,7 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<StreamTrace>, CosimError> {
                         .ok_or_else(|| bad(at, format!("outputs record of {} bytes", p.len())))?;
                     stream.outputs.push((record.time, o));
                 }
-                force::kind::OUTPUTS => {
+                wire::kind::FORCE_OUTPUTS => {
                     let o = decode_force_outputs(p).ok_or_else(|| {
                         bad(at, format!("force outputs record of {} bytes", p.len()))
                     })?;

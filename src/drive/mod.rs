@@ -23,8 +23,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, StandardNormal};
 use std::f64::consts::PI;
-use tooltouch_model::estimator::AdcScales;
-use tooltouch_model::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::force::sampling::AdcScales;
+use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
 
 /// Integration steps per ADC sample.
 pub const SUBSTEPS: u32 = 10;
@@ -176,7 +176,7 @@ impl Plant {
         speed: f64,
         seed: u64,
     ) -> Plant {
-        let f = |x: tooltouch_model::force::Fx| x.to_num::<f64>();
+        let f = |x: tooltouch_model::units::Fx| x.to_num::<f64>();
         let load = drive.coulomb + drive.viscous * speed;
         let slip = load / drive.slip_stiffness;
         let mut p = Plant {

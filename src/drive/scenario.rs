@@ -11,8 +11,10 @@
 use super::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::ReferenceStack;
 use std::f64::consts::PI;
-use tooltouch_model::force::{ForceConfig, ForceEvent, ForceKernel, ForceOutputs};
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::force::config::ForceConfig;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::{ForceKernel, ForceOutputs};
+use tooltouch_model::force::sampling::AdcCodes;
 
 /// The scenario's set-up.
 #[derive(Clone, Copy, Debug)]
@@ -67,7 +69,7 @@ impl ControlScenario {
 /// Which implementation closes the loop.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Engine {
-    /// `tooltouch_model::force::ForceKernel` (fixed point).
+    /// `tooltouch_model::force::kernel::ForceKernel` (fixed point).
     Model,
     /// [`ReferenceStack`] (f64).
     Reference,
@@ -312,10 +314,10 @@ impl ControllerKind {
 /// the nominal process F10 ([`crate::reference::design`]).
 pub fn scenario_settings(
     kind: ControllerKind,
-    source: tooltouch_model::force::ForceSource,
-) -> tooltouch_model::force::ForceSettings {
+    source: tooltouch_model::force::config::ForceSource,
+) -> tooltouch_model::force::config::ForceSettings {
     use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
-    use tooltouch_model::control::ControllerSettings;
+    use tooltouch_model::force::control::ControllerSettings;
     let nominal = NominalProcess::default();
     let (kp, ki) = nominal.ziegler_nichols_pi();
     let controller = match kind {
@@ -327,7 +329,7 @@ pub fn scenario_settings(
             ControllerSettings::Fuzzy(fuzzy_from_pi(kp, ki, nominal.period, 300.0))
         }
     };
-    tooltouch_model::force::ForceSettings {
+    tooltouch_model::force::config::ForceSettings {
         controller,
         force_source: source,
         ..Default::default()

@@ -184,7 +184,7 @@ pub fn describe_word(config: &MeasureConfig, word_hex: &str) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tooltouch_model::frontend::{pin, Pins};
+    use tooltouch_model::measure::frontend::{pin, Pins};
 
     #[test]
     fn words_round_trip_through_describe() {

@@ -5,8 +5,8 @@
 
 use crate::stimulus::Stimulus;
 use rand::Rng;
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod};
-use tooltouch_model::frontend::{pin, Pins};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 
 /// A random valid configuration. Ranges are the full valid ones, biased toward values

@@ -36,7 +36,7 @@ use crate::stimulus::{Segment, Stimulus};
 use serde::{Deserialize, Serialize};
 use spindle::SlowErrors;
 use std::fmt;
-use tooltouch_model::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::MeasureConfig;
 
 /// When the CNC retracts after "register now".

@@ -101,7 +101,7 @@ impl Spindle {
     /// Appends the FES and index level changes in clocks `(k_a, k_b)` (exclusive of
     /// `k_a`, whose levels are [`Self::levels_at`]) as `(clock, pin bit, level)`.
     pub fn transitions(&self, k_a: u64, k_b: u64, out: &mut Vec<(u64, u8, bool)>) {
-        use tooltouch_model::frontend::pin;
+        use tooltouch_model::measure::frontend::pin;
         let ppr = u64::from(self.pulses_per_rev);
         let mut j = ((k_a as f64 / self.fes_period()).floor() as u64).saturating_sub(1);
         loop {
@@ -182,7 +182,7 @@ impl SlowErrors {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tooltouch_model::frontend::pin;
+    use tooltouch_model::measure::frontend::pin;
 
     #[test]
     fn fes_and_index_transitions_agree_with_levels() {

@@ -19,7 +19,7 @@ pub use stats::{Spread, Summary};
 use crate::lathe::{Chunk, Lathe, LatheScenario, Motion, RetractAt, ScenarioError};
 use crate::stimulus::{Segment, Stimulus};
 use serde::Serialize;
-use tooltouch_model::frontend::Edges;
+use tooltouch_model::measure::frontend::Edges;
 use tooltouch_model::{FrontEnd, MeasureConfig};
 
 /// One measurement's results.
@@ -124,7 +124,7 @@ impl Watch {
                 self.stop_after = Some(k + self.reaction);
             }
         }
-        let index = tooltouch_model::frontend::pin::INDEX;
+        let index = tooltouch_model::measure::frontend::pin::INDEX;
         if edges.changed & edges.levels & index != 0 {
             self.window_counts.push(m.counter().last_window_count());
         }

@@ -9,9 +9,9 @@
 //! Ziegler–Nichols (reaction curve) PI for a first order plus dead time:
 //! `K_p = 0.9·τ_p/(K·L)`, `T_i = L/0.3`, `K_i = K_p/T_i`.
 
-use tooltouch_model::control::fuzzy::{LIMIT, STANDARD_RULES};
-use tooltouch_model::control::{AdaptiveSettings, FuzzySettings, PiSettings};
-use tooltouch_model::force::Fx;
+use tooltouch_model::force::control::fuzzy::{LIMIT, STANDARD_RULES};
+use tooltouch_model::force::control::{AdaptiveSettings, FuzzySettings, PiSettings};
+use tooltouch_model::units::Fx;
 
 /// The nominal process F10 and the loop's timing.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -109,11 +109,11 @@ mod tests {
             (kp - 0.16).abs() < 1e-12 && (ki - 0.64).abs() < 1e-12,
             "{kp} {ki}"
         );
-        let d = tooltouch_model::force::DEFAULT_PI;
+        let d = tooltouch_model::force::control::pi::DEFAULT_PI;
         assert!((d.kp.to_num::<f64>() - kp).abs() < 1e-9);
         assert!((d.ki.to_num::<f64>() - ki).abs() < 1e-9);
         let z = fuzzy_from_pi(kp, ki, 0.05, 300.0);
-        let dz = tooltouch_model::force::DEFAULT_FUZZY;
+        let dz = tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
         assert!((z.gde.to_num::<f64>() - dz.gde.to_num::<f64>()).abs() < 1e-6);
         assert!((z.gdu.to_num::<f64>() - dz.gdu.to_num::<f64>()).abs() < 1e-6);
     }

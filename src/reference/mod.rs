@@ -11,18 +11,19 @@
 
 pub mod design;
 
-use tooltouch_model::control::fuzzy::{NO_RULE, SETS};
-use tooltouch_model::control::ControllerSettings;
-use tooltouch_model::force::{ForceSettings, ForceSource, Fx};
-use tooltouch_model::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::wear::{Threshold, WearSettings};
+use tooltouch_model::force::config::{ForceSettings, ForceSource};
+use tooltouch_model::force::control::fuzzy::{NO_RULE, SETS};
+use tooltouch_model::force::control::ControllerSettings;
+use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::force::wear::{Threshold, WearSettings};
+use tooltouch_model::units::Fx;
 
 /// I32F32 → f64.
 pub fn f(x: Fx) -> f64 {
     x.to_num::<f64>()
 }
 
-/// Float sampling chain: same low-pass and boxcar as `tooltouch_model::sampling`, in codes.
+/// Float sampling chain: same low-pass and boxcar as `tooltouch_model::force::sampling`, in codes.
 #[derive(Clone, Debug, Default)]
 pub struct SamplerF {
     alpha: f64,
@@ -101,7 +102,7 @@ pub struct EstimateF {
     pub force_measured: f64,
 }
 
-/// Float estimator (F1–F9, identification), mirroring `tooltouch_model::estimator`.
+/// Float estimator (F1–F9, identification), mirroring `tooltouch_model::force::estimator`.
 #[derive(Clone, Debug)]
 pub struct EstimatorF {
     s: ForceSettings,
@@ -268,7 +269,7 @@ impl ControllerF for PiF {
 /// Float adaptive F11.
 #[derive(Clone, Debug)]
 pub struct AdaptiveF {
-    s: tooltouch_model::control::AdaptiveSettings,
+    s: tooltouch_model::force::control::AdaptiveSettings,
     h: f64,
     feed: f64,
     /// Process-gain estimate, N/%.
@@ -337,10 +338,11 @@ pub fn infer_f(rules: &[[i8; SETS]; SETS], e: f64, de: f64) -> f64 {
             }
         }
     }
-    let steps = 3 * tooltouch_model::control::fuzzy::OUTPUT_STEPS_PER_SET;
+    let steps = 3 * tooltouch_model::force::control::fuzzy::OUTPUT_STEPS_PER_SET;
     let (mut num, mut den) = (0.0, 0.0);
     for p in -steps..=steps {
-        let u = f64::from(p) / f64::from(tooltouch_model::control::fuzzy::OUTPUT_STEPS_PER_SET);
+        let u =
+            f64::from(p) / f64::from(tooltouch_model::force::control::fuzzy::OUTPUT_STEPS_PER_SET);
         let mu = strength
             .iter()
             .zip(memberships_f(u))
@@ -358,7 +360,7 @@ pub fn infer_f(rules: &[[i8; SETS]; SETS], e: f64, de: f64) -> f64 {
 
 impl ControllerF for FuzzyF {
     fn step(&mut self, r: f64, force: f64) -> (f64, u8, bool) {
-        let span = f64::from(tooltouch_model::control::fuzzy::SPAN);
+        let span = f64::from(tooltouch_model::force::control::fuzzy::SPAN);
         let e = r - force;
         let de = e - self.e_prev.unwrap_or(e);
         self.e_prev = Some(e);
@@ -464,7 +466,7 @@ impl WearF {
     }
 }
 
-/// The whole float force path, driven like `tooltouch_model::force::ForceKernel`.
+/// The whole float force path, driven like `tooltouch_model::force::kernel::ForceKernel`.
 pub struct ReferenceStack {
     settings: ForceSettings,
     /// Sampling chain.
@@ -502,8 +504,8 @@ impl ReferenceStack {
     }
 
     /// Applies one event, as `ForceKernel::apply` does.
-    pub fn apply(&mut self, ev: tooltouch_model::force::ForceEvent) {
-        use tooltouch_model::force::ForceEvent as E;
+    pub fn apply(&mut self, ev: tooltouch_model::force::events::ForceEvent) {
+        use tooltouch_model::force::events::ForceEvent as E;
         match ev {
             E::Sample(c) => self.sampler.on_sample(&c),
             E::Tick => {

@@ -20,12 +20,16 @@ pub mod verilator;
 use crate::lathe::LatheScenario;
 use crate::stimulus::Stimulus;
 use std::time::Instant;
-use tooltouch_model::control::{Controller, ControllerSettings, ForceController};
-use tooltouch_model::force::{
-    ForceEvent, ForceKernel, ForceSettings, Fx, DEFAULT_ADAPTIVE, DEFAULT_FUZZY, DEFAULT_PI,
-};
-use tooltouch_model::frontend::Edges;
-use tooltouch_model::sampling::AdcCodes;
+use tooltouch_model::force::config::ForceSettings;
+use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
+use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
+use tooltouch_model::force::control::pi::DEFAULT_PI;
+use tooltouch_model::force::control::{Controller, ControllerSettings, ForceController};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
+use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::measure::frontend::Edges;
+use tooltouch_model::units::Fx;
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs, Measurement, TimedEvent};
 
 /// What a model run did: enough to prove two runs equal.

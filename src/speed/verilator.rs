@@ -17,7 +17,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::process::Command;
 use tooltouch_hdl_gen::{generate, output_fields, output_values, Options, TOP};
-use tooltouch_model::frontend::pin;
+use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
 use tooltouch_model::MeasureOutputs;
 

@@ -17,7 +17,7 @@
 //! when the generator changes; the fit is recomputed from it, and a test checks that it
 //! reproduces every point within 5 %.
 
-use tooltouch_model::config::{ChargeLaw, MeasureConfig};
+use tooltouch_model::measure::config::{ChargeLaw, MeasureConfig};
 
 /// One yosys measurement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,7 +88,7 @@ pub const CALIBRATION: [Calibration; 14] = [
 const FEATURES: usize = 8;
 
 fn bits_for(max: u64) -> f64 {
-    f64::from(tooltouch_model::config::bits_for(max))
+    f64::from(tooltouch_model::measure::config::bits_for(max))
 }
 
 /// The features of a configuration given by its widths.
@@ -251,7 +251,7 @@ mod tests {
         let narrow = tooltouch_model::MeasureSettings {
             charge_bits: 8,
             scale_bits: 16,
-            charge_law: tooltouch_model::config::ChargeLaw::Linear {
+            charge_law: tooltouch_model::measure::config::ChargeLaw::Linear {
                 charge_step: 8,
                 discharge_step: 4,
             },

@@ -11,8 +11,8 @@ use super::spec::{Names, SpecError, Values};
 use crate::drive::scenario::{run, ControlScenario, Engine};
 use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
 use serde::{Deserialize, Serialize};
-use tooltouch_model::control::ControllerSettings;
-use tooltouch_model::force::{ForceSettings, ForceSource};
+use tooltouch_model::force::config::{ForceSettings, ForceSource};
+use tooltouch_model::force::control::ControllerSettings;
 
 /// The force sweep's parameters (`[force]` in a spec file).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

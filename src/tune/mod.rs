@@ -24,7 +24,7 @@ use evaluate::{evaluate, Outcome};
 use rayon::prelude::*;
 use scenario::Approach;
 use serde::{Deserialize, Serialize};
-use tooltouch_model::config::ChargeLaw;
+use tooltouch_model::measure::config::ChargeLaw;
 
 /// Format tag of `results.json`.
 pub const FORMAT: &str = "tooltouch-tune-1";

@@ -18,7 +18,7 @@
 //! - **Single pulse** (SPEC 2.1): the first clean contact after the arm.
 
 use super::scenario::Approach;
-use tooltouch_model::config::{ChargeLaw, DecisionMethod, MeasureConfig};
+use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod, MeasureConfig};
 
 /// The analog capacitor's law.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -21,7 +21,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
-use tooltouch_model::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::{pin, Pins};
 
 /// What a tuning scenario is made from.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

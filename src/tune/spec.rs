@@ -10,7 +10,7 @@
 use super::reference::{AnalogLaw, Intent};
 use super::scenario::ApproachSettings;
 use serde::{Deserialize, Serialize};
-use tooltouch_model::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
 
 /// A bad sweep specification.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]

@@ -85,9 +85,12 @@ pub fn encode_events(events: &[TimedEvent], config: &MeasureConfig, tick_hz: u32
     };
     let mut out = Vec::with_capacity(wire::HEADER_LEN + 16 * events.len() + 64);
     out.extend_from_slice(&header.encode());
-    push(&mut out, &wire::encode_config(config));
+    push(&mut out, &wire::measure_config::encode_config(config));
     for e in events {
-        push(&mut out, &wire::encode_event(e.time, e.event));
+        push(
+            &mut out,
+            &wire::measure_event::encode_event(e.time, e.event),
+        );
     }
     let end = events.last().map_or(0, |e| e.time);
     push(&mut out, &Record::new(wire::kind::END, end, &[]));
@@ -111,7 +114,11 @@ pub fn encode_outputs(
     for (t, o) in outputs {
         push(
             &mut out,
-            &Record::new(wire::kind::MEASURE_OUTPUTS, *t, &wire::encode_outputs(o)),
+            &Record::new(
+                wire::kind::MEASURE_OUTPUTS,
+                *t,
+                &wire::measure_outputs::encode_outputs(o),
+            ),
         );
     }
     let end = outputs.last().map_or(0, |o| o.0);
@@ -159,7 +166,7 @@ pub fn decode_events(
             if r.kind != wire::kind::MEASURE_CONFIG {
                 return Err(bad("the first record must be the configuration".into()));
             }
-            let c = wire::decode_config(r.payload()).map_err(wire_err)?;
+            let c = wire::measure_config::decode_config(r.payload()).map_err(wire_err)?;
             if c.hash() != header.measure_hash {
                 return Err(BinaryError::ConfigMismatch {
                     file: file.to_string(),
@@ -171,7 +178,7 @@ pub fn decode_events(
         } else if r.kind == wire::kind::END {
             ended = true;
         } else {
-            match wire::decode_event(&r, offset).map_err(wire_err)? {
+            match wire::measure_event::decode_event(&r, offset).map_err(wire_err)? {
                 Some(event) => events.push(TimedEvent {
                     time: r.time,
                     event,
@@ -239,7 +246,8 @@ pub fn decode_outputs(
         let r = r.map_err(wire_err)?;
         match r.kind {
             wire::kind::END => ended = true,
-            wire::kind::MEASURE_OUTPUTS => match wire::decode_outputs(r.payload()) {
+            wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(r.payload())
+            {
                 Some(o) => out.push((r.time, o)),
                 None => {
                     return Err(BinaryError::BadRecord {
@@ -249,7 +257,7 @@ pub fn decode_outputs(
                         message: format!(
                             "payload of {} bytes, expected {}",
                             r.payload().len(),
-                            wire::OUTPUTS_LEN
+                            wire::measure_outputs::OUTPUTS_LEN
                         ),
                     })
                 }

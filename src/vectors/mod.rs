@@ -14,7 +14,7 @@ pub mod binary;
 pub mod vcd;
 
 use crate::stimulus::Stimulus;
-use tooltouch_model::frontend::Pins;
+use tooltouch_model::measure::frontend::Pins;
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs, Measurement, TimedEvent};
 
 /// Runs the cycle-level model from reset over `stimulus` and calls `f(k, pins, front
@@ -24,7 +24,7 @@ use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs, Measurement, Time
 pub fn clock_through(
     stimulus: &Stimulus,
     config: &MeasureConfig,
-    mut f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::frontend::Edges),
+    mut f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::measure::frontend::Edges),
 ) -> u64 {
     let mut fe = FrontEnd::new(config);
     let mut k = 0u64;
@@ -50,7 +50,7 @@ pub fn clock_through(
 pub fn clock_every_cycle(
     stimulus: &Stimulus,
     config: &MeasureConfig,
-    mut f: impl FnMut(u64, &FrontEnd, tooltouch_model::frontend::Edges),
+    mut f: impl FnMut(u64, &FrontEnd, tooltouch_model::measure::frontend::Edges),
 ) {
     let mut fe = FrontEnd::new(config);
     let mut k = 0u64;
@@ -109,7 +109,7 @@ pub fn output_changes(stimulus: &Stimulus, config: &MeasureConfig) -> Vec<(u64, 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tooltouch_model::frontend::pin;
+    use tooltouch_model::measure::frontend::pin;
     use tooltouch_model::MeasureEvent;
 
     #[test]

@@ -6,7 +6,7 @@ use super::clock_through;
 use crate::stimulus::Stimulus;
 use std::collections::HashMap;
 use std::io::{self, Write};
-use tooltouch_model::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 
 /// Names and widths of the [`MeasureOutputs`] fields in VCD files and Verilog ports, in

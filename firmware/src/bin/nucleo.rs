@@ -85,8 +85,8 @@ mod null_logger {
 use core::sync::atomic::{AtomicU32, Ordering};
 use stm32f4::stm32f446 as pac;
 use tooltouch_firmware::board::Board;
-use tooltouch_firmware::model::force::ForceEvent;
-use tooltouch_firmware::model::sampling::AdcCodes;
+use tooltouch_firmware::model::force::events::ForceEvent;
+use tooltouch_firmware::model::force::sampling::AdcCodes;
 
 /// GPIO bits (= EXTI lines) of the inputs: arm PA0, contact PA1, index PB2, scale PB8 /
 /// PB9, force commands PC11–PC13; outputs PA5, PA6. (FES, PB3, is TIM2's clock input.)
@@ -593,7 +593,8 @@ mod app {
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
-    use tooltouch_firmware::model::force::{ForceKernel, ForceSettings};
+    use tooltouch_firmware::model::force::config::ForceSettings;
+    use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
 
     /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).

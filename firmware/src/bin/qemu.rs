@@ -23,8 +23,8 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 use heapless::spsc::{Consumer, Producer, Queue};
 use tooltouch_firmware::board::Board;
-use tooltouch_firmware::model::force::ForceEvent;
-use tooltouch_firmware::model::sampling::AdcCodes;
+use tooltouch_firmware::model::force::events::ForceEvent;
+use tooltouch_firmware::model::force::sampling::AdcCodes;
 use tooltouch_firmware::model::{MeasureOutputs, Measurement};
 
 /// Virtual pin bits in [`PINS`].
@@ -200,9 +200,9 @@ mod app {
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
-    use tooltouch_firmware::model::force::{
-        ForceConfig, ForceEvent, ForceKernel, ForceOutputs, ForceSettings,
-    };
+    use tooltouch_firmware::model::force::config::{ForceConfig, ForceSettings};
+    use tooltouch_firmware::model::force::events::ForceEvent;
+    use tooltouch_firmware::model::force::kernel::{ForceKernel, ForceOutputs};
     use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
     use tooltouch_firmware::{semihosting, stack};
 
