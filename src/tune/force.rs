@@ -7,7 +7,7 @@
 //! The fixed-point error of a gain point is `|IAE_model − IAE_reference|`; the IAE itself
 //! says how good the gains are. The force path runs in firmware, so it has no FPGA cost.
 
-use super::spec::{Names, SpecError, Values};
+use super::values::{Names, SpecError, Values};
 use crate::drive::scenario::{run, ControlScenario, Engine};
 use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
 use serde::{Deserialize, Serialize};

@@ -16,8 +16,10 @@ pub mod output;
 pub mod reference;
 pub mod scenario;
 pub mod spec;
+pub mod values;
 
-pub use spec::{Overrides, Point, Shard, SpecError, SweepSpec};
+pub use spec::{Overrides, Point, Shard, SweepSpec};
+pub use values::SpecError;
 
 use cost::CostModel;
 use evaluate::{evaluate, Outcome};

@@ -1,0 +1,158 @@
+//! A sweep parameter's values and the error that names a bad one: the syntax both the
+//! measurement sweep ([`super::spec`]) and the force sweep ([`super::force`]) parse.
+//!
+//! Values are a TOML array (`charge_bits = [8, 12, 16]`) or text, in a file or a flag:
+//! `"8,12,16"`, a single value `"16"`, or an inclusive range with an optional step
+//! `"8..=16"`, `"8..=16:4"`; names (methods, laws, rules, controllers) a list or
+//! comma-separated text. A leaf: it imports neither sweep, so they can both import it.
+
+use serde::{Deserialize, Serialize};
+
+/// A bad sweep specification.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("sweep parameter `{parameter}`: {message}")]
+pub struct SpecError {
+    /// The parameter, as in the TOML file (flags use the same name with `-` for `_`).
+    pub parameter: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+pub(crate) fn err(parameter: &str, message: impl Into<String>) -> SpecError {
+    SpecError {
+        parameter: parameter.to_string(),
+        message: message.into(),
+    }
+}
+
+/// Integer values of one parameter, as written.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Values {
+    /// A TOML array.
+    List(Vec<i64>),
+    /// A single TOML integer.
+    One(i64),
+    /// Text: `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    Text(String),
+}
+
+impl Values {
+    pub(crate) fn text(s: &str) -> Values {
+        Values::Text(s.to_string())
+    }
+
+    /// The values, checked to lie in `min..=max`.
+    pub fn expand(&self, parameter: &str, min: i64, max: i64) -> Result<Vec<u32>, SpecError> {
+        let raw: Vec<i64> = match self {
+            Values::List(v) => v.clone(),
+            Values::One(v) => vec![*v],
+            Values::Text(t) => parse_text(parameter, t)?,
+        };
+        if raw.is_empty() {
+            return Err(err(parameter, "no values (an empty list)"));
+        }
+        let mut out = Vec::with_capacity(raw.len());
+        for v in raw {
+            if v < min || v > max {
+                return Err(err(
+                    parameter,
+                    format!("value {v} is out of range: allowed {min}..={max}"),
+                ));
+            }
+            out.push(v as u32);
+        }
+        out.dedup();
+        Ok(out)
+    }
+}
+
+fn parse_int(parameter: &str, s: &str) -> Result<i64, SpecError> {
+    s.trim()
+        .parse::<i64>()
+        .map_err(|_| err(parameter, format!("`{}` is not an integer", s.trim())))
+}
+
+fn parse_text(parameter: &str, t: &str) -> Result<Vec<i64>, SpecError> {
+    let t = t.trim();
+    if t.is_empty() {
+        return Err(err(parameter, "no values (empty text)"));
+    }
+    if let Some((a, rest)) = t.split_once("..=") {
+        let (b, step) = match rest.split_once(':') {
+            Some((b, s)) => (b, parse_int(parameter, s)?),
+            None => (rest, 1),
+        };
+        let (a, b) = (parse_int(parameter, a)?, parse_int(parameter, b)?);
+        if step <= 0 {
+            return Err(err(
+                parameter,
+                format!("range step {step} must be at least 1"),
+            ));
+        }
+        if a > b {
+            return Err(err(parameter, format!("empty range {a}..={b}")));
+        }
+        if (b - a) / step > 100_000 {
+            return Err(err(
+                parameter,
+                format!("range {a}..={b}:{step} has too many values"),
+            ));
+        }
+        return Ok((a..=b).step_by(step as usize).collect());
+    }
+    if t.contains("..") {
+        return Err(err(
+            parameter,
+            format!("`{t}` is not a range: write `a..=b` or `a..=b:step`"),
+        ));
+    }
+    t.split(',').map(|s| parse_int(parameter, s)).collect()
+}
+
+/// Names of one parameter (method, law, rule): a TOML array of strings or comma text.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Names {
+    /// A TOML array.
+    List(Vec<String>),
+    /// Comma-separated text.
+    Text(String),
+}
+
+impl Names {
+    /// The named values, each looked up in `known`.
+    pub fn expand<T: Copy>(
+        &self,
+        parameter: &str,
+        known: &[(&str, T)],
+    ) -> Result<Vec<T>, SpecError> {
+        let names: Vec<String> = match self {
+            Names::List(v) => v.clone(),
+            Names::Text(t) => t
+                .split(',')
+                .map(|s| s.trim().to_string())
+                .filter(|s| !s.is_empty())
+                .collect(),
+        };
+        if names.is_empty() {
+            return Err(err(parameter, "no values (an empty list)"));
+        }
+        names
+            .iter()
+            .map(|n| {
+                known
+                    .iter()
+                    .find(|(k, _)| *k == n.as_str())
+                    .map(|&(_, v)| v)
+                    .ok_or_else(|| {
+                        let list: Vec<&str> = known.iter().map(|(k, _)| *k).collect();
+                        err(
+                            parameter,
+                            format!("unknown value `{n}`: expected one of {}", list.join(", ")),
+                        )
+                    })
+            })
+            .collect()
+    }
+}
