@@ -2,7 +2,7 @@
 //!
 //! A leaf below both paths: the measurement configuration checks integer fields
 //! ([`ConfigError`]), every part of the force path checks its fixed-point fields with
-//! [`check_range`] and [`positive`] ([`ForceConfigError`]), so a controller's settings need
+//! `check_range` and `positive` ([`ForceConfigError`]), so a controller's settings need
 //! neither the estimator nor the force kernel to validate themselves.
 
 use crate::units::Fx;

@@ -130,7 +130,7 @@ pub struct WearStatus {
     pub power: Watts,
     /// The allowed power it is compared with, W.
     pub allowed: Watts,
-    /// p̄ ≥ [P] this period.
+    /// p̄ ≥ \[P\] this period.
     pub over: bool,
     /// Alarm latched: change the tool.
     pub alarm: bool,

@@ -2,6 +2,8 @@
 //! [`MeasureOutputs`] field, in the order of [`MeasureOutputs::fields`] but with the flags
 //! packed into the first byte.
 //!
+//! [`kind::MEASURE_OUTPUTS`]: crate::wire::kind::MEASURE_OUTPUTS
+//!
 //! ```text
 //! 0      flags u8: armed, contact, register_now, first_contact, density_armed,
 //!        density_fired from bit 0
