@@ -1,5 +1,5 @@
-//! The force path as one event-level kernel (docs/domain.md §3 and §4): sampling chain → estimator →
-//! controller → feed override, and the wear monitor beside it, with every output.
+//! The force path as one event-level kernel (docs/domain.md §3 and §4): sampling chain → estimator
+//! → controller → feed override, and the wear monitor beside it, with every output.
 //!
 //! ## Firmware API
 //! ```text

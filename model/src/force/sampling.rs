@@ -1,11 +1,11 @@
-//! The spindle-drive sampling chain (docs/domain.md §3): 1 kHz ADC codes, a first-order low-pass near
-//! 100 Hz, and a boxcar average over each control period (h = 0.05 s at 20 Hz).
+//! The spindle-drive sampling chain (docs/domain.md §3): 1 kHz ADC codes, a first-order low-pass
+//! near 100 Hz, and a boxcar average over each control period (h = 0.05 s at 20 Hz).
 //!
 //! Why this shape: the phase voltages and currents are sinusoids at the electrical frequency
 //! (tens of Hz), so they cannot be low-passed themselves. The chain therefore squares them
 //! per sample first — for a balanced three-phase set, Σv² and Σi² are constant, so
-//! `V_line = √(Σv²/3)` (eq. F3, docs/domain.md) is exact at every sample — and filters the squares. Speed,
-//! measured power and the dynamometer force are filtered as they are.
+//! `V_line = √(Σv²/3)` (eq. F3, docs/domain.md) is exact at every sample — and filters the squares.
+//! Speed, measured power and the dynamometer force are filtered as they are.
 //!
 //! ## Formats
 //! - ADC codes: 12 bit, `0..=4095` (larger codes are clamped to 4095). Speed and measured

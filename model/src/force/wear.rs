@@ -1,5 +1,5 @@
-//! Tool-wear monitor from spindle power (docs/domain.md §4, paper W): the updating threshold of W8–W9
-//! and, for comparison, a constant threshold.
+//! Tool-wear monitor from spindle power (docs/domain.md §4, paper W): the updating threshold of
+//! W8–W9 and, for comparison, a constant threshold.
 //!
 //! Why precomputed: the mean-power limit `[P̄]` of W7 needs `a^(−x)` with a non-integer x
 //! and the engagement angles' arcsines — for each *set of cutting conditions* (depth,
@@ -113,8 +113,8 @@ impl WearSettings {
     }
 }
 
-/// Allowed motor power `[P] = p_i + [P̄]/η` (eq. W9, docs/domain.md), W, I32F32, saturating; `η` must be
-/// positive (validated), else `[P̄]` is taken as is.
+/// Allowed motor power `[P] = p_i + [P̄]/η` (eq. W9, docs/domain.md), W, I32F32, saturating; `η`
+/// must be positive (validated), else `[P̄]` is taken as is.
 pub fn allowed_power(set: &ConditionSet, efficiency: Fx) -> Watts {
     let cutting = set
         .mean_power_limit

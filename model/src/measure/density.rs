@@ -1,5 +1,5 @@
-//! Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor charged per FES
-//! pulse in contact and discharged per pulse without, firing on an upward threshold
+//! Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor charged per
+//! FES pulse in contact and discharged per pulse without, firing on an upward threshold
 //! crossing, with hysteresis.
 //!
 //! Updating once per FES pulse puts the capacitor in the angle domain, so the decision

@@ -2,8 +2,8 @@
 //! quadrature decoder and the two position latches, driven one event at a time.
 //!
 //! This is the logic both timings share. The event level ([`crate::measure::events`]) calls these
-//! methods once per timestamped event; the cycle level ([`crate::measure::frontend`]) calls them for
-//! the edges detected in one clock, in the canonical order of
+//! methods once per timestamped event; the cycle level ([`crate::measure::frontend`]) calls them
+//! for the edges detected in one clock, in the canonical order of
 //! [`crate::measure::events::MeasureEvent::CANONICAL_ORDER`]: arm, contact, index, FES, scale. The
 //! latches therefore capture the scale position as it was *before* a scale edge in the
 //! same clock.

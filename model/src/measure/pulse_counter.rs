@@ -2,8 +2,8 @@
 //! decides when the count exceeds `i_def` within a window of revolutions.
 //!
 //! The decision is taken on the very pulse that makes the count exceed `i_def` (the last
-//! pulse of the series, eq. S9, docs/domain.md), not at the following index pulse: the comparator CU is
-//! combinational on the count, and the index pulse only resets a count that did not get
+//! pulse of the series, eq. S9, docs/domain.md), not at the following index pulse: the comparator
+//! CU is combinational on the count, and the index pulse only resets a count that did not get
 //! there. Deciding at the pulse removes up to one revolution of latency and decides on the
 //! same pulse an index-time compare would have accepted.
 

@@ -157,7 +157,8 @@ pub struct Header {
     pub stream: StreamKind,
     /// Ticks per second of the record times (the FPGA clock for cycle-level streams).
     pub tick_hz: u32,
-    /// [`crate::measure::config::MeasureConfig::hash`] of the configuration the stream was made with.
+    /// [`crate::measure::config::MeasureConfig::hash`] of the configuration the stream was made
+    /// with.
     pub measure_hash: u64,
     /// Hash of the force-path configuration (0 when none).
     pub force_hash: u64,

@@ -105,7 +105,8 @@ impl FuzzySettings {
 }
 
 /// Default fuzzy PI: e saturates the universe at ±300 N (GE = 3072/300), and GΔU, GΔE
-/// reproduce [`crate::force::control::pi::DEFAULT_PI`] in the linear region (`K_i·h = GΔU·GE`, `K_p = GΔU·GΔE`).
+/// reproduce [`crate::force::control::pi::DEFAULT_PI`] in the linear region
+/// (`K_i·h = GΔU·GE`, `K_p = GΔU·GΔE`).
 pub const DEFAULT_FUZZY: FuzzySettings = FuzzySettings {
     ge: Fx::lit("10.24"),
     gde: Fx::lit("51.2"),

@@ -1,5 +1,5 @@
-//! Cutting-force estimator from the spindle drive's electrical signals (docs/domain.md §3, eq. F1–F9), one
-//! step per control period, plus the no-load identification of B and T_fco.
+//! Cutting-force estimator from the spindle drive's electrical signals (docs/domain.md §3, eq.
+//! F1–F9), one step per control period, plus the no-load identification of B and T_fco.
 //!
 //! Per period, from the sampling chain's averages in physical units
 //! ([`crate::force::sampling::DriveSignals`]):

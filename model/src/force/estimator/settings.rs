@@ -1,5 +1,5 @@
-//! The estimator's settings (docs/domain.md §3): the drive's electrical and mechanical constants, the
-//! friction model F7–F8 and the F9 switch, with their defaults and ranges, and the two
+//! The estimator's settings (docs/domain.md §3): the drive's electrical and mechanical constants,
+//! the friction model F7–F8 and the F9 switch, with their defaults and ranges, and the two
 //! derived quantities that depend only on them and the control period (`1/b` of F6 and the
 //! largest viscous friction its series allows).
 
