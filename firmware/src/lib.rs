@@ -14,6 +14,7 @@
 pub mod board;
 pub mod cosim;
 pub mod handlers;
+pub mod interrupts;
 mod panic;
 #[cfg(feature = "qemu")]
 pub mod semihosting;
