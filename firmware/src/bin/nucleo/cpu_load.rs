@@ -16,8 +16,9 @@ pub fn start_cycle_counter(dcb: &mut DCB, dwt: &mut DWT) {
     dwt.enable_cycle_counter();
 }
 
-/// The interrupts' share of the CPU, from idle's turns: a turn longer than the shortest one seen was preempted, and its excess is time spent in
-/// interrupts; once per `period` cycles the busy share is reported, in ‰.
+/// The interrupts' share of the CPU, from idle's turns: a turn longer than the shortest
+/// one seen was preempted, and its excess is time spent in interrupts; once per `period`
+/// cycles the busy share is reported, in ‰.
 pub struct CpuLoad {
     /// Cycle count at the previous turn.
     last: u32,

@@ -131,18 +131,18 @@ pub fn start_feed_pwm(tim4: &pac::TIM4, gpiob: &pac::GPIOB, settings: &TimerSett
     tim4.cr1().write(|w| w.arpe().enabled().cen().enabled());
 }
 
-/// TIM2 counts FES rising edges on PB3 (TIM2_CH2, alternate function 1), RM0390
-/// "External clock source mode 1", its procedure for TI2: CC2S = 01 (channel 2 an input,
-/// IC2 on TI2), IC2F = 0011 (a level must hold for 8 timer clocks, 95 ns at 84 MHz, to
-/// count: rejects spikes on the encoder line and still counts up to about 5 MHz, 25 times
-/// the 204.8 kHz of docs/domain.md; the TI2 input is resynchronised to the timer clock
-/// either way), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external clock mode 1), TS =
-/// 110 (TI2FP2), then CEN. PSC 0 counts every edge; ARR at its 32-bit maximum wraps the
+/// TIM2 counts FES rising edges on PB3 (TIM2_CH2, alternate function 1), RM0390 "External
+/// clock source mode 1", its procedure for TI2: CC2S = 01 (channel 2 an input, IC2 on TI2),
+/// IC2F = 0011 (a level must hold for 8 timer clocks, 95 ns at 84 MHz, to count: rejects
+/// spikes on the encoder line and still counts up to about 5 MHz, 25 times the 204.8 kHz of
+/// 1024 pulses per revolution at 12 000 rpm; the TI2 input is resynchronised to the timer
+/// clock either way), CC2P = CC2NP = 0 (rising edge), SMS = 111 (external clock mode 1), TS
+/// = 110 (TI2FP2), then CEN. PSC 0 counts every edge; ARR at its 32-bit maximum wraps the
 /// count at 2^32 like the kernel's. Channel 1 is the fold's compare: CC1S = 00 and OC1M =
 /// 000 (the same CCMR1 write: output compare, frozen, no preload, so a CCR1 write takes
 /// effect at once), CC1E = 0 (no pin); CC1IE raises the TIM2 interrupt when the count
-/// reaches CCR1. The update interrupt stays off. The pin is switched to the timer once
-/// the channel is an input, so it is never driven.
+/// reaches CCR1. The update interrupt stays off. The pin is switched to the timer once the
+/// channel is an input, so it is never driven.
 pub fn start_fes_counter(tim2: &pac::TIM2, gpiob: &pac::GPIOB) {
     tim2.ccmr1_input()
         .write(|w| w.cc2s().ti2().ic2f().fck_int_n8());
