@@ -20,9 +20,11 @@ use proptest::test_runner::RngSeed;
 use sim::{Action, Burst, ForceSim, Sim, SimBoard};
 use tooltouch_firmware::handlers::{self, SampleQueue, FES_FOLD_LIMIT};
 use tooltouch_firmware::interrupts::{self, MeasureInterrupts};
-use tooltouch_firmware::model::config::{ContactRule, DecisionMethod};
-use tooltouch_firmware::model::force::{ForceEvent, ForceKernel, ForceSettings};
-use tooltouch_firmware::model::sampling::AdcCodes;
+use tooltouch_firmware::model::force::config::ForceSettings;
+use tooltouch_firmware::model::force::events::ForceEvent;
+use tooltouch_firmware::model::force::kernel::ForceKernel;
+use tooltouch_firmware::model::force::sampling::AdcCodes;
+use tooltouch_firmware::model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureSettings, Measurement};
 
 /// Every board, by name, with its measurement tasks' IRQ numbers.

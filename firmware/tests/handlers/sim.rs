@@ -22,8 +22,8 @@ use std::collections::BTreeSet;
 use tooltouch_firmware::board::Board;
 use tooltouch_firmware::handlers::{self, MeasureDomain, FES_FOLD_LIMIT};
 use tooltouch_firmware::interrupts::MeasureInterrupts;
-use tooltouch_firmware::model::force::ForceEvent;
-use tooltouch_firmware::model::sampling::AdcCodes;
+use tooltouch_firmware::model::force::events::ForceEvent;
+use tooltouch_firmware::model::force::sampling::AdcCodes;
 use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 
 /// What the handlers did to the board, and what the NVIC did, in order.

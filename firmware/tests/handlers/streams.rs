@@ -6,7 +6,7 @@
 
 use crate::sim::Burst;
 use proptest::prelude::*;
-use tooltouch_firmware::model::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_firmware::model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureSettings};
 
 /// A valid configuration with short windows and low thresholds (every field drawn inside

@@ -157,8 +157,8 @@ mod app {
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
-    use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::force::config::ForceSettings;
+    use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
 
     /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).

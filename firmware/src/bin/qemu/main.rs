@@ -65,8 +65,8 @@ mod app {
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
-    use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::force::config::ForceSettings;
+    use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
     use tooltouch_firmware::{cosim, semihosting, stack};
 
