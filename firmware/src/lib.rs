@@ -2,21 +2,31 @@
 //!
 //! The library is the board-independent part: the interrupt handlers' bodies
 //! ([`handlers`]), the co-simulation driver that replays a binary event stream
-//! ([`cosim`]), and the stack watermark ([`stack`]). The two RTIC applications in
-//! `src/bin/` (QEMU's lm3s6965evb and a Nucleo-F446RE) only bind these handlers to their
-//! interrupts and implement [`board::Board`] (pin levels in, "register now" out).
+//! ([`cosim`]), the measurement tasks' IRQ numbers per board ([`interrupts`]) and the
+//! stack watermark (`stack`, on the boards). The two RTIC applications, one folder per
+//! board in `src/bin/` (QEMU's lm3s6965evb and a Nucleo-F446RE: the board's setup and
+//! pins in modules beside the app), only bind these handlers to their interrupts and
+//! implement [`board::Board`] (pin levels in, "register now" out).
 //!
 //! Nothing here may panic: the `panic-check` feature links a panic handler that refers to
 //! an undefined symbol, so a release build fails to link if any panic path remains.
+//!
+//! The board-independent part builds on the host too (the boards' crates are thumb-only
+//! dependencies): `tests/handlers` replays event streams through the handlers on a
+//! simulated board in each board's interrupt order ([`interrupts`]) against the golden
+//! model.
 #![no_std]
 #![deny(missing_docs)]
 
 pub mod board;
 pub mod cosim;
 pub mod handlers;
+pub mod interrupts;
+#[cfg(target_os = "none")]
 mod panic;
-#[cfg(feature = "qemu")]
+#[cfg(all(feature = "qemu", target_os = "none"))]
 pub mod semihosting;
+#[cfg(target_os = "none")]
 pub mod stack;
 
 pub use tooltouch_model as model;

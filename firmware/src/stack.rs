@@ -43,12 +43,6 @@ pub fn used() -> u32 {
     high.saturating_sub(p) as u32
 }
 
-#[cfg(target_arch = "arm")]
 fn current_sp() -> usize {
     cortex_m::register::msp::read() as usize
-}
-
-#[cfg(not(target_arch = "arm"))]
-fn current_sp() -> usize {
-    0
 }

@@ -1,5 +1,6 @@
-//! Firmware builds, always run from inside firmware/ so its own .cargo/config.toml applies
-//! (target, QEMU / probe-rs runners, link arguments).
+//! Firmware builds and tests, always run from inside firmware/ so its own
+//! .cargo/config.toml applies (target, QEMU / probe-rs runners, link arguments). That
+//! file sets a thumb target as the default, so the host tests name the host's triple.
 
 use anyhow::{bail, Context, Result};
 use std::path::Path;
@@ -114,6 +115,49 @@ pub fn check_all() -> Result<()> {
     crate::run(&dir, "cargo", &clippy)?;
     // The check builds share the release folder: build the shipped images last.
     build_all()
+}
+
+/// The handlers' host tests (firmware/tests/handlers: event streams in each board's
+/// interrupt order against the golden model) and their clippy, built for the host with
+/// no board feature (the boards' binaries and crates are thumb-only).
+pub fn host_tests() -> Result<()> {
+    let dir = firmware_dir()?;
+    let host = host_triple()?;
+    crate::run(
+        &dir,
+        "cargo",
+        &[
+            "clippy",
+            "--target",
+            &host,
+            "--no-default-features",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ],
+    )?;
+    crate::run(
+        &dir,
+        "cargo",
+        &["test", "--target", &host, "--no-default-features"],
+    )
+}
+
+/// The host's target triple, as `rustc -vV` reports it.
+fn host_triple() -> Result<String> {
+    let out = Command::new("rustc")
+        .arg("-vV")
+        .output()
+        .context("could not start `rustc -vV`")?;
+    if !out.status.success() {
+        bail!("`rustc -vV` failed ({})", out.status);
+    }
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .find_map(|line| line.strip_prefix("host: "))
+        .map(str::to_string)
+        .context("`rustc -vV` printed no `host:` line")
 }
 
 /// Prints text/data/bss of a board's release image with llvm-size (or

@@ -20,7 +20,8 @@ usage: cargo xtask <verb>
 verbs:
   setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
                iverilog, yosys, nextpnr-ice40) that are missing
-  test         setup, then fmt, clippy, host tests, thumb builds, firmware, lockfile check
+  test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
+               host tests too), lockfile check
   firmware     build the firmware for both boards
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
@@ -107,6 +108,7 @@ fn test() -> Result<()> {
     }
     step("lockfile pins", check_lockfile_pins)?;
     step("firmware", firmware::check_all)?;
+    step("firmware handlers on the host", firmware::host_tests)?;
     step("host tests", || {
         run(&root, "cargo", &["test", "--workspace", "--release"])
     })?;

@@ -1,0 +1,48 @@
+//! The Nucleo-F446RE as the handlers see it ([`Board`]): pins read and driven through
+//! `pins`, the FES count and compare in TIM2, the feed override in TIM4's duty, the drive
+//! signals from ADC1.
+
+use crate::{adc, pins, timers};
+use stm32f4::stm32f446 as pac;
+use tooltouch_firmware::board::Board;
+use tooltouch_firmware::model::force::events::ForceEvent;
+use tooltouch_firmware::model::force::sampling::AdcCodes;
+
+/// The Nucleo-F446RE.
+pub struct Nucleo;
+
+impl Board for Nucleo {
+    fn arm() -> bool {
+        pins::arm()
+    }
+    fn contact() -> bool {
+        pins::contact()
+    }
+    fn scale() -> (bool, bool) {
+        pins::scale()
+    }
+    fn fes_count() -> u32 {
+        timers::fes_count()
+    }
+    fn set_fes_compare(at: u32) {
+        timers::set_fes_compare(at);
+    }
+    fn pend_fes_compare() {
+        rtic::pend(pac::Interrupt::TIM2);
+    }
+    fn set_register_now(on: bool) {
+        pins::set_register_now(on);
+    }
+    fn adc() -> AdcCodes {
+        adc::convert_all()
+    }
+    fn force_command() -> Option<ForceEvent> {
+        pins::next_command()
+    }
+    fn set_feed_override(percent: u8) {
+        timers::set_feed_override(percent);
+    }
+    fn set_wear_alarm(on: bool) {
+        pins::set_wear_alarm(on);
+    }
+}
