@@ -9,9 +9,9 @@
 //! | `tt_synchronizer` | `FrontEnd::sync1/sync2` | 2 × 6 |
 //! | `tt_glitch_filter` | `FrontEnd::filter` | 6 levels + 6 × `glitch_bits` counters |
 //! | `tt_edge_detect` | `filtered ^ FrontEnd::previous` | 8 strobes (rising edges, armed index/FES, scale step), registered one clock early |
-//! | `tt_pulse_counter` | `PulseCounter` (SPEC 2.3) | count, last window count, revs, reached |
-//! | `tt_density_detector` | `DensityDetector` (SPEC 2.4) | charge, armed, fired |
-//! | `tt_quadrature_decoder` | `QuadratureDecoder` (SPEC 1) | position, errors (the phase is the filtered levels') |
+//! | `tt_pulse_counter` | `PulseCounter` (docs/domain.md §2.3) | count, last window count, revs, reached |
+//! | `tt_density_detector` | `DensityDetector` (docs/domain.md §2.4) | charge, armed, fired |
+//! | `tt_quadrature_decoder` | `QuadratureDecoder` (docs/domain.md §1) | position, errors (the phase is the filtered levels') |
 //! | `tt_position_latch` | `PositionLatch` | valid, position |
 //! | `tt_measurement` | `Measurement` | armed, contact, sticky, revolutions, pulses |
 //! | `tt_frontend` (simulation top) | `FrontEnd` + MCU register file | none of its own |
@@ -36,30 +36,35 @@
 //!
 //! Every width and constant is read from the [`MeasureConfig`]; the header of every file
 //! names the configuration hash ([`MeasureConfig::hash`]).
+//!
+//! ## Layout
+//!
+//! One source file per generated file, named as the file it writes:
+//! `src/modules/tt_pulse_counter.rs` writes `tt_pulse_counter.v`, and so on for every
+//! module of the table, the testbench (`tt_testbench.rs`) and its Verilator driver
+//! (`tt_testbench_main.rs` → `tt_testbench_main.cpp`). The helpers they share (file
+//! header, `${NAME}` template filler, literals, comparisons with a constant) are in
+//! `src/emit.rs`, the MCU register map in `src/mcu.rs`.
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
-mod blocks;
-mod testbench;
+mod emit;
+mod mcu;
+mod modules;
 
-use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
-pub use testbench::{
-    testbench, verilator_main, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH,
-    VERILATOR_MAIN,
+pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
+pub use modules::tt_testbench::{
+    testbench, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH,
 };
+pub use modules::tt_testbench_main::{verilator_main, VERILATOR_MAIN};
 
 /// Name of the simulation top module (and of its file, `tt_frontend.v`): every output a
 /// port, compared by the testbench.
 pub const TOP: &str = "tt_frontend";
 /// Name of the chip top for synthesis (file `tt_fpga.v`): pins, MCU bus and strobe only.
 pub const FPGA_TOP: &str = "tt_fpga";
-
-/// Width of the MCU read-data bus, bits.
-pub const MCU_DATA_BITS: u32 = 32;
-/// Width of the MCU register address, bits.
-pub const MCU_ADDR_BITS: u32 = 4;
 
 /// A fault deliberately injected into the generated Verilog, so tests can prove that the
 /// co-simulation and `tooltouch check` catch a design that differs from the model. Never
@@ -116,21 +121,9 @@ impl Design {
 
 /// Writes the Verilog of the front end for `config`.
 pub fn generate(config: &MeasureConfig, options: &Options) -> Design {
-    let g = blocks::Gen::new(config, options);
-    let files = vec![
-        g.synchronizer(),
-        g.glitch_filter(),
-        g.edge_detect(),
-        g.pulse_counter(),
-        g.density_detector(),
-        g.quadrature_decoder(),
-        g.position_latch(),
-        g.measurement(),
-        g.top(),
-        g.fpga_top(),
-    ];
+    let ctx = emit::Context::new(config, options);
     Design {
-        files,
+        files: modules::design(&ctx),
         config_hash: config.hash(),
     }
 }
@@ -169,137 +162,6 @@ pub fn mask(width: u32) -> u64 {
     } else {
         (1u64 << width) - 1
     }
-}
-
-/// One word of the MCU register file (read through `mcu_addr` / `mcu_rdata`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct McuRegister {
-    /// Word address.
-    pub addr: u32,
-    /// Name.
-    pub name: &'static str,
-    /// Contents.
-    pub what: &'static str,
-    /// A diagnostic counter: reads 0 unless [`Options::mcu_diagnostics`] is set.
-    pub diagnostic: bool,
-}
-
-/// The MCU register map. Unlisted addresses, and the diagnostic counters unless
-/// [`Options::mcu_diagnostics`] is set, read 0. Positions are sign-extended from
-/// `scale_bits` to 32 bits; counts are zero-extended.
-pub const MCU_REGISTERS: [McuRegister; 12] = [
-    McuRegister { addr: 0, name: "STATUS", what: "bit 0 armed, 1 contact, 2 register_now, 3 first_contact, 4 density_armed, 5 density_fired", diagnostic: false },
-    McuRegister { addr: 1, name: "POSITION", what: "live scale position, counts, sign-extended", diagnostic: false },
-    McuRegister { addr: 2, name: "DECISION_POSITION", what: "position latched at the decision, counts, sign-extended", diagnostic: false },
-    McuRegister { addr: 3, name: "FIRST_CONTACT_POSITION", what: "position latched at the first contact, counts, sign-extended", diagnostic: false },
-    McuRegister { addr: 4, name: "COUNT", what: "contact pulses in the current window", diagnostic: false },
-    McuRegister { addr: 5, name: "LAST_WINDOW_COUNT", what: "contact pulses in the previous window", diagnostic: false },
-    McuRegister { addr: 6, name: "CHARGE", what: "capacitor charge, LSBs", diagnostic: false },
-    McuRegister { addr: 7, name: "REVOLUTIONS", what: "index pulses since arm", diagnostic: true },
-    McuRegister { addr: 8, name: "PULSES", what: "FES pulses since arm", diagnostic: true },
-    McuRegister { addr: 9, name: "SCALE_ERRORS", what: "illegal scale transitions", diagnostic: false },
-    McuRegister { addr: 10, name: "CONFIG_HASH_LO", what: "configuration hash, bits 31..0", diagnostic: false },
-    McuRegister { addr: 11, name: "CONFIG_HASH_HI", what: "configuration hash, bits 63..32", diagnostic: false },
-];
-
-/// Verilog expressions of the MCU register words, indexed like [`MCU_REGISTERS`], over
-/// signals named as [`output_fields`] with `prefix` prepended (a diagnostic word is a zero
-/// constant unless `diagnostics`). The DUT's read mux and the testbench's reference use
-/// this one table.
-pub(crate) fn mcu_words(config: &MeasureConfig, prefix: &str, diagnostics: bool) -> [String; 12] {
-    let s = config.settings();
-    let sb = u32::from(s.scale_bits);
-    let p = |n: &str| format!("{prefix}{n}");
-    let sext = |n: &str| {
-        if sb >= MCU_DATA_BITS {
-            p(n)
-        } else {
-            format!(
-                "{{{{{}{{{}[{}]}}}}, {}}}",
-                MCU_DATA_BITS - sb,
-                p(n),
-                sb - 1,
-                p(n)
-            )
-        }
-    };
-    let zext = |n: &str, w: u32| {
-        if w >= MCU_DATA_BITS {
-            p(n)
-        } else {
-            format!("{{{}'d0, {}}}", MCU_DATA_BITS - w, p(n))
-        }
-    };
-    let cb = u32::from(config.count_bits());
-    let hash = config.hash();
-    let words = [
-        format!(
-            "{{26'd0, {}, {}, {}, {}, {}, {}}}",
-            p("density_fired"),
-            p("density_armed"),
-            p("first_contact"),
-            p("register_now"),
-            p("contact"),
-            p("armed")
-        ),
-        sext("position"),
-        sext("decision_position"),
-        sext("first_contact_position"),
-        zext("count", cb),
-        zext("last_window_count", cb),
-        zext("charge", u32::from(s.charge_bits)),
-        zext("revolutions", 16),
-        p("pulses"),
-        zext("scale_errors", 8),
-        format!("32'h{:08x}", hash & 0xffff_ffff),
-        format!("32'h{:08x}", hash >> 32),
-    ];
-    let mut index = 0;
-    words.map(|word| {
-        let diagnostic = MCU_REGISTERS[index].diagnostic;
-        index += 1;
-        if diagnostic && !diagnostics {
-            format!("{MCU_DATA_BITS}'d0")
-        } else {
-            word
-        }
-    })
-}
-
-/// A one-line human summary of the configuration for file headers.
-pub(crate) fn describe(config: &MeasureConfig) -> String {
-    let s = config.settings();
-    let law = match s.charge_law {
-        ChargeLaw::Linear {
-            charge_step,
-            discharge_step,
-        } => format!("linear +{charge_step}/-{discharge_step}"),
-        ChargeLaw::Exponential {
-            charge_shift,
-            discharge_shift,
-        } => format!("exponential >>{charge_shift}/>>{discharge_shift}"),
-    };
-    let rule = match s.contact_rule {
-        ContactRule::Sampled => "sampled",
-        ContactRule::Sticky => "sticky",
-    };
-    let method = match s.method {
-        DecisionMethod::SinglePulse => "single_pulse",
-        DecisionMethod::Counter => "counter",
-        DecisionMethod::Density => "density",
-    };
-    format!(
-        "ppr {} x {} rev, i_def {}, {rule} contact, method {method}; charge {} bits {law}, \
-         fire {} rearm {}; glitch {} cycles; scale {} bits",
-        s.pulses_per_rev,
-        s.window_revs,
-        s.i_def,
-        s.charge_bits,
-        s.fire_threshold,
-        s.rearm_threshold,
-        s.glitch_cycles,
-        s.scale_bits
-    )
 }
 
 #[cfg(test)]

@@ -1,0 +1,111 @@
+//! `tt_frontend.v`: the simulation top ([`crate::TOP`]): pins → synchronizer → glitch
+//! filter → edge detection → kernel, every output a port (compared by the testbench), and
+//! the MCU register file's combinational read mux ([`crate::MCU_REGISTERS`]).
+
+use crate::emit::{fill, lit, pin_index, Context};
+use crate::mcu::mcu_words;
+use crate::{output_fields, VerilogFile, MCU_REGISTERS, TOP};
+use tooltouch_model::measure::frontend::pin;
+
+/// The top: pins in, outputs and the MCU register file out.
+pub(crate) fn emit(ctx: &Context) -> VerilogFile {
+    let fields = output_fields(&ctx.config);
+    let mut ports = String::new();
+    let mut conns = String::new();
+    for f in &fields {
+        let range = if f.width == 1 {
+            "      ".to_string()
+        } else {
+            format!("[{}:0]", f.width - 1)
+        };
+        ports.push_str(&format!("    output wire {range:<7} {},\n", f.name));
+        conns.push_str(&format!("        .{0}({0}),\n", f.name));
+    }
+    let conns = conns.trim_end_matches(",\n").to_string();
+    let words = mcu_words(&ctx.config, "", ctx.mcu_diagnostics);
+    let mut cases = String::new();
+    for (reg, word) in MCU_REGISTERS.iter().zip(words.iter()) {
+        cases.push_str(&format!(
+            "            {}: mcu_rdata = {word};  // {}\n",
+            lit(crate::MCU_ADDR_BITS, reg.addr.into()),
+            reg.name
+        ));
+    }
+    let pins: Vec<String> = pin::NAMES
+        .iter()
+        .rev()
+        .map(|n| format!("pin_{n}"))
+        .collect();
+    let pin_ports: String = pin::NAMES
+        .iter()
+        .map(|n| format!("    input  wire         pin_{n},\n"))
+        .collect();
+    let body = fill(
+        r#"// Top of the FPGA measurement front end. Pins -> 2-FF synchronizer -> glitch
+// filter -> edge detection -> measurement kernel; every output is a register. The MCU
+// reads the results through a small register file (combinational read of `mcu_addr`,
+// map in tooltouch_hdl_gen::MCU_REGISTERS); `register_now` is the strobe to the CNC,
+// held until the next arm. Latency from a pin to the outputs: ${LAT} clocks.
+module ${TOP} (
+    input  wire         clk,
+    input  wire         rst,       // synchronous reset to the power-on state
+${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
+    output reg  [${DB1}:0] mcu_rdata,
+${PORTS}    output wire         irq        // = register_now, for the MCU
+);
+    wire [${N1}:0] pins = {${PINS}};
+    wire [${N1}:0] synced;
+    wire [${N1}:0] filtered;
+    wire [${N1}:0] toggles;
+    wire       arm_rise, contact_rise, contact_rise_next, index_pulse, fes_rise, fes_pulse;
+    wire       scale_up, scale_down, scale_error;
+
+    tt_synchronizer u_sync (.clk(clk), .rst(rst), .pins(pins), .synced(synced));
+    tt_glitch_filter u_filter (
+        .clk(clk), .rst(rst), .synced(synced), .filtered(filtered), .toggles(toggles)
+    );
+    tt_edge_detect u_edges (
+        .clk(clk), .rst(rst), .toggles(toggles), .filtered(filtered),
+        .arm_rise(arm_rise), .contact_rise(contact_rise),
+        .contact_rise_next(contact_rise_next), .index_pulse(index_pulse),
+        .fes_rise(fes_rise), .fes_pulse(fes_pulse),
+        .scale_up(scale_up), .scale_down(scale_down), .scale_error(scale_error)
+    );
+
+    tt_measurement u_measure (
+        .clk(clk), .rst(rst),
+        .arm_level(filtered[${ARM}]), .contact_level(filtered[${CONTACT}]),
+        .arm_rise(arm_rise), .contact_rise(contact_rise),
+        .contact_rise_next(contact_rise_next), .index_pulse(index_pulse),
+        .fes_rise(fes_rise), .fes_pulse(fes_pulse),
+        .scale_up(scale_up), .scale_down(scale_down), .scale_error(scale_error),
+${CONNS}
+    );
+
+    assign irq = register_now;
+
+    always @* begin
+        case (mcu_addr)
+${CASES}            default: mcu_rdata = ${DZERO};
+        endcase
+    end
+endmodule
+"#,
+        &[
+            ("TOP", TOP.to_string()),
+            ("LAT", ctx.config.latency_cycles().to_string()),
+            ("PIN_PORTS", pin_ports),
+            ("AB1", (crate::MCU_ADDR_BITS - 1).to_string()),
+            ("DB1", (crate::MCU_DATA_BITS - 1).to_string()),
+            ("PORTS", ports),
+            ("N1", (pin::COUNT - 1).to_string()),
+            ("PINS", pins.join(", ")),
+            ("ARM", pin_index(pin::ARM)),
+            ("CONTACT", pin_index(pin::CONTACT)),
+            ("CONNS", conns),
+            ("CASES", cases),
+            ("DZERO", lit(crate::MCU_DATA_BITS, 0)),
+        ],
+    );
+    ctx.file(TOP, "top of the FPGA measurement front end", &body)
+}
