@@ -45,6 +45,10 @@
 //! (`tt_testbench_main.rs` → `tt_testbench_main.cpp`). The helpers they share (file
 //! header, `${NAME}` template filler, literals, comparisons with a constant) are in
 //! `src/emit.rs`, the MCU register map in `src/mcu.rs`.
+//!
+//! The generated files of two configurations are committed under `hdl-gen/snapshots/`
+//! and compared byte for byte by `tests/snapshots.rs`, so every change of the generator
+//! shows as a diff of the Verilog; `cargo xtask bless-hdl` rewrites them.
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 

@@ -5,10 +5,54 @@
 //!
 //! nextpnr exits 1 when `--freq` is not met, so fmax is read from its log, and a missed
 //! target is reported, not an error.
+//!
+//! `cargo xtask bless-hdl`: rewrites the Verilog snapshots under `hdl-gen/snapshots/` by
+//! running their test (`hdl-gen/tests/snapshots.rs`) with `TOOLTOUCH_BLESS=1`, so the
+//! files are written by the same code that compares them.
 
 use anyhow::{bail, Context, Result};
 use std::path::Path;
 use std::process::Command;
+
+/// Environment variable that makes a snapshot test rewrite its committed files.
+const BLESS_VAR: &str = "TOOLTOUCH_BLESS";
+
+/// Runs `cargo args…` in the workspace root with [`BLESS_VAR`] set.
+fn cargo_blessing(args: &[&str]) -> Result<()> {
+    let root = crate::root();
+    println!("$ {BLESS_VAR}=1 cargo {}", args.join(" "));
+    let status = Command::new("cargo")
+        .args(args)
+        .current_dir(&root)
+        .env(BLESS_VAR, "1")
+        .status()
+        .context("could not start cargo")?;
+    if !status.success() {
+        bail!("`cargo {}` failed ({status})", args.join(" "));
+    }
+    Ok(())
+}
+
+/// `cargo xtask bless-hdl`: rewrites `hdl-gen/snapshots/` and lists what changed.
+pub fn bless_snapshots() -> Result<()> {
+    cargo_blessing(&[
+        "test",
+        "--release",
+        "-p",
+        "tooltouch-hdl-gen",
+        "--test",
+        "snapshots",
+        "--",
+        "--nocapture",
+    ])?;
+    crate::run(
+        &crate::root(),
+        "git",
+        &["status", "--short", "--", "hdl-gen/snapshots"],
+    )?;
+    println!("review the changes with `git diff hdl-gen/snapshots`");
+    Ok(())
+}
 
 /// Target clock, MHz.
 const TARGET_MHZ: f64 = 150.0;

@@ -1,4 +1,4 @@
-//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bench.
+//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, bench.
 //!
 //! Each external tool is run with the working directory it needs: cargo reads
 //! `.cargo/config.toml` from the current directory, so firmware commands run inside
@@ -24,6 +24,8 @@ verbs:
                host tests too), lockfile check
   firmware     build the firmware for both boards
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax
+  bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
+               generator; review the result with `git diff hdl-gen/snapshots`
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
                (--criterion: also every criterion bench)
 ";
@@ -36,6 +38,7 @@ fn main() -> Result<()> {
         "test" | "ci" => test(),
         "firmware" => firmware::build_all(),
         "hdl-report" => hdl::report(),
+        "bless-hdl" => hdl::bless_snapshots(),
         "bench" => bench::run(&args[1..]),
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
