@@ -1,27 +1,31 @@
 //! FPGA cost estimate of a front-end configuration: flip-flops and logic cells (iCE40
 //! `SB_LUT4`) as a linear function of the configuration's register widths, fitted by least
-//! squares to yosys `synth_ice40` reports of the generated Verilog.
+//! squares to yosys `synth_ice40` runs of the generated Verilog.
 //!
-//! The calibration points below were measured with tooltouch-hdl-gen's `generate` for each
-//! configuration (the other fields at `MeasureSettings::default()`, `i_def` = half the
-//! window, linear steps full/32 and full/64 or shifts 4/5, thresholds 3/4 and 1/4 of full
-//! scale, the MCU read mux without the diagnostic counters), every file of the design but
-//! the chip top read into yosys 0.23 with
+//! The model is data, not code: `src/tune/cost_model.json` holds the yosys measurement of
+//! every [`CALIBRATION_POINTS`] configuration and the coefficients fitted to them, and
+//! [`CostModel::fitted`] reads the coefficients from it (compiled in with `include_str!`).
+//! `cargo xtask hdl-report` refits it: it synthesizes every calibration point again
+//! ([`synthesis`]) and rewrites the file (by running `tests/tune_cost_model.rs` with
+//! `TOOLTOUCH_BLESS=1`). That test, run by `cargo test`, fails when a committed
+//! measurement is more than 2 % off a fresh synthesis, so a generator change that moves
+//! the cost cannot go unnoticed; this module's unit tests check that the committed
+//! coefficients are the fit of the committed measurements.
 //!
-//! ```text
-//! yosys -p "read_verilog tt_*.v; synth_ice40 -top tt_frontend; stat"
-//! ```
-//!
-//! flip-flops = the sum of the `SB_DFF*` cells, logic cells = `SB_LUT4` (carry cells are
-//! not counted: they ride in the logic cells' carry chain). Re-measure and update the table
-//! when the generator changes; the fit is recomputed from it, and a test checks that it
-//! reproduces every point within 5 %.
+//! A measurement is the sum of the `SB_DFF*` cells (flip-flops) and the `SB_LUT4` cells
+//! (logic cells; carry cells are not counted: they ride in the logic cells' carry chain)
+//! of [`synthesis::SYNTH_SCRIPT`] on every file of the design but the chip top.
 
+pub mod synthesis;
+
+use serde::{Deserialize, Serialize};
 use tooltouch_model::measure::config::{ChargeLaw, MeasureConfig};
+use tooltouch_model::MeasureSettings;
 
-/// One yosys measurement.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Calibration {
+/// One calibration configuration: the widths and structure the model's features read.
+/// The other fields are derived from them by [`CalibrationPoint::settings`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CalibrationPoint {
     /// `charge_bits`.
     pub charge_bits: u8,
     /// `scale_bits`.
@@ -34,58 +38,105 @@ pub struct Calibration {
     pub pulses_per_rev: u16,
     /// `window_revs`.
     pub window_revs: u8,
-    /// `SB_DFF*` cells.
-    pub flip_flops: u32,
-    /// `SB_LUT4` cells.
-    pub logic_cells: u32,
 }
 
-#[allow(clippy::too_many_arguments)]
-const fn c(
+const fn point(
     charge_bits: u8,
     scale_bits: u8,
     glitch_cycles: u8,
     exponential: bool,
     pulses_per_rev: u16,
     window_revs: u8,
-    flip_flops: u32,
-    logic_cells: u32,
-) -> Calibration {
-    Calibration {
+) -> CalibrationPoint {
+    CalibrationPoint {
         charge_bits,
         scale_bits,
         glitch_cycles,
         exponential,
         pulses_per_rev,
         window_revs,
-        flip_flops,
-        logic_cells,
     }
 }
 
-/// yosys 0.23 `synth_ice40` of tooltouch-hdl-gen's design (re-measured 2026-11-22 after the
-/// decision logic was flattened onto flip-flops and the thresholds written as bit logic).
-pub const CALIBRATION: [Calibration; 14] = [
-    c(16, 24, 4, false, 1024, 1, 220, 432),
-    c(8, 24, 4, false, 1024, 1, 212, 385),
-    c(12, 24, 4, false, 1024, 1, 216, 405),
-    c(24, 24, 4, false, 1024, 1, 228, 478),
-    c(16, 16, 4, false, 1024, 1, 196, 388),
-    c(16, 32, 4, false, 1024, 1, 244, 479),
-    c(16, 24, 0, false, 1024, 1, 202, 392),
-    c(16, 24, 15, false, 1024, 1, 226, 447),
-    c(16, 24, 4, true, 1024, 1, 220, 459),
-    c(8, 16, 0, true, 1024, 1, 170, 314),
-    c(12, 16, 2, true, 256, 1, 182, 370),
-    c(16, 24, 4, false, 4096, 4, 230, 449),
-    c(20, 28, 8, true, 2048, 2, 247, 524),
-    c(10, 20, 1, false, 512, 1, 188, 359),
+/// The configurations the model is fitted to: the default widths, each width varied
+/// alone, then mixed ones.
+pub const CALIBRATION_POINTS: [CalibrationPoint; 14] = [
+    point(16, 24, 4, false, 1024, 1),
+    point(8, 24, 4, false, 1024, 1),
+    point(12, 24, 4, false, 1024, 1),
+    point(24, 24, 4, false, 1024, 1),
+    point(16, 16, 4, false, 1024, 1),
+    point(16, 32, 4, false, 1024, 1),
+    point(16, 24, 0, false, 1024, 1),
+    point(16, 24, 15, false, 1024, 1),
+    point(16, 24, 4, true, 1024, 1),
+    point(8, 16, 0, true, 1024, 1),
+    point(12, 16, 2, true, 256, 1),
+    point(16, 24, 4, false, 4096, 4),
+    point(20, 28, 8, true, 2048, 2),
+    point(10, 20, 1, false, 512, 1),
 ];
+
+impl CalibrationPoint {
+    /// The full settings: the point's fields, `i_def` half the window, the linear law's
+    /// steps full/64 up and full/32 down or the exponential law's shifts 4 up and 5 down,
+    /// fire at 3/4 and re-arm at 1/4 of full scale, the rest [`MeasureSettings::default`].
+    pub fn settings(&self) -> MeasureSettings {
+        let full = (1u32 << self.charge_bits) - 1;
+        let window = u32::from(self.pulses_per_rev) * u32::from(self.window_revs);
+        MeasureSettings {
+            charge_bits: self.charge_bits,
+            scale_bits: self.scale_bits,
+            glitch_cycles: self.glitch_cycles,
+            pulses_per_rev: self.pulses_per_rev,
+            window_revs: self.window_revs,
+            i_def: window / 2,
+            charge_law: if self.exponential {
+                ChargeLaw::Exponential {
+                    charge_shift: 4,
+                    discharge_shift: 5,
+                }
+            } else {
+                ChargeLaw::Linear {
+                    charge_step: full / 64,
+                    discharge_step: full / 32,
+                }
+            },
+            fire_threshold: full * 3 / 4,
+            rearm_threshold: full / 4,
+            ..MeasureSettings::default()
+        }
+    }
+}
+
+/// One yosys measurement of a calibration point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// The configuration.
+    #[serde(flatten)]
+    pub point: CalibrationPoint,
+    /// `SB_DFF*` cells.
+    pub flip_flops: u32,
+    /// `SB_LUT4` cells.
+    pub logic_cells: u32,
+}
 
 /// Number of model features: 1, charge_bits, scale_bits, count_bits, glitch_bits,
 /// window_rev_bits, exponential, no glitch filter (`glitch_cycles` = 0: the filter is one
 /// register per pin, without counters).
-const FEATURES: usize = 8;
+pub const FEATURES: usize = 8;
+
+/// Names of the features, in coefficient order.
+pub const FEATURE_NAMES: [&str; FEATURES] = [
+    "1",
+    "charge_bits",
+    "scale_bits",
+    "count_bits",
+    "glitch_bits",
+    "window_rev_bits",
+    "exponential",
+    "no_glitch_filter",
+];
 
 fn bits_for(max: u64) -> f64 {
     f64::from(tooltouch_model::measure::config::bits_for(max))
@@ -112,7 +163,7 @@ fn features(
     ]
 }
 
-fn calibration_features(p: &Calibration) -> [f64; FEATURES] {
+fn point_features(p: &CalibrationPoint) -> [f64; FEATURES] {
     features(
         p.charge_bits,
         p.scale_bits,
@@ -123,13 +174,13 @@ fn calibration_features(p: &Calibration) -> [f64; FEATURES] {
     )
 }
 
-/// Least-squares coefficients for `y` over the calibration points (normal equations with
-/// a tiny ridge so a feature the table does not vary cannot make them singular).
+/// Least-squares coefficients for `y` over `points` (normal equations with a tiny ridge
+/// so a feature the points do not vary cannot make them singular).
 #[allow(clippy::needless_range_loop)]
-fn fit(y: impl Fn(&Calibration) -> f64) -> [f64; FEATURES] {
+fn fit(points: &[Calibration], y: impl Fn(&Calibration) -> f64) -> [f64; FEATURES] {
     let mut a = [[0.0f64; FEATURES + 1]; FEATURES];
-    for p in &CALIBRATION {
-        let x = calibration_features(p);
+    for p in points {
+        let x = point_features(&p.point);
         for i in 0..FEATURES {
             for j in 0..FEATURES {
                 a[i][j] += x[i] * x[j];
@@ -190,11 +241,16 @@ impl Default for CostModel {
 }
 
 impl CostModel {
-    /// The model fitted to [`CALIBRATION`].
+    /// The committed model (coefficients of `src/tune/cost_model.json`).
     pub fn fitted() -> Self {
+        CostModelFile::committed().model()
+    }
+
+    /// The least-squares fit to `points`.
+    pub fn fit(points: &[Calibration]) -> Self {
         CostModel {
-            flip_flops: fit(|p| f64::from(p.flip_flops)),
-            logic_cells: fit(|p| f64::from(p.logic_cells)),
+            flip_flops: fit(points, |p| f64::from(p.flip_flops)),
+            logic_cells: fit(points, |p| f64::from(p.logic_cells)),
         }
     }
 
@@ -221,12 +277,115 @@ impl CostModel {
     }
 
     /// Estimated cost of a calibration point (for checking the fit).
-    pub fn estimate_calibration(&self, p: &Calibration) -> Cost {
-        let x = calibration_features(p);
+    pub fn estimate_point(&self, p: &CalibrationPoint) -> Cost {
+        let x = point_features(p);
         Cost {
             flip_flops: Self::eval(&self.flip_flops, &x),
             logic_cells: Self::eval(&self.logic_cells, &x),
         }
+    }
+}
+
+/// Format tag of the cost model file.
+pub const COST_MODEL_FORMAT: &str = "tooltouch-cost-model-1";
+
+/// Path of the committed cost model, relative to the workspace root.
+pub const COST_MODEL_PATH: &str = "src/tune/cost_model.json";
+
+/// The committed cost model file's contents.
+const COMMITTED: &str = include_str!("cost_model.json");
+
+/// The cost model file: how it was measured, the measurements, and the coefficients
+/// fitted to them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CostModelFile {
+    /// [`COST_MODEL_FORMAT`].
+    pub format: String,
+    /// `yosys -V` of the synthesis.
+    pub yosys: String,
+    /// The yosys script ([`synthesis::SYNTH_SCRIPT`]).
+    pub script: String,
+    /// [`FEATURE_NAMES`].
+    pub features: Vec<String>,
+    /// One measurement per [`CALIBRATION_POINTS`] entry, in its order.
+    pub measurements: Vec<Calibration>,
+    /// Flip-flop coefficients, one per feature.
+    pub flip_flops: [f64; FEATURES],
+    /// Logic-cell coefficients, one per feature.
+    pub logic_cells: [f64; FEATURES],
+}
+
+impl CostModelFile {
+    /// The committed file (compiled in).
+    pub fn committed() -> Self {
+        Self::parse(COMMITTED).unwrap_or_else(|e| panic!("{COST_MODEL_PATH}: {e}"))
+    }
+
+    /// Reads a cost model file's text.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let file: CostModelFile = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        if file.format != COST_MODEL_FORMAT {
+            return Err(format!(
+                "format `{}`, expected `{COST_MODEL_FORMAT}`",
+                file.format
+            ));
+        }
+        if file.features != FEATURE_NAMES {
+            return Err(format!(
+                "features {:?}, expected {FEATURE_NAMES:?}",
+                file.features
+            ));
+        }
+        Ok(file)
+    }
+
+    /// The file for `measurements` synthesized with yosys `yosys_version`: the
+    /// measurements and their least-squares fit.
+    pub fn refit(measurements: Vec<Calibration>, yosys_version: &str) -> Self {
+        let model = CostModel::fit(&measurements);
+        CostModelFile {
+            format: COST_MODEL_FORMAT.into(),
+            yosys: yosys_version.into(),
+            script: synthesis::SYNTH_SCRIPT.into(),
+            features: FEATURE_NAMES.iter().map(|s| s.to_string()).collect(),
+            measurements,
+            flip_flops: model.flip_flops,
+            logic_cells: model.logic_cells,
+        }
+    }
+
+    /// The model of the file's coefficients.
+    pub fn model(&self) -> CostModel {
+        CostModel {
+            flip_flops: self.flip_flops,
+            logic_cells: self.logic_cells,
+        }
+    }
+
+    /// The file's text: JSON with one measurement per line (so a refit shows as a diff of
+    /// the points that moved), the coefficients written so they read back to the same
+    /// `f64`.
+    pub fn to_json(&self) -> String {
+        fn json<T: Serialize + ?Sized>(value: &T) -> String {
+            serde_json::to_string(value).unwrap_or_default()
+        }
+        fn list(items: Vec<String>) -> String {
+            format!("[\n    {}\n  ]", items.join(",\n    "))
+        }
+        let numbers = |c: &[f64; FEATURES]| list(c.iter().map(json).collect());
+        format!(
+            "{{\n  \"format\": {},\n  \"yosys\": {},\n  \"script\": {},\n  \
+             \"features\": {},\n  \"measurements\": {},\n  \"flip_flops\": {},\n  \
+             \"logic_cells\": {}\n}}\n",
+            json(&self.format),
+            json(&self.yosys),
+            json(&self.script),
+            json(&self.features),
+            list(self.measurements.iter().map(json).collect()),
+            numbers(&self.flip_flops),
+            numbers(&self.logic_cells),
+        )
     }
 }
 
@@ -236,12 +395,47 @@ mod tests {
 
     #[test]
     fn the_fit_reproduces_every_yosys_point_within_five_percent() {
+        let file = CostModelFile::committed();
         let m = CostModel::fitted();
-        for p in &CALIBRATION {
-            let e = m.estimate_calibration(p);
+        for p in &file.measurements {
+            let e = m.estimate_point(&p.point);
             let close = |a: u32, b: u32| (f64::from(a) - f64::from(b)).abs() <= 0.05 * f64::from(b);
             assert!(close(e.flip_flops, p.flip_flops), "{p:?}: {e:?}");
             assert!(close(e.logic_cells, p.logic_cells), "{p:?}: {e:?}");
+        }
+    }
+
+    #[test]
+    fn the_committed_coefficients_are_the_fit_of_the_committed_measurements() {
+        let file = CostModelFile::committed();
+        let points: Vec<CalibrationPoint> = file.measurements.iter().map(|m| m.point).collect();
+        assert_eq!(
+            points, CALIBRATION_POINTS,
+            "{COST_MODEL_PATH}: other points"
+        );
+        assert_eq!(
+            CostModel::fit(&file.measurements),
+            file.model(),
+            "{COST_MODEL_PATH}: the coefficients are not the fit of its measurements"
+        );
+        assert_eq!(
+            CostModelFile::parse(&file.to_json()),
+            Ok(file.clone()),
+            "the file does not read back to itself"
+        );
+        assert_eq!(
+            file.to_json(),
+            COMMITTED,
+            "{COST_MODEL_PATH} is not as written"
+        );
+    }
+
+    #[test]
+    fn every_calibration_point_is_a_valid_configuration() {
+        for p in &CALIBRATION_POINTS {
+            let s = p.settings().validate().expect("valid calibration point");
+            assert_eq!(s.settings().charge_bits, p.charge_bits);
+            assert!(s.settings().fire_threshold > s.settings().rearm_threshold);
         }
     }
 
