@@ -6,6 +6,12 @@
 //! nextpnr exits 1 when `--freq` is not met, so fmax is read from its log, and a missed
 //! target is reported, not an error.
 //!
+//! It then refits the tuning cost model (`src/tune/cost.rs`): its calibration points are
+//! synthesized again and `src/tune/cost_model.json` rewritten with the fresh
+//! measurements and their least-squares fit, by running the model's check
+//! (`tests/tune_cost_model.rs`) with `TOOLTOUCH_BLESS=1`. Unchanged synthesis, unchanged
+//! file; otherwise `git diff` shows which points moved.
+//!
 //! `cargo xtask bless-hdl`: rewrites the Verilog snapshots under `hdl-gen/snapshots/` by
 //! running their test (`hdl-gen/tests/snapshots.rs`) with `TOOLTOUCH_BLESS=1`, so the
 //! files are written by the same code that compares them.
@@ -139,6 +145,26 @@ pub fn report() -> Result<()> {
          fmax {:.2} MHz",
         diag.lcs, diag.ffs, diag.fmax
     );
+    refit_cost_model()
+}
+
+/// Refits the tuning cost model from a fresh synthesis of its calibration points.
+fn refit_cost_model() -> Result<()> {
+    println!("\nTuning cost model: refit from a fresh synthesis of its calibration points");
+    cargo_blessing(&[
+        "test",
+        "--release",
+        "--test",
+        "tune_cost_model",
+        "--",
+        "--nocapture",
+    ])?;
+    crate::run(
+        &crate::root(),
+        "git",
+        &["status", "--short", "--", "src/tune/cost_model.json"],
+    )?;
+    println!("review the changes with `git diff src/tune/cost_model.json`");
     Ok(())
 }
 

@@ -23,7 +23,8 @@ verbs:
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
                host tests too), lockfile check
   firmware     build the firmware for both boards
-  hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax
+  hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
+               refit the tuning cost model (src/tune/cost_model.json)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
                generator; review the result with `git diff hdl-gen/snapshots`
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
