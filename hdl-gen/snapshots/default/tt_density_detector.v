@@ -5,7 +5,7 @@
 `timescale 1ns / 1ns
 `default_nettype none
 
-// Device 2, the contact-density detector (SPEC 2.4): a digital capacitor of
+// Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor of
 // 16 bits (UQ0.16 of full scale) updated once per FES pulse; fires when armed and the
 // charge reaches 32768, re-arms below 8192. Same-clock order: clear (arm) -> pulse.
 // The next charge and both threshold tests are computed from charge_q alone and from an

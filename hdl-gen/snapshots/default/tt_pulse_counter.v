@@ -5,7 +5,7 @@
 `timescale 1ns / 1ns
 `default_nettype none
 
-// Device 1, the pulse counter (SPEC 2.3): contact pulses per window of
+// Device 1, the pulse counter (docs/domain.md §2.3): contact pulses per window of
 // 1 revolution(s) of 1024 FES pulses; decides on the pulse whose count exceeds i_def.
 // Same-clock order: clear (arm) -> index -> pulse.
 module tt_pulse_counter (

@@ -5,8 +5,8 @@
 `timescale 1ns / 1ns
 `default_nettype none
 
-// x4 quadrature decoder (SPEC 1): counts the steps decoded by tt_edge_detect; a
-// double change counts an error (saturating at 255) and leaves the position.
+// x4 quadrature decoder (docs/domain.md §1): counts the steps decoded by tt_edge_detect;
+// a double change counts an error (saturating at 255) and leaves the position.
 // Position: 24 bits, two's complement, wrapping.
 module tt_quadrature_decoder (
     input  wire        clk,

@@ -155,7 +155,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
         }
     };
     let body = fill(
-        &(r#"// Device 2, the contact-density detector (SPEC 2.4): a digital capacitor of
+        &(r#"// Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor of
 // ${QB} bits (UQ0.${QB} of full scale) updated once per FES pulse; fires when armed and the
 // charge reaches ${FIRE}, re-arms below ${REARM}. Same-clock order: clear (arm) -> pulse.
 // The next charge and both threshold tests are computed from charge_q alone and from an

@@ -16,9 +16,9 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
 // filter's `toggles` (the filtered levels about to change) and decoded into the strobes
 // the kernel acts on, so that the kernel's logic starts at flip-flops: the rising edges of
 // arm, contact and FES, the index and FES rising edges while the arm level (after this
-// clock) is high, and the scale's quadrature step (SPEC 1: phases (A,B) 00 -> 10 -> 11 ->
-// 01 count up; the phase before the change is the one of the filtered levels, as the
-// model's decoder keeps the phase of the last levels it saw).
+// clock) is high, and the scale's quadrature step (docs/domain.md §1: phases (A,B) 00 ->
+// 10 -> 11 -> 01 count up; the phase before the change is the one of the filtered levels,
+// as the model's decoder keeps the phase of the last levels it saw).
 module tt_edge_detect (
     input  wire       clk,
     input  wire       rst,

@@ -88,7 +88,7 @@ ${EXCEEDS_WIRE}
         )
     };
     let body = fill(
-        &(r#"// Device 1, the pulse counter (SPEC 2.3): contact pulses per window of
+        &(r#"// Device 1, the pulse counter (docs/domain.md §2.3): contact pulses per window of
 // ${WR} revolution(s) of ${PPR} FES pulses; decides on the pulse whose count exceeds i_def.
 // Same-clock order: clear (arm) -> index -> pulse.
 module tt_pulse_counter (

@@ -9,8 +9,8 @@ use crate::VerilogFile;
 pub(crate) fn emit(ctx: &Context) -> VerilogFile {
     let sb = ctx.scale_bits();
     let body = fill(
-        r#"// x4 quadrature decoder (SPEC 1): counts the steps decoded by tt_edge_detect; a
-// double change counts an error (saturating at 255) and leaves the position.
+        r#"// x4 quadrature decoder (docs/domain.md §1): counts the steps decoded by tt_edge_detect;
+// a double change counts an error (saturating at 255) and leaves the position.
 // Position: ${SB} bits, two's complement, wrapping.
 module tt_quadrature_decoder (
     input  wire        clk,
