@@ -36,6 +36,13 @@ pub mod units;
 pub mod validation;
 pub mod wire;
 
+#[cfg(feature = "testing")]
+extern crate std;
+#[cfg(feature = "testing")]
+pub mod testing;
+#[cfg(all(test, not(feature = "testing")))]
+compile_error!("the model's tests draw configurations from its test kit: `--features testing`");
+
 pub use measure::config::{MeasureConfig, MeasureSettings};
 pub use measure::events::{MeasureEvent, TimedEvent};
 pub use measure::frontend::{FrontEnd, Pins};

@@ -201,39 +201,9 @@ mod tests {
         );
     }
 
-    prop_compose! {
-        /// Any valid settings (every field drawn inside its range).
-        fn any_settings()(
-            pulses_per_rev in 16u16..=16384, window_revs in 1u8..=16, charge_bits in 4u8..=24,
-            sticky in any::<bool>(), exponential in any::<bool>(), method in 0u8..3,
-            words in any::<[u32; 5]>(), glitch_cycles in any::<u8>(), scale_bits in 8u8..=32,
-        ) -> MeasureSettings {
-            let window = u32::from(pulses_per_rev) * u32::from(window_revs);
-            let full = (1u32 << charge_bits) - 1;
-            let shift = |w: u32| (w % (u32::from(charge_bits) + 1)) as u8;
-            let fire_threshold = 1 + words[2] % full;
-            MeasureSettings {
-                pulses_per_rev,
-                i_def: words[0] % window,
-                window_revs,
-                contact_rule: if sticky { ContactRule::Sticky } else { ContactRule::Sampled },
-                charge_bits,
-                charge_law: if exponential {
-                    ChargeLaw::Exponential { charge_shift: shift(words[1]), discharge_shift: shift(words[3]) }
-                } else {
-                    ChargeLaw::Linear { charge_step: 1 + words[1] % full, discharge_step: 1 + words[3] % full }
-                },
-                fire_threshold,
-                rearm_threshold: words[4] % fire_threshold,
-                glitch_cycles,
-                scale_bits,
-                method: match method {
-                    0 => DecisionMethod::SinglePulse,
-                    1 => DecisionMethod::Counter,
-                    _ => DecisionMethod::Density,
-                },
-            }
-        }
+    /// Any valid settings (the test kit's full profile: every field across its valid range).
+    fn any_settings() -> impl Strategy<Value = MeasureSettings> {
+        crate::testing::measure_settings(&crate::testing::MeasureProfile::FULL)
     }
 
     proptest! {

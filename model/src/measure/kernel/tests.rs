@@ -1,7 +1,7 @@
 //! Tests of [`super`]: the kernel against single-pulse stepping and its decision prediction.
 
 use super::*;
-use crate::measure::config::{ChargeLaw, MeasureSettings};
+use crate::measure::config::MeasureSettings;
 use proptest::prelude::*;
 
 fn measurement(method: DecisionMethod, rule: ContactRule) -> Measurement {
@@ -73,45 +73,10 @@ fn disarm_holds_results_and_rearm_clears_them() {
     assert!(!m.register_now());
 }
 
-prop_compose! {
-    /// A random valid configuration over every method, rule and charge law, small
-    /// enough that runs of a few hundred pulses cross every threshold.
-    fn any_config()(
-        method in 0u8..3, sticky in any::<bool>(), exponential in any::<bool>(),
-        charge_bits in 4u8..=9, a in any::<u32>(), b in any::<u32>(),
-        fire in any::<u32>(), rearm in any::<u32>(), i_def in 0u32..32,
-    ) -> MeasureConfig {
-        let full = (1u32 << charge_bits) - 1;
-        let charge_law = if exponential {
-            ChargeLaw::Exponential {
-                charge_shift: (a % (u32::from(charge_bits) + 1)) as u8,
-                discharge_shift: (b % (u32::from(charge_bits) + 1)) as u8,
-            }
-        } else {
-            ChargeLaw::Linear {
-                charge_step: 1 + a % full,
-                discharge_step: 1 + b % full,
-            }
-        };
-        let fire_threshold = 1 + fire % full;
-        let s = MeasureSettings {
-            pulses_per_rev: 16,
-            window_revs: 2,
-            i_def,
-            method: match method {
-                0 => DecisionMethod::Counter,
-                1 => DecisionMethod::Density,
-                _ => DecisionMethod::SinglePulse,
-            },
-            contact_rule: if sticky { ContactRule::Sticky } else { ContactRule::Sampled },
-            charge_bits,
-            charge_law,
-            fire_threshold,
-            rearm_threshold: rearm % fire_threshold,
-            ..Default::default()
-        };
-        s.validate().unwrap()
-    }
+/// A random valid configuration over every method, rule and charge law, small enough that
+/// runs of a few hundred pulses cross every threshold (the test kit's kernel profile).
+fn any_config() -> impl Strategy<Value = MeasureConfig> {
+    crate::testing::measure_configs(&crate::testing::MeasureProfile::KERNEL)
 }
 
 /// A random event: arm, contact, index, scale, or a run of FES pulses (`Err(n)`).
