@@ -32,10 +32,7 @@ fn image() -> PathBuf {
 
 /// Cases per batch: 32, or TOOLTOUCH_CASES.
 fn case_count() -> usize {
-    std::env::var("TOOLTOUCH_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(32)
+    tooltouch_model::testing::cases(32) as usize
 }
 
 /// proptest draws the seeds; each seed fixes a whole scenario (reproduce a failure from

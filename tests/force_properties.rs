@@ -15,14 +15,8 @@ use tooltouch_model::force::control::{
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::testing;
 use tooltouch_model::units::Fx;
-
-fn cases() -> u32 {
-    std::env::var("TOOLTOUCH_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(64)
-}
 
 fn h() -> Fx {
     Fx::lit("0.05")
@@ -47,7 +41,7 @@ fn any_fx() -> impl Strategy<Value = Fx> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(cases()))]
+    #![proptest_config(ProptestConfig::with_cases(testing::cases(64)))]
 
     /// For any reference/force sequence, every controller's override is the rounded,
     /// clamped demand: in 0..=255, and 0 or 255 whenever it reports saturation... and it

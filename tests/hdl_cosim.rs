@@ -10,20 +10,13 @@ use rayon::prelude::*;
 use tooltouch::hdl::cosim::{cosim, CosimPlan};
 use tooltouch::hdl::random::{random_config, random_stimulus};
 
-fn cases() -> u64 {
-    std::env::var("TOOLTOUCH_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(16)
-}
-
 /// Stimuli per configuration and their length, clocks.
 const STIMULI: usize = 2;
 const CYCLES: u64 = 30_000;
 
 #[test]
 fn hdl_random_configs_match_the_model_in_verilator_and_icarus() {
-    let n = cases();
+    let n = u64::from(tooltouch_model::testing::cases(16));
     let work = tempfile::tempdir().expect("temporary folder");
     let failures: Vec<String> = (0..n)
         .into_par_iter()

@@ -16,72 +16,13 @@ use tooltouch::stimulus::Stimulus;
 use tooltouch::vectors::{
     clock_every_cycle, clock_through, events_from_stimulus, outputs_after_each_event,
 };
-use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
+use tooltouch_model::measure::config::MeasureSettings;
 use tooltouch_model::measure::frontend::pin;
-use tooltouch_model::{MeasureConfig, MeasureOutputs};
+use tooltouch_model::{testing, MeasureConfig, MeasureOutputs};
 
-fn cases() -> u32 {
-    std::env::var("TOOLTOUCH_CASES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(24)
-}
-
+/// Random configurations: the model's test kit, levels profile.
 fn settings() -> impl Strategy<Value = MeasureSettings> {
-    (
-        (16u16..=128, 1u8..=3, 0u32..=1000, any::<bool>()),
-        (
-            4u8..=16,
-            any::<bool>(),
-            1u32..=64,
-            1u32..=64,
-            0u8..=6,
-            0u8..=6,
-        ),
-        (0u32..=1000, 0u32..=1000, 0u8..=6, 8u8..=32, 0u8..=2),
-    )
-        .prop_map(
-            |(
-                (ppr, window, i_frac, sticky),
-                (bits, linear, cs, ds, csh, dsh),
-                (fire, rearm, glitch, scale_bits, method),
-            )| {
-                let window_pulses = u32::from(ppr) * u32::from(window);
-                let full = (1u32 << bits) - 1;
-                let fire_threshold = 1 + fire * (full - 1) / 1000;
-                MeasureSettings {
-                    pulses_per_rev: ppr,
-                    i_def: i_frac * (window_pulses - 1) / 1000,
-                    window_revs: window,
-                    contact_rule: if sticky {
-                        ContactRule::Sticky
-                    } else {
-                        ContactRule::Sampled
-                    },
-                    charge_bits: bits,
-                    charge_law: if linear {
-                        ChargeLaw::Linear {
-                            charge_step: (cs * full / 64).max(1),
-                            discharge_step: (ds * full / 64).max(1),
-                        }
-                    } else {
-                        ChargeLaw::Exponential {
-                            charge_shift: csh.min(bits),
-                            discharge_shift: dsh.min(bits),
-                        }
-                    },
-                    fire_threshold,
-                    rearm_threshold: rearm * (fire_threshold - 1) / 1000,
-                    glitch_cycles: glitch,
-                    scale_bits,
-                    method: [
-                        DecisionMethod::SinglePulse,
-                        DecisionMethod::Counter,
-                        DecisionMethod::Density,
-                    ][usize::from(method)],
-                }
-            },
-        )
+    testing::measure_settings(&testing::MeasureProfile::LEVELS)
 }
 
 /// A small, fast lathe: 1–2 MHz clock, 8–40 clocks per FES period, a few revolutions per
@@ -235,7 +176,7 @@ fn wrap(count: i64, bits: u8) -> i32 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: testing::cases(24), failure_persistence: None, ..ProptestConfig::default() })]
 
     #[test]
     fn event_replay_matches_the_cycle_level((config, scenario) in config_and_scenario()) {

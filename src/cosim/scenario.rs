@@ -18,7 +18,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
-use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::testing;
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureSettings, Measurement, TimedEvent};
 
 /// Tick rate of generated streams: the FPGA clock, 50 MHz (20 ns per tick).
@@ -79,60 +79,12 @@ pub struct Case {
     pub force_events: Vec<(u64, ForceEvent)>,
 }
 
-/// A random valid configuration: every field drawn across its allowed range (pulses per
-/// revolution up to 1024 to keep cases short), `i_def` around 50 % of the window.
+/// A random valid configuration, drawn by the model's test kit with its lathe
+/// co-simulation profile (16–1024 pulses per revolution to keep cases short, `i_def` at
+/// 20–80 % of the window) from one `u64` of `rng`.
 pub fn random_settings(rng: &mut impl Rng) -> MeasureSettings {
-    let pulses_per_rev: u16 = *[16u16, 32, 64, 100, 128, 256, 360, 512, 1000, 1024]
-        .get(rng.gen_range(0..10))
-        .unwrap_or(&1024);
-    let window_revs: u8 = if rng.gen_bool(0.7) {
-        1
-    } else {
-        rng.gen_range(2..=3)
-    };
-    let window = u32::from(pulses_per_rev) * u32::from(window_revs);
-    // 20 %..80 % of the window, 50 % most often (the papers' setting).
-    let i_def = if rng.gen_bool(0.4) {
-        window / 2
-    } else {
-        rng.gen_range(window / 5..=window * 4 / 5).min(window - 1)
-    };
-    let charge_bits: u8 = rng.gen_range(4..=24);
-    let full = (1u32 << charge_bits) - 1;
-    let charge_law = if rng.gen_bool(0.5) {
-        ChargeLaw::Linear {
-            charge_step: rng.gen_range(1..=(full / 4).max(1)),
-            discharge_step: rng.gen_range(1..=(full / 4).max(1)),
-        }
-    } else {
-        ChargeLaw::Exponential {
-            charge_shift: rng.gen_range(0..=charge_bits.min(8)),
-            discharge_shift: rng.gen_range(0..=charge_bits.min(9)),
-        }
-    };
-    let fire_threshold = rng.gen_range(1..=full);
-    let rearm_threshold = rng.gen_range(0..fire_threshold);
-    MeasureSettings {
-        pulses_per_rev,
-        i_def,
-        window_revs,
-        contact_rule: if rng.gen_bool(0.5) {
-            ContactRule::Sticky
-        } else {
-            ContactRule::Sampled
-        },
-        charge_bits,
-        charge_law,
-        fire_threshold,
-        rearm_threshold,
-        glitch_cycles: rng.gen(),
-        scale_bits: rng.gen_range(8..=32),
-        method: match rng.gen_range(0..3) {
-            0 => DecisionMethod::SinglePulse,
-            1 => DecisionMethod::Counter,
-            _ => DecisionMethod::Density,
-        },
-    }
+    let strategy = testing::measure_settings(&testing::MeasureProfile::LATHE_COSIM);
+    testing::draw(&strategy, rng.gen())
 }
 
 /// Quadrature phase order for positive motion: A leads B (00, 10, 11, 01).

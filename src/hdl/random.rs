@@ -5,93 +5,14 @@
 
 use crate::stimulus::Stimulus;
 use rand::Rng;
-use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::{pin, Pins};
-use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_model::{testing, MeasureConfig};
 
-/// A random valid configuration. Ranges are the full valid ones, biased toward values
-/// that make things happen within a short stimulus (few pulses per window, small i_def,
-/// short glitch filters), with an occasional large one.
+/// A random valid configuration, drawn by the model's test kit with its HDL co-simulation
+/// profile (few pulses per window, small `i_def`, short glitch filters, an occasional
+/// value across the whole valid range) from one `u64` of `rng`.
 pub fn random_config(rng: &mut impl Rng) -> MeasureConfig {
-    let pulses_per_rev: u16 = if rng.gen_bool(0.85) {
-        rng.gen_range(16..=48)
-    } else {
-        rng.gen_range(16..=16384)
-    };
-    let window_revs: u8 = if rng.gen_bool(0.7) {
-        rng.gen_range(1..=3)
-    } else {
-        rng.gen_range(1..=16)
-    };
-    let window = u32::from(pulses_per_rev) * u32::from(window_revs);
-    let i_def = if rng.gen_bool(0.8) {
-        rng.gen_range(0..window.min(24))
-    } else {
-        rng.gen_range(0..window)
-    };
-    let charge_bits: u8 = rng.gen_range(4..=24);
-    let full = (1u32 << charge_bits) - 1;
-    let charge_law = if rng.gen_bool(0.5) {
-        let step = |rng: &mut dyn rand::RngCore| -> u32 {
-            if rng.gen_bool(0.8) {
-                (full / rng.gen_range(2..=16)).max(1)
-            } else {
-                rng.gen_range(1..=full)
-            }
-        };
-        ChargeLaw::Linear {
-            charge_step: step(rng),
-            discharge_step: step(rng),
-        }
-    } else {
-        let shift = |rng: &mut dyn rand::RngCore| -> u8 {
-            if rng.gen_bool(0.8) {
-                rng.gen_range(0..=4.min(charge_bits))
-            } else {
-                rng.gen_range(0..=charge_bits)
-            }
-        };
-        ChargeLaw::Exponential {
-            charge_shift: shift(rng),
-            discharge_shift: shift(rng),
-        }
-    };
-    let fire_threshold = rng.gen_range(1..=full);
-    let rearm_threshold = if rng.gen_bool(0.1) {
-        0
-    } else {
-        rng.gen_range(0..fire_threshold)
-    };
-    let glitch_cycles: u8 = if rng.gen_bool(0.85) {
-        rng.gen_range(0..=6)
-    } else {
-        rng.gen_range(0..=255)
-    };
-    let settings = MeasureSettings {
-        pulses_per_rev,
-        i_def,
-        window_revs,
-        contact_rule: if rng.gen_bool(0.5) {
-            ContactRule::Sampled
-        } else {
-            ContactRule::Sticky
-        },
-        charge_bits,
-        charge_law,
-        fire_threshold,
-        rearm_threshold,
-        glitch_cycles,
-        scale_bits: rng.gen_range(8..=32),
-        method: match rng.gen_range(0..3) {
-            0 => DecisionMethod::SinglePulse,
-            1 => DecisionMethod::Counter,
-            _ => DecisionMethod::Density,
-        },
-    };
-    // Every field was drawn inside its documented range.
-    settings
-        .validate()
-        .unwrap_or_else(|e| unreachable!("random settings out of range: {e}"))
+    testing::draw_measure(&testing::MeasureProfile::HDL_COSIM, rng.gen())
 }
 
 /// Phase order of the scale lines for positive motion, as pin bits (A leads B).
@@ -152,7 +73,7 @@ mod tests {
     use super::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
-    use tooltouch_model::FrontEnd;
+    use tooltouch_model::{FrontEnd, MeasureSettings};
 
     #[test]
     fn stimuli_exercise_every_kernel() {

@@ -6,58 +6,13 @@
 
 use crate::sim::Burst;
 use proptest::prelude::*;
-use tooltouch_firmware::model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
-use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureSettings};
+use tooltouch_firmware::model::{MeasureConfig, MeasureEvent};
+use tooltouch_model::testing;
 
-/// A valid configuration with short windows and low thresholds (every field drawn inside
-/// its range, so none is rejected).
+/// A valid configuration with short windows and low thresholds, from the model's test kit
+/// (its firmware-handlers profile: every field drawn inside its range, so none is rejected).
 pub fn config() -> impl Strategy<Value = MeasureConfig> {
-    let method = prop_oneof![
-        Just(DecisionMethod::SinglePulse),
-        Just(DecisionMethod::Counter),
-        Just(DecisionMethod::Density),
-    ];
-    let rule = prop_oneof![Just(ContactRule::Sampled), Just(ContactRule::Sticky)];
-    (
-        (16u16..=40, 1u8..=3, method, rule, 4u8..=8),
-        (any::<bool>(), any::<[u32; 5]>(), 8u8..=32),
-    )
-        .prop_map(
-            |((ppr, window_revs, method, contact_rule, charge_bits), (linear, raw, scale_bits))| {
-                let window = u32::from(ppr) * u32::from(window_revs);
-                let full = (1u32 << charge_bits) - 1;
-                let shifts = u32::from(charge_bits) + 1;
-                let charge_law = if linear {
-                    ChargeLaw::Linear {
-                        charge_step: 1 + raw[1] % full,
-                        discharge_step: 1 + raw[2] % full,
-                    }
-                } else {
-                    ChargeLaw::Exponential {
-                        charge_shift: (raw[1] % shifts) as u8,
-                        discharge_shift: (raw[2] % shifts) as u8,
-                    }
-                };
-                let fire_threshold = 1 + raw[3] % full;
-                let settings = MeasureSettings {
-                    pulses_per_rev: ppr,
-                    // Low enough to decide within a burst or two of contact pulses.
-                    i_def: raw[0] % window.min(24),
-                    window_revs,
-                    contact_rule,
-                    charge_bits,
-                    charge_law,
-                    fire_threshold,
-                    rearm_threshold: raw[4] % fire_threshold,
-                    glitch_cycles: 0,
-                    scale_bits,
-                    method,
-                };
-                settings
-                    .validate()
-                    .unwrap_or_else(|e| panic!("the strategy drew an invalid field: {e}"))
-            },
-        )
+    testing::measure_configs(&testing::MeasureProfile::FIRMWARE_HANDLERS)
 }
 
 /// The FES counter's value at start: anywhere, or close to the 2^32 wrap.
