@@ -19,6 +19,7 @@ use std::vec;
 use crate::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use crate::{MeasureConfig, MeasureSettings};
 
+pub mod force;
 #[cfg(test)]
 mod tests;
 

@@ -326,7 +326,7 @@ pub fn decode_force_settings(bytes: &[u8]) -> Result<ForceSettings, ForceEncodin
 mod tests {
     extern crate std;
     use super::*;
-    use crate::force::config::testing::settings_from;
+    use crate::testing::force::force_settings;
     use proptest::prelude::*;
 
     #[test]
@@ -356,9 +356,8 @@ mod tests {
 
     proptest! {
         #[test]
-        fn random_force_settings_round_trip(kind in 0u8..3, w in proptest::collection::vec(any::<u32>(), 80)) {
-            let s = settings_from(kind, &w);
-            let c = s.validate().map_err(|e| TestCaseError::fail(std::format!("{e}")))?;
+        fn random_force_settings_round_trip(s in force_settings()) {
+                        let c = s.validate().map_err(|e| TestCaseError::fail(std::format!("{e}")))?;
             let (bytes, n) = c.canonical_bytes();
             prop_assert!(n <= FORCE_CONFIG_MAX);
             prop_assert_eq!(decode_force_settings(&bytes[..n]), Ok(s));

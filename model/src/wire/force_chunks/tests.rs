@@ -2,12 +2,12 @@
 
 extern crate std;
 use super::*;
-use crate::force::config::testing::settings_from;
 use crate::force::config::ForceSettings;
 use crate::force::control::adaptive::DEFAULT_ADAPTIVE;
 use crate::force::control::fuzzy::DEFAULT_FUZZY;
 use crate::force::control::pi::DEFAULT_PI;
 use crate::force::control::ControllerSettings;
+use crate::testing::force::force_settings;
 use proptest::prelude::*;
 
 /// Pushes every chunk of `records` and finishes against `hash`.
@@ -182,9 +182,8 @@ fn bad_encodings_and_invalid_fields_are_named() {
 
 proptest! {
     #[test]
-    fn random_force_configs_round_trip(kind in 0u8..3, w in proptest::collection::vec(any::<u32>(), 80)) {
-        let s = settings_from(kind, &w);
-        let c = s.validate().map_err(|e| TestCaseError::fail(std::format!("{e}")))?;
+    fn random_force_configs_round_trip(s in force_settings()) {
+                let c = s.validate().map_err(|e| TestCaseError::fail(std::format!("{e}")))?;
         let chunks: std::vec::Vec<Record> = force_config_chunks(&c, 42).collect();
         prop_assert!(chunks.iter().all(|r| r.time == 42));
         let (bytes, n) = c.canonical_bytes();
@@ -193,8 +192,8 @@ proptest! {
     }
 
     #[test]
-    fn any_flipped_bit_in_a_chunk_stream_is_an_error(kind in 0u8..3, w in proptest::collection::vec(any::<u32>(), 80), pick in any::<u32>(), bit in 0u8..8) {
-        let c = settings_from(kind, &w).validate().map_err(|e| TestCaseError::fail(std::format!("{e}")))?;
+    fn any_flipped_bit_in_a_chunk_stream_is_an_error(s in force_settings(), pick in any::<u32>(), bit in 0u8..8) {
+        let c = s.validate().map_err(|e| TestCaseError::fail(std::format!("{e}")))?;
         let mut chunks: std::vec::Vec<Record> = force_config_chunks(&c, 0).collect();
         let sizes: std::vec::Vec<usize> = chunks.iter().map(|r| r.payload().len()).collect();
         let mut k = pick as usize % sizes.iter().sum::<usize>();
