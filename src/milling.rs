@@ -1,5 +1,6 @@
-//! Face-milling spindle power with flank wear (SPEC 4, paper W: W1–W7), the precomputation
-//! of the wear monitor's condition sets (W8–W9), and the wear scenario of `tooltouch wear`.
+//! Face-milling spindle power with flank wear (docs/domain.md §4, paper W: W1–W7), the
+//! precomputation of the wear monitor's condition sets (W8–W9), and the wear scenario of
+//! `tooltouch wear`.
 //!
 //! Units: lengths in mm except the cutter diameter in the power formulas (m), C and H in
 //! N/mm², forces in N, speed n in rev/s inside the formulas, powers in W. The papers'
@@ -88,7 +89,7 @@ pub struct Angles {
 }
 
 impl MillingParams {
-    /// The engagement angles (SPEC 4, below W1).
+    /// The engagement angles (docs/domain.md §4, below W1).
     pub fn angles(&self) -> Angles {
         let psi1 = ((self.width_mm + 2.0 * self.offset_mm) / self.diameter_mm)
             .clamp(-1.0, 1.0)

@@ -1,5 +1,5 @@
-//! Scenario tests of the force path (SPEC 3's experiment): the depth step at 500 N with
-//! each controller, on measured and on estimated force, closed through the fixed-point
+//! Scenario tests of the force path (the experiment of docs/domain.md §3): the depth step at 500 N
+//! with each controller, on measured and on estimated force, closed through the fixed-point
 //! model; and the estimator against the plant's truth.
 
 use tooltouch::drive::scenario::{run, scenario_settings, ControlScenario, ControllerKind, Engine};

@@ -1,5 +1,5 @@
-//! The cycle level and the event level agree (DESIGN.md, "one logic, three timings"): the
-//! events extracted from a cycle-level run of a closed-loop lathe scenario, replayed at
+//! The cycle level and the event level agree (docs/architecture.md, "one logic, three timings"):
+//! the events extracted from a cycle-level run of a closed-loop lathe scenario, replayed at
 //! event level, give the same outputs — counts, charges, latched positions, decisions —
 //! after the last event of every clock; and the latched positions are the scale count
 //! the kernel held when the decision was taken.

@@ -1,4 +1,4 @@
-//! Physics of the measurement (SPEC 2.1, 2.2, S10) on the default lathe (D = 40 mm,
+//! Physics of the measurement (docs/domain.md §2.1, §2.2, eq. S10) on the default lathe (D = 40 mm,
 //! 800 rpm, f_r = 0.001 mm/rev, 0.1 µm scale, 50 MHz), 10 measurements each.
 
 use tooltouch::lathe::{LatheScenario, RetractAt};

@@ -1,5 +1,5 @@
-//! The wear scenario (SPEC 4): the updating threshold alarms for the worn tool and not for
-//! the new one at both depths; the constant threshold (set for the first conditions)
+//! The wear scenario (docs/domain.md §4): the updating threshold alarms for the worn tool and not
+//! for the new one at both depths; the constant threshold (set for the first conditions)
 //! raises a false alarm on the new tool when the depth grows — its failure mode.
 
 use tooltouch::milling::{MillingParams, WearScenario, NEW_TOOL, WORN_TOOL};

@@ -1,5 +1,5 @@
-//! `tooltouch control`: the depth-step force-control scenario (SPEC 3) — 500 N reference,
-//! depth 1 mm stepping to 1.5 mm at 8 s — closed through the fixed-point model (or the
+//! `tooltouch control`: the depth-step force-control scenario (docs/domain.md §3) — 500 N
+//! reference, depth 1 mm stepping to 1.5 mm at 8 s — closed through the fixed-point model (or the
 //! float reference), with its metrics, SVG plots and the sample-level vectors.
 
 use crate::drive::scenario::{

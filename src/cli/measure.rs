@@ -1,5 +1,5 @@
 //! `tooltouch measure`: simulate in-process diameter measurements on a lathe with the
-//! golden model (SPEC 2), print a table, and write plots, vectors and a JSON summary.
+//! golden model (docs/domain.md §2), print a table, and write plots, vectors and a JSON summary.
 
 use crate::lathe::RetractAt;
 use crate::measurement_cycle::{self, CycleRun};

@@ -1,4 +1,4 @@
-//! `tooltouch wear`: tool-wear monitoring from spindle power (SPEC 4) — face milling at
+//! `tooltouch wear`: tool-wear monitoring from spindle power (docs/domain.md §4) — face milling at
 //! depth 2 mm then 3 mm, with a new and a worn tool, each watched with the constant and
 //! with the updating threshold, through the fixed-point model's wear monitor.
 

@@ -4,7 +4,7 @@
 //! [`ForceKernel`] ([`ClosedLoop`]), under a random force configuration
 //! ([`random_force_settings`]: controller kind and gains, reference, filters, estimator,
 //! wear monitor) fitted to that plant — and a CNC timeline: no-load identification first
-//! (SPEC 3: B identified just before the tool touches), condition set 0, the cut under
+//! (docs/domain.md §3: B identified just before the tool touches), condition set 0, the cut under
 //! force control with the depth step, retract; random condition changes (some out of
 //! range) and tool changes. As a fault, ADC saturation: the front end's gain is 4× for a
 //! few periods around the depth step, so every channel clips at 0 or 4095.

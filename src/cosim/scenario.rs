@@ -2,8 +2,8 @@
 //! lathe simulator's streams are wired in): a spindle turning at a given speed (FES pulses
 //! and an index per revolution), a cross-slide feeding toward the workpiece (scale
 //! quadrature steps), intermittent contact bursts that grow denser each revolution until
-//! contact is permanent (SPEC 2.2, 2.6), the CNC arming a measurement cycle, retracting
-//! after "register now" and re-arming for the next Z step (SPEC 2.5) — plus the fault
+//! contact is permanent (docs/domain.md §2.2, §2.6), the CNC arming a measurement cycle, retracting
+//! after "register now" and re-arming for the next Z step (docs/domain.md §2.5) — plus the fault
 //! cases: missing index pulses, a spindle that stops (the CNC times out and aborts, no
 //! decision), encoder glitches, contact chatter, a broken FES line (revolution counter
 //! saturates). Beside it runs the force path ([`super::force_scenario`]): a random

@@ -1,5 +1,5 @@
-//! The spindle-drive and turning-process plant of the force-control scenario (SPEC 3), in
-//! float, integrated at 10 kHz and sampled at the ADC rate into 12-bit codes.
+//! The spindle-drive and turning-process plant of the force-control scenario (docs/domain.md §3),
+//! in float, integrated at 10 kHz and sampled at the ADC rate into 12-bit codes.
 //!
 //! - Induction motor under a V/f drive with an integrating speed loop: the drive sets the
 //!   synchronous speed ω_s; in the linear slip region `T_e = k_slip·(ω_s − ω_M)`; the shaft

@@ -148,7 +148,7 @@ impl std::fmt::Display for Simulator {
 }
 
 /// C++ optimisation of a Verilator build. Verilator 5.006 compiles at `-Os` unless told
-/// otherwise (DESIGN.md pitfalls).
+/// otherwise (docs/architecture.md, pitfalls).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum CxxOpt {
     /// `-O3` for every part: slower to build, fastest to run (benchmarks, long runs).

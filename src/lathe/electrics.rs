@@ -1,4 +1,4 @@
-//! The tool–workpiece contact circuit (SPEC 2.6): the geometric contact turned into the
+//! The tool–workpiece contact circuit (docs/domain.md §2.6): the geometric contact turned into the
 //! electric contact signal, with a bounce at first touch, a short non-conduction after it,
 //! and noise spikes shorter than the front end's glitch filter.
 //!

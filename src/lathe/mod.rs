@@ -1,5 +1,5 @@
-//! The lathe simulator (SPEC 2.6): a turning workpiece, a spindle with its encoder, a cross
-//! slide with its linear scale, and the tool–workpiece contact circuit, producing the
+//! The lathe simulator (docs/domain.md §2.6): a turning workpiece, a spindle with its encoder, a
+//! cross slide with its linear scale, and the tool–workpiece contact circuit, producing the
 //! front end's six input pins as a run-length [`Stimulus`].
 //!
 //! Floats are fine here: this is the plant, not the golden model. Everything is seeded
@@ -11,13 +11,13 @@
 //!   errors, which also shaped the surface and therefore cancel;
 //! - [`spindle`]: angle versus clock, FES (`pulses_per_rev`, 50 % duty) and index (one FES
 //!   period wide, rising with FES pulse 0 of each revolution), and the axis errors with a
-//!   period longer than one revolution (the 50 % method's scatter, SPEC S10);
+//!   period longer than one revolution (the 50 % method's scatter, eq. S10, docs/domain.md);
 //! - [`scale`]: the cross slide's quadrature lines at `scale_resolution_um` per count;
 //! - [`electrics`]: bounce at first touch, non-conduction after it, noise spikes shorter
 //!   than the glitch filter.
 //!
 //! Contact exists at clock `t` when the tool's radial position `x(t) ≤ R(φ(t), t)`
-//! (SPEC 2.6). [`Lathe`] turns a span of clocks with a given slide motion into pin
+//! (docs/domain.md §2.6). [`Lathe`] turns a span of clocks with a given slide motion into pin
 //! segments; the closed-loop measurement cycle that decides the motion from the model's
 //! outputs is [`crate::measurement_cycle`]. For an open-loop stimulus (one approach, no
 //! model in the loop) use [`open_loop_stimulus`].
@@ -51,7 +51,7 @@ pub enum RetractAt {
     PermanentContact,
 }
 
-/// The measurement cycle's motions and timing (SPEC 2.5).
+/// The measurement cycle's motions and timing (docs/domain.md §2.5).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct CycleSettings {
@@ -62,7 +62,7 @@ pub struct CycleSettings {
     /// Cross-slide speed of the retract back to the start point, mm/s (bounded so the
     /// scale's lines change at most once per `4·(glitch_cycles + 2)` clocks).
     pub retract_mm_per_s: f64,
-    /// Axial step between measurements, mm; must exceed the nose radius (SPEC 2.4).
+    /// Axial step between measurements, mm; must exceed the nose radius (docs/domain.md §2.4).
     pub z_step_mm: f64,
     /// Tool nose radius r_ε, mm, `0..=10`.
     pub nose_radius_mm: f64,
@@ -96,7 +96,7 @@ impl Default for CycleSettings {
 }
 
 /// Every parameter of a simulated lathe and measurement cycle. `Default` is the papers'
-/// set-up (SPEC 1): D = 40 mm, 800 rpm, f_r = 0.001 mm/rev, 0.1 µm scale, 50 MHz clock.
+/// set-up (docs/domain.md §1): D = 40 mm, 800 rpm, f_r = 0.001 mm/rev, 0.1 µm scale, 50 MHz clock.
 /// The encoder's pulses per revolution are the configuration's
 /// ([`MeasureConfig::pulses_per_rev`]): the configuration describes the encoder.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -295,7 +295,7 @@ impl LatheScenario {
                 field: "cycle.z_step_mm".into(),
                 value: c.z_step_mm,
                 range: format!(
-                    "above the nose radius {} mm, at most 100 (SPEC 2.4)",
+                    "above the nose radius {} mm, at most 100 (docs/domain.md §2.4)",
                     c.nose_radius_mm
                 ),
             });
@@ -442,7 +442,7 @@ impl Lathe {
     }
 
     /// Radial gap between the surface the tool sees and the tool at real clock `t`, µm:
-    /// contact when `≥ 0` (SPEC 2.6).
+    /// contact when `≥ 0` (docs/domain.md §2.6).
     fn gap(&self, t: f64, motion: &Motion) -> f64 {
         self.surface.seen_at(self.spindle.turns(t)) + self.slow.at(t) - motion.at(t)
     }

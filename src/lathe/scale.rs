@@ -1,4 +1,4 @@
-//! The cross-slide's linear scale (SPEC 1): the radial position of the tool in counts of
+//! The cross-slide's linear scale (docs/domain.md §1): the radial position of the tool in counts of
 //! `resolution_um`, as x4 quadrature lines A and B.
 //!
 //! Count `c` means the tool's radial position (distance from the spindle axis) is in

@@ -1,5 +1,5 @@
 //! The spindle: its angle as a function of the FPGA clock, and its axis errors whose period
-//! is longer than one revolution (SPEC 2.6, E: Δ_1; belt-drive loading).
+//! is longer than one revolution (docs/domain.md §2.6, eq. E: Δ_1; belt-drive loading).
 //!
 //! The spindle turns at a constant speed from clock 0, where the index pulse and FES pulse
 //! 0 begin. Times are in FPGA clocks (real numbers inside, whole clocks at the pins).
@@ -14,7 +14,7 @@ use std::f64::consts::TAU;
 /// per revolution `r` and interpolated linearly across the revolution. Because the period
 /// is not a whole number of revolutions, its phase relative to the spindle angle changes
 /// every revolution too; these errors do not cancel and make the 50 % method's scatter
-/// (SPEC S10).
+/// (eq. S10, docs/domain.md).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SlowHarmonic {

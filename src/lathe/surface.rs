@@ -1,6 +1,6 @@
-//! The workpiece surface as the tool sees it during measurement (SPEC 2.6): nominal radius,
-//! the polyharmonic form error left by machining, a random roughness, and the spindle errors
-//! that repeat every revolution.
+//! The workpiece surface as the tool sees it during measurement (docs/domain.md §2.6): nominal
+//! radius, the polyharmonic form error left by machining, a random roughness, and the spindle
+//! errors that repeat every revolution.
 //!
 //! The surface is tabulated at [`SAMPLES_PER_REV`] angles and read with linear
 //! interpolation, so the contact model and the "true" diameters (mean and largest) are
@@ -53,7 +53,7 @@ pub struct Surface {
 
 impl Surface {
     /// The surface at axial position number `z_index` of a workpiece of nominal radius
-    /// `radius_um`: `profile` (SPEC 2.6 polyharmonic form error, the same at every Z),
+    /// `radius_um`: `profile` (docs/domain.md §2.6 polyharmonic form error, the same at every Z),
     /// roughness of standard deviation `random_um` (drawn per Z from `seed`), and the
     /// per-revolution spindle errors `repeating`, of which the fraction `mismatch`
     /// (`0..=1`) does not cancel between machining and measuring.
@@ -85,7 +85,7 @@ impl Surface {
             let rep: f64 = repeating.iter().map(|h| h.at(phi)).sum();
             // Machining cut the surface along the spindle's repeating error path: relative
             // to the tool the cut surface is R0 + form + rough - rep; measuring on the same
-            // path adds rep back. Only the mismatch fraction survives (SPEC 2.6).
+            // path adds rep back. Only the mismatch fraction survives (docs/domain.md §2.6).
             let machined = radius_um + form + rough - rep;
             let seen = machined + rep * (1.0 - mismatch);
             true_um.push(radius_um + form + rough);

@@ -1,4 +1,4 @@
-//! The closed-loop measurement cycle (SPEC 2.5): approach at f_r → decide (the golden
+//! The closed-loop measurement cycle (docs/domain.md §2.5): approach at f_r → decide (the golden
 //! model's `register_now`) → latch → retract → step in Z → repeat N times → statistics.
 //!
 //! The driver plays the CNC. It asks the [`Lathe`] for the pins of the next span of clocks

@@ -1,4 +1,4 @@
-//! Statistics over a series of measurements: mean and scatter (SPEC 2.5).
+//! Statistics over a series of measurements: mean and scatter (docs/domain.md §2.5).
 
 use super::MeasurementReport;
 use serde::Serialize;

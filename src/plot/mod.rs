@@ -1,5 +1,5 @@
 //! SVG plots of a measurement run: the contact density per revolution (the burst pattern
-//! growing denser, SPEC 1) and the measured diameters against the true ones.
+//! growing denser, docs/domain.md §1) and the measured diameters against the true ones.
 
 use crate::measurement_cycle::MeasurementReport;
 use plotters::prelude::*;

@@ -1,5 +1,5 @@
-//! Controller design on the nominal turning process F10 (SPEC 3), in float, once, outside
-//! the hot path; the results are converted to the model's fixed-point settings.
+//! Controller design on the nominal turning process F10 (docs/domain.md §3), in float, once,
+//! outside the hot path; the results are converted to the model's fixed-point settings.
 //!
 //! F10: `F_c(s)/f(s) = K_s·a/(τ_p s + 1)`. With the feed expressed as override percent of
 //! the programmed feed `f_0`, the static gain is `K = K_s·a·f_0/100` N per %. The digital

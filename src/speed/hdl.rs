@@ -1,6 +1,7 @@
 //! Timing the HDL simulators on a stimulus, through the co-simulation runner of
 //! [`crate::hdl::cosim`] (no runner of our own): the generated design and its
-//! self-checking testbench, Verilator's C++ at `-O3` (DESIGN.md pitfalls), Icarus as is.
+//! self-checking testbench, Verilator's C++ at `-O3` (docs/architecture.md, pitfalls),
+//! Icarus as is.
 //!
 //! The time is the testbench run's wall time (the runner's [`SimRun::seconds`]): process
 //! start, `$readmemh` of the vectors, and every clock with the testbench's compare of every

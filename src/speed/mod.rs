@@ -119,7 +119,7 @@ pub fn run_events(events: &[TimedEvent], config: &MeasureConfig) -> MeasureOutpu
 }
 
 /// The realistic measurement stimulus of the bench: the lathe simulator's closed-loop
-/// measurement cycle (SPEC 2.5) with the papers' set-up (`LatheScenario::default()`:
+/// measurement cycle (docs/domain.md §2.5) with the papers' set-up (`LatheScenario::default()`:
 /// 40 mm, 800 rpm, f_r = 1 µm/rev, 50 MHz) and `repeats` measurements — approach to
 /// permanent contact, decision, retract, Z step — on the default configuration.
 pub fn realistic_stimulus(config: &MeasureConfig, repeats: u32) -> anyhow::Result<Stimulus> {

@@ -3,8 +3,8 @@
 //! C++ loop that sets the pins of each stimulus segment and toggles the clock, no
 //! testbench, no per-cycle compare, no timing scheduler — the fastest Verilator can clock
 //! this design, so the fairest yardstick for "cycles per second". C++ at `-O3`
-//! (DESIGN.md pitfalls). The loop alone is timed (in C++, `steady_clock`); correctness is
-//! checked on the outputs after the last clock, against the model's.
+//! (docs/architecture.md, pitfalls). The loop alone is timed (in C++, `steady_clock`); correctness
+//! is checked on the outputs after the last clock, against the model's.
 //!
 //! The co-simulation runner ([`crate::hdl::runner`]) has no such mode (its testbench
 //! always compares), hence this one build function; everything else is the runner's.

@@ -1,5 +1,5 @@
-//! Force-control gain sweep: each controller of the force path (SPEC 3: PI, adaptive F11,
-//! fuzzy PI) with its gains scaled around the Ziegler–Nichols design on the nominal process
+//! Force-control gain sweep: each controller of the force path (docs/domain.md §3: PI, adaptive
+//! F11, fuzzy PI) with its gains scaled around the Ziegler–Nichols design on the nominal process
 //! F10 ([`crate::reference::design`]), run on the depth-step scenario
 //! ([`crate::drive::scenario`]) twice — with the fixed-point model kernel and with the float
 //! reference stack — and compared by the integral of absolute force error (IAE, N·s).

@@ -5,17 +5,17 @@
 //! given `charge_bits` can hold. The fixed-point model's error is measured against it, so
 //! a word length too short for the intended law shows up as error.
 //!
-//! - **Counter** (SPEC 2.3, S9): the ideal contact fraction of the current window; the
-//!   decision is the instant the contact time since the window's index pulse exceeds
-//!   `i_def / window_pulses` of the window's duration.
-//! - **Density** (SPEC 2.4): an analog RC capacitor over spindle angle (so, like the
+//! - **Counter** (docs/domain.md §2.3, eq. S9): the ideal contact fraction of the current
+//!   window; the decision is the instant the contact time since the window's index pulse
+//!   exceeds `i_def / window_pulses` of the window's duration.
+//! - **Density** (docs/domain.md §2.4): an analog RC capacitor over spindle angle (so, like the
 //!   digital one, independent of speed), charge `q ∈ [0, 1]` of full scale: linear law
 //!   `dq/dθ = +1/charge_pulses` per pulse angle in contact, `−1/discharge_pulses`
 //!   without; exponential law `dq/dθ = (1 − q)/τ_c` and `−q/τ_d` with
 //!   `τ = −1/ln(1 − 2^−shift)` pulses (the continuous law whose per-pulse step is the
 //!   digital `distance >> shift`; shift 0 jumps to the end at once). The decision is the
 //!   first upward crossing of the fire fraction.
-//! - **Single pulse** (SPEC 2.1): the first clean contact after the arm.
+//! - **Single pulse** (docs/domain.md §2.1): the first clean contact after the arm.
 
 use super::scenario::Approach;
 use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod, MeasureConfig};

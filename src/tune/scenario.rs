@@ -1,5 +1,5 @@
 //! Tuning scenarios: one open-loop approach of the tool toward a turning workpiece
-//! (SPEC 2.6), as the front end's pin [`Stimulus`] **and** the ground truth the float
+//! (docs/domain.md §2.6), as the front end's pin [`Stimulus`] **and** the ground truth the float
 //! reference needs — the clean (spike-free) contact intervals in exact clock time and the
 //! tool's radial position at every instant.
 //!
@@ -9,12 +9,12 @@
 //! arm line rises with an index pulse and stays high; the tool feeds at f_r, no retract).
 //!
 //! The surface seen by the tool at angle φ in revolution `r` is
-//! `R(φ, r) = R0 + Σ profile + Σ slow(r) + roughness(φ) + offset` (SPEC 2.6, paper E's
+//! `R(φ, r) = R0 + Σ profile + Σ slow(r) + roughness(φ) + offset` (docs/domain.md §2.6, paper E's
 //! Δ_1 and Δ_2): low form harmonics with seeded phases, spindle-axis harmonics with a
 //! period longer than one revolution and a per-revolution amplitude jitter, a few high
 //! harmonics for roughness (so contact comes in bursts), and a seeded random offset.
-//! Contact exists when the tool's radius `x(t) ≤ R` (SPEC 2.6). Noise spikes shorter than
-//! `spike_max_cycles` toggle the contact pin (they are not in the clean contact).
+//! Contact exists when the tool's radius `x(t) ≤ R` (docs/domain.md §2.6). Noise spikes shorter
+//! than `spike_max_cycles` toggle the contact pin (they are not in the clean contact).
 
 use crate::stimulus::Stimulus;
 use rand::{Rng, SeedableRng};
@@ -44,7 +44,7 @@ pub struct ApproachSettings {
     /// Amplitudes of the form harmonics of orders 2, 3, 5, µm (phases seeded).
     pub profile_um: [f64; 3],
     /// Amplitude of the slow spindle-axis harmonic (period 2.7 rev), µm; jittered ±30 %
-    /// per revolution (SPEC S10: these do not cancel).
+    /// per revolution (eq. S10, docs/domain.md: these do not cancel).
     pub slow_um: f64,
     /// Amplitude of each of the roughness harmonics (orders 37, 61, 113), µm.
     pub roughness_um: f64,
@@ -57,8 +57,8 @@ pub struct ApproachSettings {
 }
 
 impl Default for ApproachSettings {
-    /// The papers' set-up (SPEC 1): 50 MHz, 800 rpm, 1024 ppr, D = 40 mm, f_r = 1 µm/rev,
-    /// 0.1 µm scale; 12 revolutions of approach; spikes of at most 3 clocks at 2 kHz.
+    /// The papers' set-up (docs/domain.md §1): 50 MHz, 800 rpm, 1024 ppr, D = 40 mm,
+    /// f_r = 1 µm/rev, 0.1 µm scale; 12 revolutions of approach; spikes of at most 3 clocks at 2 kHz.
     fn default() -> Self {
         ApproachSettings {
             clock_hz: 50_000_000,
