@@ -1,5 +1,5 @@
-//! The depth-step force-control scenario (SPEC 3's experiment): 500 N reference, depth of
-//! cut 1 mm stepping to 1.5 mm mid-cut, force control on measured or estimated force —
+//! The depth-step force-control scenario (the experiment of docs/domain.md §3): 500 N reference,
+//! depth of cut 1 mm stepping to 1.5 mm mid-cut, force control on measured or estimated force —
 //! run with the fixed-point model kernel or the float reference, with metrics and the
 //! sample-level vectors.
 //!
@@ -378,7 +378,7 @@ impl ClosedLoop {
         let k = self.samples;
         let codes = adc(self.plant.sample());
         self.apply(k, ForceEvent::Sample(codes));
-        if (k + 1) % self.samples_per_period == 0 {
+        if (k + 1).is_multiple_of(self.samples_per_period) {
             self.apply(k, ForceEvent::Tick);
         }
         self.samples += 1;

@@ -94,7 +94,7 @@ impl Spindle {
             j += 1;
         }
         let fes = k < self.fes_fall(j);
-        let index = j % u64::from(self.pulses_per_rev) == 0;
+        let index = j.is_multiple_of(u64::from(self.pulses_per_rev));
         (fes, index)
     }
 
@@ -112,7 +112,7 @@ impl Spindle {
             let fall = self.fes_fall(j);
             if rise > k_a {
                 out.push((rise, pin::FES, true));
-                if j % ppr == 0 {
+                if j.is_multiple_of(ppr) {
                     out.push((rise, pin::INDEX, true));
                 }
                 if j % ppr == 1 {
