@@ -11,6 +11,7 @@
 //! level's outputs registered after clock `k` (`tests/levels_agree.rs`).
 
 pub mod binary;
+pub mod check;
 pub mod vcd;
 
 use crate::stimulus::Stimulus;
