@@ -12,6 +12,8 @@
 
 pub mod binary;
 pub mod check;
+pub mod golden_set;
+pub mod stimulus_file;
 pub mod vcd;
 
 use crate::stimulus::Stimulus;
