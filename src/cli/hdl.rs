@@ -90,7 +90,12 @@ fn vectors_for(
     } else {
         let (set, _) = golden_set_of(Path::new(what), settings, config_given)?;
         let Some(cycle) = set.cycle else {
-            bail!("{what}: holds no measurement events, nothing for the FPGA testbench");
+            match set.no_cycle_level {
+                Some(why) => bail!("{why}"),
+                None => {
+                    bail!("{what}: holds no measurement events, nothing for the FPGA testbench")
+                }
+            }
         };
         if cycle.config.hash() != config.hash() {
             bail!(

@@ -60,6 +60,9 @@ pub struct GoldenSet {
     pub inputs: InputStream,
     /// The expected outputs after each event (`expected_outputs.ttv`).
     pub outputs: Vec<(u64, Output)>,
+    /// Why an event stream with measurement events has no cycle-level files (no pins make
+    /// the front end act on exactly its events, e.g. a synthetic stream).
+    pub no_cycle_level: Option<String>,
 }
 
 /// The outputs a device must write after each event of `stream`: measurement outputs
@@ -120,46 +123,52 @@ impl GoldenSet {
                 hex,
             }),
             inputs,
+            no_cycle_level: None,
         }
     }
 
     /// The golden set of an input event stream read from `file`: its measurement events
-    /// turned into pins (when it has any), every event replayed for the expected outputs.
-    pub fn from_events(
-        inputs: InputStream,
-        file: &str,
-    ) -> Result<GoldenSet, super::stimulus_file::StimulusError> {
-        let cycle = match inputs.measure {
-            Some(config) => {
-                let offsets: Vec<usize> = inputs
-                    .events
-                    .iter()
-                    .zip(&inputs.offsets)
-                    .filter(|(e, _)| matches!(e.1, Input::Measure(_)))
-                    .map(|(_, &o)| o)
-                    .collect();
-                let stimulus = super::stimulus_file::pins_from_events(
-                    &inputs.measure_events(),
-                    &offsets,
-                    &config,
-                    inputs.header.tick_hz,
-                    inputs.end_time + 1,
-                    file,
-                )?;
-                let hex = hex::golden_vectors(&config, &stimulus).map_err(|e| e.to_string());
-                Some(CycleLevel {
-                    config,
-                    stimulus,
-                    hex,
-                })
+    /// turned into pins (when it has any and pins can make them; else
+    /// [`GoldenSet::no_cycle_level`] says why), every event replayed for the expected
+    /// outputs.
+    pub fn from_events(inputs: InputStream, file: &str) -> GoldenSet {
+        let mut no_cycle_level = None;
+        let cycle = inputs.measure.and_then(|config| {
+            let offsets: Vec<usize> = inputs
+                .events
+                .iter()
+                .zip(&inputs.offsets)
+                .filter(|(e, _)| matches!(e.1, Input::Measure(_)))
+                .map(|(_, &o)| o)
+                .collect();
+            match super::stimulus_file::pins_from_events(
+                &inputs.measure_events(),
+                &offsets,
+                &config,
+                inputs.header.tick_hz,
+                inputs.end_time + 1,
+                file,
+            ) {
+                Ok(stimulus) => {
+                    let hex = hex::golden_vectors(&config, &stimulus).map_err(|e| e.to_string());
+                    Some(CycleLevel {
+                        config,
+                        stimulus,
+                        hex,
+                    })
+                }
+                Err(e) => {
+                    no_cycle_level = Some(e.to_string());
+                    None
+                }
             }
-            None => None,
-        };
-        Ok(GoldenSet {
+        });
+        GoldenSet {
             outputs: expected_outputs(&inputs),
             cycle,
             inputs,
-        })
+            no_cycle_level,
+        }
     }
 
     /// The summary: hashes, counts and the decisions (`register_now` rising: its clock
@@ -222,6 +231,9 @@ impl GoldenSet {
                 }
                 Err(why) => s["testbench_vectors"] = format!("not written: {why}").into(),
             }
+        }
+        if let Some(why) = &self.no_cycle_level {
+            s["cycle_level"] = format!("not written: {why}").into();
         }
         if let Some(f) = last_force {
             s["force_final"] = serde_json::json!({
