@@ -131,7 +131,7 @@ pub fn golden_set_of(
                     );
                 }
             }
-            (GoldenSet::from_events(stream, &file), "events")
+            (GoldenSet::from_events(*stream, &file), "events")
         }
     })
 }

@@ -55,8 +55,8 @@ pub enum StimulusFile {
         /// `"vcd"` or `"stim.hex"`.
         format: &'static str,
     },
-    /// An input event stream.
-    Events(InputStream),
+    /// An input event stream (boxed: it holds two configurations).
+    Events(Box<InputStream>),
 }
 
 /// The clock to use: the stated one, else the file's own, else [`DEFAULT_CLOCK_HZ`]; a
@@ -102,7 +102,7 @@ pub fn read(path: &Path, stated: Option<&StatedClock>) -> Result<StimulusFile, S
             Some((stream.header.tick_hz, "its header's tick rate")),
             &file,
         )?;
-        return Ok(StimulusFile::Events(stream));
+        return Ok(StimulusFile::Events(Box::new(stream)));
     }
     let first = head
         .iter()
