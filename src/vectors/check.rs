@@ -87,11 +87,12 @@ impl Cursor<'_, '_> {
 }
 
 /// Reads every change of `cursor` at time `t`, storing the compared ones (masked) in
-/// `values` when given.
+/// `values` and their slots in `touched` when `values` is given.
 fn apply_at(
     cursor: &mut Cursor,
     t: u64,
     mut values: Option<&mut Vec<Option<Value>>>,
+    touched: &mut Vec<usize>,
     slots: &[Vec<usize>],
     outputs: &[Compared],
 ) -> Result<(), BadInput> {
@@ -105,6 +106,7 @@ fn apply_at(
                     bits: value.bits & outputs[slot].mask,
                     ..value
                 });
+                touched.push(slot);
             }
         }
         cursor.advance()?;
@@ -189,6 +191,7 @@ pub fn compare_vcd_sides(
     let mut differs = vec![true; n];
     let mut differing = n;
     let mut first: Option<(u64, usize, Option<Value>, Option<Value>)> = None;
+    let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
 
     let mut ec = Cursor {
         side: e,
@@ -231,10 +234,25 @@ pub fn compare_vcd_sides(
         // Apply every change at `t` of both sides (after a mismatch: only read on, so a
         // malformed or cut file is still reported).
         let record = first.is_none();
-        apply_at(&mut ec, t, record.then_some(&mut ev), &e_slots, &outputs)?;
-        apply_at(&mut dc, t, record.then_some(&mut dv), &d_slots, &outputs)?;
+        touched.clear();
+        apply_at(
+            &mut ec,
+            t,
+            record.then_some(&mut ev),
+            &mut touched,
+            &e_slots,
+            &outputs,
+        )?;
+        apply_at(
+            &mut dc,
+            t,
+            record.then_some(&mut dv),
+            &mut touched,
+            &d_slots,
+            &outputs,
+        )?;
         if first.is_none() {
-            for slot in 0..n {
+            for &slot in &touched {
                 let same = matches!((ev[slot], dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a.bits == b.bits);
                 if differs[slot] == same {
                     differs[slot] = !same;
