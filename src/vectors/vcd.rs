@@ -256,11 +256,45 @@ pub struct Declarations {
     codes: Vec<String>,
     widths: Vec<u32>,
     index: HashMap<String, usize>,
+    /// Dense index + 1 of the one- and two-character codes (the common ones), by
+    /// [`short_code_slot`]; 0 = none. Spares the body's hot loop a string hash.
+    short: Vec<u32>,
+}
+
+/// A decimal number of ASCII digits (no sign, at least one digit), or `None`.
+fn parse_decimal(digits: &[u8]) -> Option<u64> {
+    if digits.is_empty() {
+        return None;
+    }
+    digits.iter().try_fold(0u64, |n, &d| {
+        d.is_ascii_digit()
+            .then(|| n.checked_mul(10)?.checked_add(u64::from(d - b'0')))
+            .flatten()
+    })
+}
+
+/// Printable code characters `'!'..='~'`.
+const CODE_CHARS: usize = 94;
+
+/// The slot of a one- or two-character code in [`Declarations::short`].
+fn short_code_slot(id: &[u8]) -> Option<usize> {
+    let c = |b: u8| (33..=126).contains(&b).then(|| usize::from(b - 33));
+    match *id {
+        [a] => c(a),
+        [a, b] => Some(CODE_CHARS + c(a)? * CODE_CHARS + c(b)?),
+        _ => None,
+    }
 }
 
 impl Declarations {
     fn add(&mut self, signal: Signal) {
         if !self.index.contains_key(&signal.id) {
+            if let Some(slot) = short_code_slot(signal.id.as_bytes()) {
+                if self.short.is_empty() {
+                    self.short = vec![0; CODE_CHARS + CODE_CHARS * CODE_CHARS];
+                }
+                self.short[slot] = self.codes.len() as u32 + 1;
+            }
             self.index.insert(signal.id.clone(), self.codes.len());
             self.codes.push(signal.id.clone());
             self.widths.push(signal.width);
@@ -270,7 +304,20 @@ impl Declarations {
 
     /// The dense index of identifier code `id`.
     pub fn code_index(&self, id: &str) -> Option<usize> {
-        self.index.get(id).copied()
+        self.code_index_bytes(id.as_bytes())
+    }
+
+    /// [`Declarations::code_index`] of a code given as bytes.
+    fn code_index_bytes(&self, id: &[u8]) -> Option<usize> {
+        match short_code_slot(id) {
+            Some(slot) => match self.short.get(slot) {
+                Some(&n) if n > 0 => Some(n as usize - 1),
+                _ => None,
+            },
+            None => std::str::from_utf8(id)
+                .ok()
+                .and_then(|id| self.index.get(id).copied()),
+        }
     }
 
     /// Identifier codes by dense index.
@@ -568,12 +615,9 @@ impl<R: std::io::BufRead> VcdReader<R> {
             };
             match self.buf[a] {
                 b'#' => {
-                    let n = std::str::from_utf8(&self.buf[a + 1..b])
-                        .ok()
-                        .and_then(|s| s.parse::<u64>().ok())
-                        .ok_or_else(|| {
-                            self.error(format!("bad time `{}`", self.token_text((a, b))))
-                        })?;
+                    let n = parse_decimal(&self.buf[a + 1..b]).ok_or_else(|| {
+                        self.error(format!("bad time `{}`", self.token_text((a, b))))
+                    })?;
                     let fs = n
                         .checked_mul(self.declarations.timescale_fs)
                         .ok_or_else(|| {
@@ -589,8 +633,9 @@ impl<R: std::io::BufRead> VcdReader<R> {
                 }
                 b'0' | b'1' | b'x' | b'X' | b'z' | b'Z' if b - a > 1 => {
                     let (bits, unknown, _) = parse_bits(&self.buf[a..a + 1]);
-                    let id = std::str::from_utf8(&self.buf[a + 1..b]).unwrap_or("");
-                    let Some(index) = self.declarations.code_index(id) else {
+                    let Some(index) = self.declarations.code_index_bytes(&self.buf[a + 1..b])
+                    else {
+                        let id = self.token_text((a + 1, b));
                         return Err(self.error(format!("unknown identifier `{id}`")));
                     };
                     return Ok(Some(Item::Change(index, Value { bits, unknown })));
@@ -601,8 +646,9 @@ impl<R: std::io::BufRead> VcdReader<R> {
                     let Some(t) = self.next_token()? else {
                         return Err(self.error("vector value without identifier".into()));
                     };
-                    let id = std::str::from_utf8(&self.buf[t.0..t.1]).unwrap_or("");
-                    let Some(index) = self.declarations.code_index(id) else {
+                    let Some(index) = self.declarations.code_index_bytes(&self.buf[t.0..t.1])
+                    else {
+                        let id = self.token_text(t);
                         return Err(self.error(format!("unknown identifier `{id}`")));
                     };
                     let width = self.declarations.widths[index];
