@@ -394,12 +394,13 @@ pub fn pins_from_events(
             if let Some(prev) = last[bit] {
                 if clock < prev + hold {
                     return Err(StimulusError(format!(
-                        "{file}: {}: {:?} at clock {}: pin `{name}` would change {} clocks after its \
-                         previous change; the glitch filter passes a level held {hold} clocks",
+                        "{file}: {}: {:?} at clock {}: pin `{name}` would change at clock {clock}, \
+                         but not before clock {} after its change at clock {prev} (the glitch \
+                         filter passes a level held {hold} clocks; a pulse is high {hold} clocks)",
                         at(i),
                         e.event,
                         e.time,
-                        clock - prev
+                        prev + hold
                     )));
                 }
             }
