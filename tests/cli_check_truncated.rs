@@ -11,7 +11,7 @@
 
 use std::path::Path;
 use std::process::{Command, Output};
-use tooltouch_model::wire::{firmware_kind, Record, MAX_PAYLOAD, RECORD_HEADER_LEN};
+use tooltouch_model::wire::{kind, Record, MAX_PAYLOAD, RECORD_HEADER_LEN};
 
 fn tooltouch(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tooltouch"))
@@ -215,17 +215,13 @@ fn as_firmware_trace(outputs: &[u8], events: u32, lost: u32, overflowed: u32) ->
     let end = &outputs[outputs.len() - RECORD_HEADER_LEN..];
     let time = u64::from_le_bytes(end[2..10].try_into().unwrap());
     let mut t = outputs[..outputs.len() - RECORD_HEADER_LEN].to_vec();
-    t.extend(record(firmware_kind::FIRMWARE_PROFILE, time, &[0; 40]));
-    t.extend(record(
-        firmware_kind::FIRMWARE_FORCE_PROFILE,
-        time,
-        &[0; 24],
-    ));
+    t.extend(record(kind::FIRMWARE_PROFILE, time, &[0; 40]));
+    t.extend(record(kind::FIRMWARE_FORCE_PROFILE, time, &[0; 24]));
     let mut status = Vec::new();
     for v in [events, lost, overflowed, 1024, 1000, 1000] {
         status.extend_from_slice(&u32::to_le_bytes(v));
     }
-    t.extend(record(firmware_kind::FIRMWARE_STATUS, time, &status));
+    t.extend(record(kind::FIRMWARE_STATUS, time, &status));
     t.extend(record(tooltouch_model::wire::kind::END, time, &[]));
     t
 }
@@ -251,7 +247,7 @@ fn the_firmware_trace_is_read_and_a_lost_event_is_a_mismatch() {
     let mut rejected = bytes[..tooltouch_model::wire::HEADER_LEN].to_vec();
     let mut p = [0u8; 18];
     p[0] = 4; // stream does not start with a MEASURE_CONFIG record
-    rejected.extend(record(firmware_kind::FIRMWARE_ERROR, 0, &p));
+    rejected.extend(record(kind::FIRMWARE_ERROR, 0, &p));
     rejected.extend(record(tooltouch_model::wire::kind::END, 0, &[]));
     std::fs::write(&fw, rejected).unwrap();
     let (code, out) = check(&expected, &fw);
@@ -278,7 +274,7 @@ fn force_output_streams_are_checked_field_by_field() {
     // Change the override of the 10th record (first payload byte).
     let mut bytes = std::fs::read(&golden).unwrap();
     let at = tooltouch_model::wire::HEADER_LEN
-        + 9 * (RECORD_HEADER_LEN + tooltouch_model::force::FORCE_OUTPUTS_LEN)
+        + 9 * (RECORD_HEADER_LEN + tooltouch_model::wire::force_outputs::FORCE_OUTPUTS_LEN)
         + RECORD_HEADER_LEN;
     bytes[at] ^= 1;
     let dut = w.path().join("dut.bin");

@@ -12,13 +12,13 @@
 //! measurement events, force events with their configuration chunks, or both.
 
 use std::path::Path;
-use tooltouch_model::force::{
-    decode_force_event, decode_force_outputs, ForceConfig, ForceEvent, ForceOutputs,
-};
-use tooltouch_model::wire::{
-    self, firmware_kind, force_kind, ForceConfigAssembler, Header, Record, Records, StreamKind,
-    WireError,
-};
+use tooltouch_model::force::config::ForceConfig;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceOutputs;
+use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
+use tooltouch_model::wire::force_event::decode_force_event;
+use tooltouch_model::wire::force_outputs::decode_force_outputs;
+use tooltouch_model::wire::{self, kind, Header, Record, Records, StreamKind, WireError};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, TimedEvent};
 
 /// A bad binary vector file.
@@ -96,7 +96,7 @@ pub enum BinaryError {
         /// Record number, from 0.
         index: usize,
         /// What is wrong.
-        problem: wire::ForceChunkError,
+        problem: wire::force_chunks::ForceChunkError,
     },
     /// The trace holds the firmware's error record: it rejected its input.
     #[error("{file}: the firmware rejected its input: {what}")]
@@ -424,7 +424,7 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
                     header.measure_hash
                 )));
             }
-            let c = wire::decode_config(r.payload()).map_err(wire_err)?;
+            let c = wire::measure_config::decode_config(r.payload()).map_err(wire_err)?;
             if c.hash() != header.measure_hash {
                 return Err(BinaryError::ConfigMismatch {
                     file: file.to_string(),
@@ -434,13 +434,13 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
             }
             stream.measure = Some(c);
         } else if let Some(a) = assembler.as_mut() {
-            let problem = if r.kind == force_kind::FORCE_CONFIG_CHUNK {
+            let problem = if r.kind == kind::FORCE_CONFIG_CHUNK {
                 a.push(r.payload()).err()
             } else {
                 Some(
                     a.finish(header.force_hash)
                         .err()
-                        .unwrap_or(wire::ForceChunkError::AfterComplete),
+                        .unwrap_or(wire::force_chunks::ForceChunkError::AfterComplete),
                 )
             };
             if let Some(problem) = problem {
@@ -464,13 +464,13 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
         } else if r.kind == wire::kind::END {
             ended = true;
             stream.end_time = r.time;
-        } else if r.kind == firmware_kind::FIRMWARE_OBSERVE {
+        } else if r.kind == kind::FIRMWARE_OBSERVE {
             if !stream.events.is_empty() {
                 return Err(bad("FIRMWARE_OBSERVE after the first event".into()));
             }
             stream.observe_fes = r.payload().first().is_none_or(|&b| b != 0);
         } else {
-            let measure = wire::decode_event(&r, offset).map_err(wire_err)?;
+            let measure = wire::measure_event::decode_event(&r, offset).map_err(wire_err)?;
             let input = match measure {
                 Some(e) if stream.measure.is_some() => Input::Measure(e),
                 Some(_) => {
@@ -497,7 +497,7 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
         let problem = a
             .finish(header.force_hash)
             .err()
-            .unwrap_or(wire::ForceChunkError::AfterComplete);
+            .unwrap_or(wire::force_chunks::ForceChunkError::AfterComplete);
         return Err(BinaryError::ForceConfig {
             file: file.to_string(),
             index: 0,
@@ -529,23 +529,20 @@ pub fn encode_event_stream(stream: &InputStream) -> Vec<u8> {
     let mut out = Vec::with_capacity(wire::HEADER_LEN + 16 * stream.events.len() + 64);
     out.extend_from_slice(&stream.header.encode());
     if let Some(c) = &stream.measure {
-        push(&mut out, &wire::encode_config(c));
+        push(&mut out, &wire::measure_config::encode_config(c));
     }
     if let Some(f) = &stream.force {
-        for r in wire::force_config_chunks(f, 0) {
+        for r in wire::force_chunks::force_config_chunks(f, 0) {
             push(&mut out, &r);
         }
     }
     if !stream.observe_fes {
-        push(
-            &mut out,
-            &Record::new(firmware_kind::FIRMWARE_OBSERVE, 0, &[0]),
-        );
+        push(&mut out, &Record::new(kind::FIRMWARE_OBSERVE, 0, &[0]));
     }
     for &(time, e) in &stream.events {
         let r = match e {
-            Input::Measure(e) => wire::encode_event(time, e),
-            Input::Force(e) => tooltouch_model::force::encode_force_event(time, &e),
+            Input::Measure(e) => wire::measure_event::encode_event(time, e),
+            Input::Force(e) => tooltouch_model::wire::force_event::encode_force_event(time, &e),
         };
         push(&mut out, &r);
     }
@@ -576,10 +573,12 @@ pub fn encode_output_stream(header: Header, outputs: &[(u64, Output)]) -> Vec<u8
     out.extend_from_slice(&header.encode());
     for &(t, o) in outputs {
         let r = match o {
-            Output::Measure(o) => {
-                Record::new(wire::kind::MEASURE_OUTPUTS, t, &wire::encode_outputs(&o))
-            }
-            Output::Force(o) => tooltouch_model::force::outputs_record(t, &o),
+            Output::Measure(o) => Record::new(
+                wire::kind::MEASURE_OUTPUTS,
+                t,
+                &wire::measure_outputs::encode_outputs(&o),
+            ),
+            Output::Force(o) => tooltouch_model::wire::force_outputs::outputs_record(t, &o),
         };
         push(&mut out, &r);
     }
@@ -649,28 +648,28 @@ pub fn decode_output_stream(bytes: &[u8], file: &str) -> Result<OutputStream, Bi
         };
         match r.kind {
             wire::kind::END => ended = true,
-            wire::kind::MEASURE_OUTPUTS => match wire::decode_outputs(p) {
+            wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(p) {
                 Some(o) => s.measure.push((r.time, o)),
                 None => {
                     return Err(bad(format!(
                         "payload of {} bytes, expected {}",
                         p.len(),
-                        wire::OUTPUTS_LEN
+                        wire::measure_outputs::OUTPUTS_LEN
                     )))
                 }
             },
-            tooltouch_model::force::kind::OUTPUTS => match decode_force_outputs(p) {
+            tooltouch_model::wire::kind::FORCE_OUTPUTS => match decode_force_outputs(p) {
                 Some(o) => s.force.push((r.time, o)),
                 None => {
                     return Err(bad(format!(
                         "force outputs payload of {} bytes, expected {}",
                         p.len(),
-                        tooltouch_model::force::FORCE_OUTPUTS_LEN
+                        tooltouch_model::wire::force_outputs::FORCE_OUTPUTS_LEN
                     )))
                 }
             },
-            firmware_kind::FIRMWARE_PROFILE | firmware_kind::FIRMWARE_FORCE_PROFILE => {}
-            firmware_kind::FIRMWARE_STATUS => {
+            kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {}
+            kind::FIRMWARE_STATUS => {
                 if p.len() < 12 {
                     return Err(bad(format!("status payload of {} bytes", p.len())));
                 }
@@ -680,7 +679,7 @@ pub fn decode_output_stream(bytes: &[u8], file: &str) -> Result<OutputStream, Bi
                     overflowed: u32_le(p, 8),
                 });
             }
-            firmware_kind::FIRMWARE_ERROR => {
+            kind::FIRMWARE_ERROR => {
                 return Err(BinaryError::Firmware {
                     file: file.to_string(),
                     what: crate::cosim::trace::describe_firmware_error(p),

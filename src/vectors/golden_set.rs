@@ -17,7 +17,8 @@ use crate::output::OutputFolder;
 use crate::stimulus::Stimulus;
 use anyhow::Context;
 use std::io::Write;
-use tooltouch_model::force::{ForceEvent, ForceKernel};
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::wire::{Header, StreamKind};
 use tooltouch_model::{MeasureConfig, MeasureEvent, Measurement};
 

@@ -25,7 +25,7 @@ use super::vcd::{Declarations, Item, Signal, VcdReader};
 use crate::stimulus::Stimulus;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
-use tooltouch_model::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::{MeasureConfig, MeasureEvent, TimedEvent};
 
 /// The FPGA clock when nothing states one: the lathe simulator's default, Hz.
