@@ -9,6 +9,7 @@ pub mod hdl;
 pub mod lathe;
 pub mod measurement_cycle;
 pub mod milling;
+pub mod output;
 pub mod plot;
 pub mod reference;
 pub mod settings;

@@ -49,6 +49,24 @@ fn measure_writes_its_files_and_check_accepts_them() {
             .unwrap_or(0);
         assert!(len > 100, "{f}: {len} bytes");
     }
+    let staging_left = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter_map(Result::ok)
+        .any(|e| e.file_name().to_string_lossy().starts_with('.'));
+    assert!(
+        !staging_left,
+        "a staging folder was left in the output folder"
+    );
+    let vcd = std::fs::read_to_string(dir.path().join("measure.vcd")).unwrap();
+    assert!(
+        vcd.trim_end().ends_with(" $end")
+            && vcd
+                .lines()
+                .last()
+                .unwrap()
+                .starts_with("$comment tooltouch end cycles="),
+        "the golden VCD ends with its closing comment"
+    );
     let summary: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["summary"]["decided"], 2);

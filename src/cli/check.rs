@@ -1,64 +1,87 @@
 //! `tooltouch check`: compares a device-under-test's output trace with the golden expected
 //! trace and reports the first difference (VCD contract in docs/CONTRACT.md; binary
-//! Outputs streams record by record).
+//! Outputs streams record by record). The comparisons are in [`crate::vectors::check`].
 //!
-//! Exit codes: 0 match, 1 mismatch, 2 bad input (unreadable or malformed file,
-//! configuration mismatch, missing signal).
+//! Exit codes: 0 match, 1 mismatch (a differing value, a trace that ends before or after
+//! the other, a firmware that lost or overflowed events), 2 bad input (unreadable or
+//! malformed file, a golden file cut short, bytes after a stream's END, configuration
+//! mismatch, missing or zero-width signal).
 
-use crate::vectors::binary;
-use crate::vectors::vcd::{Dump, Value};
+pub use crate::vectors::check::{compare_binary, compare_vcd, BadInput, Verdict};
+use crate::vectors::check::{compare_vcd_sides, VcdSide};
+use crate::vectors::vcd::VcdReader;
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Arguments of `tooltouch check`.
 #[derive(clap::Args, Debug)]
+#[command(after_help = "\
+Exit codes: 0 match; 1 mismatch (a value, a trace that ends before or after the other, \
+a firmware trace that lost or overflowed events); 2 bad input (unreadable, malformed, a \
+golden VCD without its closing `tooltouch end` comment, bytes after a stream's END, \
+another configuration, a missing or zero-width signal).")]
 pub struct Args {
-    /// Golden expected trace: a VCD written by `tooltouch measure`, or a binary Outputs
-    /// stream (expected_outputs.ttv).
+    /// Golden expected trace: a VCD written by `tooltouch measure` or `tooltouch
+    /// vectors`, or a binary Outputs stream (expected_outputs.ttv, a `tooltouch control`
+    /// `*.outputs.bin`).
     #[arg(long)]
     pub expected: PathBuf,
     /// Device-under-test trace: a VCD of any tool (signals matched by leaf name), or a
-    /// binary Outputs stream.
+    /// binary Outputs stream (measurement or force outputs, or the firmware's own trace
+    /// with its profile and status records).
     #[arg(long)]
     pub dut: PathBuf,
 }
 
-/// The result of a comparison.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    /// Everything matched; the one-line summary.
-    Match(String),
-    /// The first difference, as one line.
-    Mismatch(String),
+fn open(path: &Path) -> Result<BufReader<std::fs::File>, BadInput> {
+    std::fs::File::open(path)
+        .map(|f| BufReader::with_capacity(1 << 20, f))
+        .map_err(|e| BadInput(format!("{}: {e}", path.display())))
 }
 
-/// Bad input to `check`, with the file and what is wrong.
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct BadInput(pub String);
+/// Whether the file starts with the binary vector magic (peeked, not consumed).
+fn is_binary(r: &mut BufReader<std::fs::File>, path: &Path) -> Result<bool, BadInput> {
+    let head = r
+        .fill_buf()
+        .map_err(|e| BadInput(format!("{}: {e}", path.display())))?;
+    Ok(head.starts_with(&tooltouch_model::wire::MAGIC))
+}
 
 fn read(path: &Path) -> Result<Vec<u8>, BadInput> {
     std::fs::read(path).map_err(|e| BadInput(format!("{}: {e}", path.display())))
 }
 
-fn is_binary(bytes: &[u8]) -> bool {
-    bytes.starts_with(&tooltouch_model::wire::MAGIC)
-}
-
-/// Compares two files (VCD or binary, the same kind both).
+/// Compares two files (VCD or binary, the same kind both); VCDs are streamed.
 pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
-    let e = read(expected)?;
-    let d = read(dut)?;
     let (en, dn) = (expected.display().to_string(), dut.display().to_string());
-    match (is_binary(&e), is_binary(&d)) {
-        (true, true) => compare_binary(&e, &en, &d, &dn),
+    let mut e = open(expected)?;
+    let mut d = open(dut)?;
+    match (is_binary(&mut e, expected)?, is_binary(&mut d, dut)?) {
+        (true, true) => compare_binary(&read(expected)?, &en, &read(dut)?, &dn),
         (false, false) => {
-            let text = |b: Vec<u8>, n: &str| {
-                String::from_utf8(b).map_err(|_| BadInput(format!("{n}: neither a VCD text nor a binary vector file (magic \"TTVX\")")))
+            let mut e = VcdReader::new(e, &en)?;
+            let mut d = VcdReader::new(d, &dn)?;
+            let ed = e.declarations().clone();
+            let dd = d.declarations().clone();
+            let late = std::cell::RefCell::new(Vec::new());
+            let verdict = {
+                let mut es = VcdSide {
+                    name: &en,
+                    declarations: &ed,
+                    changes: &mut CommentsKept {
+                        reader: &mut e,
+                        late: &late,
+                    },
+                };
+                let mut ds = VcdSide {
+                    name: &dn,
+                    declarations: &dd,
+                    changes: &mut d,
+                };
+                compare_vcd_sides(&mut es, &mut ds, &|| late.borrow().clone())?
             };
-            let e = Dump::parse(&text(e, &en)?, &en).map_err(|x| BadInput(x.to_string()))?;
-            let d = Dump::parse(&text(d, &dn)?, &dn).map_err(|x| BadInput(x.to_string()))?;
-            compare_vcd(&e, &en, &d, &dn)
+            Ok(verdict)
         }
         _ => Err(BadInput(format!(
             "{en} and {dn}: one is a binary vector file and the other is not; compare like with like"
@@ -66,147 +89,30 @@ pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
     }
 }
 
-fn hex(v: Option<Value>) -> String {
-    match v {
-        Some(Value {
-            unknown: false,
-            bits,
-        }) => format!("0x{bits:x}"),
-        Some(_) => "x".to_string(),
-        None => "x (no value yet)".to_string(),
-    }
+/// A reader that copies its late comments out when it reaches the end, so the golden
+/// side's closing comment can be looked up while the reader is borrowed.
+struct CommentsKept<'a, R> {
+    reader: &'a mut VcdReader<R>,
+    late: &'a std::cell::RefCell<Vec<String>>,
 }
 
-/// Compares the `outputs` scope of a golden dump with a DUT dump (VCD contract).
-pub fn compare_vcd(e: &Dump, en: &str, d: &Dump, dn: &str) -> Result<Verdict, BadInput> {
-    let (hash, clock_hz) = e.golden_stamp().ok_or_else(|| {
-        BadInput(format!(
-            "{en}: no `$comment tooltouch measure_hash=… clock_hz=…` line: not a golden file"
-        ))
-    })?;
-    if let Some((dut_hash, dut_hz)) = d.golden_stamp() {
-        if dut_hash != hash || dut_hz != clock_hz {
-            return Err(BadInput(format!(
-                "configuration mismatch: {en} has measure_hash={hash:016x} clock_hz={clock_hz}, {dn} has measure_hash={dut_hash:016x} clock_hz={dut_hz}"
-            )));
+impl<R: BufRead> crate::vectors::vcd::Changes for CommentsKept<'_, R> {
+    fn next_change(
+        &mut self,
+    ) -> Result<Option<(u64, usize, crate::vectors::vcd::Value)>, crate::vectors::vcd::VcdError>
+    {
+        let c = self.reader.next_change()?;
+        if c.is_none() {
+            *self.late.borrow_mut() = self.reader.late_comments().to_vec();
         }
+        Ok(c)
     }
-    if clock_hz == 0 || 1_000_000_000 % clock_hz != 0 {
-        return Err(BadInput(format!(
-            "{en}: clock_hz={clock_hz} does not divide 1e9"
-        )));
+    fn end_fs(&self) -> u64 {
+        self.reader.end_fs()
     }
-    let period_fs = 1_000_000_000_000_000 / u64::from(clock_hz);
-    let half = period_fs / 2;
-    let last_k = e.last_time_fs / period_fs;
-    let outputs: Vec<_> = e
-        .signals
-        .iter()
-        .filter(|s| s.scope.last().is_some_and(|l| l == "outputs"))
-        .collect();
-    if outputs.is_empty() {
-        return Err(BadInput(format!("{en}: no `outputs` scope")));
+    fn line(&self) -> usize {
+        self.reader.line()
     }
-    let mut first: Option<(u64, usize, Option<Value>, Option<Value>)> = None;
-    for (i, es) in outputs.iter().enumerate() {
-        let ds = d.find_shallowest(&es.name).ok_or_else(|| {
-            BadInput(format!(
-                "{dn}: no signal named `{}` (expected from {en})",
-                es.name
-            ))
-        })?;
-        let mask = if es.width >= 64 {
-            u64::MAX
-        } else {
-            (1u64 << es.width) - 1
-        };
-        // Values only change at change times, so the first differing sample is at k = 0
-        // or at the first sample after some change of either signal.
-        let mut ks: Vec<u64> = vec![0];
-        for list in [e.changes.get(&es.id), d.changes.get(&ds.id)]
-            .into_iter()
-            .flatten()
-        {
-            for &(t, _) in list {
-                ks.push(t.saturating_sub(half).div_ceil(period_fs));
-            }
-        }
-        ks.sort_unstable();
-        ks.dedup();
-        for k in ks {
-            if k > last_k || first.is_some_and(|f| k > f.0) {
-                break;
-            }
-            let t = k * period_fs + half;
-            let ev = e.value_at(&es.id, t).map(|v| Value {
-                bits: v.bits & mask,
-                ..v
-            });
-            let dv = d.value_at(&ds.id, t).map(|v| Value {
-                bits: v.bits & mask,
-                ..v
-            });
-            let same = matches!((ev, dv), (Some(a), Some(b)) if !a.unknown && !b.unknown && a.bits == b.bits);
-            if !same {
-                if first.is_none_or(|f| k < f.0 || (k == f.0 && i < f.1)) {
-                    first = Some((k, i, ev, dv));
-                }
-                break;
-            }
-        }
-    }
-    Ok(match first {
-        Some((k, i, ev, dv)) => Verdict::Mismatch(format!(
-            "cycle {k} (time {} ns): signal {} expected {} got {}",
-            k * period_fs / 1_000_000,
-            outputs[i].name,
-            hex(ev),
-            hex(dv)
-        )),
-        None => Verdict::Match(format!(
-            "OK: {} cycles × {} signals of {en} match {dn}",
-            last_k + 1,
-            outputs.len()
-        )),
-    })
-}
-
-/// Compares two binary Outputs streams record by record.
-pub fn compare_binary(e: &[u8], en: &str, d: &[u8], dn: &str) -> Result<Verdict, BadInput> {
-    let bad = |x: binary::BinaryError| BadInput(x.to_string());
-    let (eh, er) = binary::decode_outputs(e, en, None).map_err(bad)?;
-    let (_, dr) = binary::decode_outputs(d, dn, Some(eh.measure_hash)).map_err(bad)?;
-    for (i, (a, b)) in er.iter().zip(&dr).enumerate() {
-        if a.0 != b.0 {
-            return Ok(Verdict::Mismatch(format!(
-                "record {i}: time expected {} got {}",
-                a.0, b.0
-            )));
-        }
-        for ((name, x), (_, y)) in binary::output_fields(&a.1)
-            .iter()
-            .zip(binary::output_fields(&b.1).iter())
-        {
-            if x != y {
-                return Ok(Verdict::Mismatch(format!(
-                    "record {i} (time {}): field {name} expected 0x{x:x} got 0x{y:x}",
-                    a.0
-                )));
-            }
-        }
-    }
-    if er.len() != dr.len() {
-        let i = er.len().min(dr.len());
-        return Ok(Verdict::Mismatch(format!(
-            "record {i}: expected {} records, {dn} has {}",
-            er.len(),
-            dr.len()
-        )));
-    }
-    Ok(Verdict::Match(format!(
-        "OK: {} records × 15 fields of {en} match {dn}",
-        er.len()
-    )))
 }
 
 /// Runs `tooltouch check`.

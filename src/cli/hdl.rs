@@ -1,76 +1,158 @@
 //! `tooltouch hdl`: writes the Verilog of the FPGA front end (one file per module, the
 //! simulation top `tt_frontend.v`, the chip top `tt_fpga.v`) and its self-checking
-//! testbench `tt_testbench.v`, all derived from one measurement configuration.
+//! testbench `tt_testbench.v`, all derived from one measurement configuration, and with
+//! `--vectors` the testbench's `stim.hex` and `expect.hex` beside them, so that
+//! `cd DIR && iverilog -g2005 -o tb *.v && vvp tb` prints `TESTBENCH OK <cycles>`.
 //!
-//! The configuration file is the `[measure]` table of `tooltouch measure`'s settings
-//! (other tables, e.g. `[lathe]`, are ignored here), or a file holding the
-//! `MeasureSettings` fields at top level. Without `--config`, the default configuration.
+//! The configuration file is read as `tooltouch vectors` reads it
+//! ([`super::vectors::load_settings`]): the `[measure]` table of `tooltouch measure`'s
+//! settings (or the `MeasureSettings` fields at top level) and the `[lathe]` table (its
+//! clock, and the lathe run of `--vectors lathe`); other tables are ignored. Without
+//! `--config`, the defaults.
 
+use super::vectors::{golden_set_of, load_settings, CLOCK_RULE};
+use crate::hdl::hex::{self, Vectors};
 use crate::hdl::write_design;
+use crate::output::OutputFolder;
+use crate::stimulus::Stimulus;
+use crate::vectors::stimulus_file::DEFAULT_CLOCK_HZ;
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use tooltouch_hdl_gen::{generate, testbench, Options, TestbenchSpec};
-use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_hdl_gen::{generate, testbench, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX};
+use tooltouch_model::MeasureConfig;
+
+/// Testbench memory depth when neither a depth nor `--vectors` is given, words.
+pub const DEFAULT_DEPTH: usize = 1 << 16;
 
 /// Arguments of `tooltouch hdl`.
 #[derive(clap::Args, Debug)]
+#[command(after_help = CLOCK_RULE)]
 pub struct Args {
-    /// Settings TOML: a `[measure]` table, or the measurement fields at top level.
+    /// Settings TOML: a `[measure]` table (or the measurement fields at top level) and an
+    /// optional `[lathe]` table (clock, and the run of `--vectors lathe`).
     #[arg(long)]
     pub config: Option<PathBuf>,
-    /// Output folder (created).
+    /// Output folder (created). A run replaces this command's files in the folder (and
+    /// removes those it did not write this time: stim.hex and expect.hex without
+    /// `--vectors`, so no stale vectors sit beside new RTL); other files are left alone; a
+    /// failed run leaves the folder as it was.
     #[arg(long)]
     pub out: PathBuf,
-    /// FPGA clock for the testbench, Hz (the period, 1e9 / clock_hz ns, must be whole).
-    #[arg(long, default_value_t = 50_000_000)]
-    pub clock_hz: u32,
-    /// Largest stimulus the testbench accepts, in `stim.hex` words (segments + 1).
-    #[arg(long, default_value_t = 1 << 16)]
-    pub stim_depth: usize,
-    /// Largest expected response the testbench accepts, in `expect.hex` words.
-    #[arg(long, default_value_t = 1 << 16)]
-    pub expect_depth: usize,
+    /// FPGA clock for the testbench, Hz (the period, 1e9 / clock_hz ns, must be whole; see
+    /// the clock rule below).
+    #[arg(long)]
+    pub clock_hz: Option<u32>,
+    /// Largest stimulus the testbench accepts, in `stim.hex` words (segments + 1); default
+    /// 65536, or with `--vectors` the size of the vectors written.
+    #[arg(long)]
+    pub stim_depth: Option<usize>,
+    /// Largest expected response the testbench accepts, in `expect.hex` words; default
+    /// 65536, or with `--vectors` the size of the vectors written.
+    #[arg(long)]
+    pub expect_depth: Option<usize>,
     /// Make the diagnostic counters REVOLUTIONS and PULSES readable through the MCU
     /// register file (about 100 more logic cells in the chip).
     #[arg(long)]
     pub mcu_diagnostics: bool,
+    /// Also write the testbench's stim.hex and expect.hex: `lathe` = the first measurement
+    /// of the lathe run the settings describe (the span of `tooltouch measure`'s
+    /// measure.vcd), or a stimulus FILE as `tooltouch vectors --stimulus` reads it.
+    #[arg(long, value_name = "lathe|FILE")]
+    pub vectors: Option<String>,
 }
 
 /// Reads the measurement settings of `path` (see the module documentation).
 pub fn load_config(path: &Path) -> anyhow::Result<MeasureConfig> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let table: toml::Table =
-        toml::from_str(&text).with_context(|| format!("{}: not valid TOML", path.display()))?;
-    let settings: MeasureSettings = match table.get("measure") {
-        Some(measure) => measure
-            .clone()
-            .try_into()
-            .with_context(|| format!("{}: [measure]", path.display()))?,
-        None => toml::from_str(&text).with_context(|| format!("{}", path.display()))?,
+    Ok(load_settings(Some(path), None)?.config)
+}
+
+/// The testbench vectors `--vectors` asks for, with a description of their source.
+fn vectors_for(
+    what: &str,
+    settings: &super::vectors::LoadedSettings,
+    config_given: bool,
+) -> anyhow::Result<(Vectors, u32, String)> {
+    let config = &settings.config;
+    let stimulus: Stimulus = if what == "lathe" {
+        let mut scenario = settings.lathe.clone();
+        scenario.clock_hz = settings.clock.as_ref().map_or(DEFAULT_CLOCK_HZ, |c| c.hz);
+        scenario
+            .validate(config)
+            .map_err(|e| anyhow::anyhow!("--vectors lathe: [lathe] {e}"))?;
+        let run = crate::measurement_cycle::run(&scenario, config, &mut |_| {})
+            .map_err(|e| anyhow::anyhow!("--vectors lathe: {e}"))?;
+        let end = run.measurements.first().map_or(0, |m| m.end_cycle);
+        Stimulus {
+            clock_hz: scenario.clock_hz,
+            segments: crate::measurement_cycle::slice(&run.stimulus, 0, end),
+        }
+    } else {
+        let (set, _) = golden_set_of(Path::new(what), settings, config_given)?;
+        let Some(cycle) = set.cycle else {
+            match set.no_cycle_level {
+                Some(why) => bail!("{why}"),
+                None => {
+                    bail!("{what}: holds no measurement events, nothing for the FPGA testbench")
+                }
+            }
+        };
+        if cycle.config.hash() != config.hash() {
+            bail!(
+                "{what}: made with configuration {:016x}, the RTL is generated from {:016x} (pass its settings with --config)",
+                cycle.config.hash(),
+                config.hash()
+            );
+        }
+        cycle.stimulus
     };
-    settings
-        .validate()
-        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    let v = hex::golden_vectors(config, &stimulus).map_err(|e| anyhow::anyhow!("{what}: {e}"))?;
+    let source = if what == "lathe" {
+        "the lathe run's first measurement".to_string()
+    } else {
+        what.to_string()
+    };
+    Ok((v, stimulus.clock_hz, source))
+}
+
+/// A depth: the one given (at least `needed`), else `needed` when vectors are written
+/// (`needed` > 0: the memories then match the files exactly), else [`DEFAULT_DEPTH`].
+fn depth(given: Option<usize>, needed: usize, flag: &str, file: &str) -> anyhow::Result<usize> {
+    match given {
+        Some(d) if d < needed => bail!(
+            "{flag} {d}: {file} holds {needed} words; give at least {needed} (or leave the flag out)"
+        ),
+        Some(d) => Ok(d),
+        None if needed > 0 => Ok(needed),
+        None => Ok(DEFAULT_DEPTH),
+    }
 }
 
 /// Runs `tooltouch hdl`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let config = match &args.config {
-        Some(p) => load_config(p)?,
-        None => MeasureConfig::default(),
+    let settings = load_settings(args.config.as_deref(), args.clock_hz)?;
+    let config = settings.config;
+    let vectors = match &args.vectors {
+        Some(what) => Some(vectors_for(what, &settings, args.config.is_some())?),
+        None => None,
     };
+    let clock_hz = match (&vectors, &settings.clock) {
+        (Some((_, hz, _)), _) => *hz,
+        (None, Some(c)) => c.hz,
+        (None, None) => DEFAULT_CLOCK_HZ,
+    };
+    let words = vectors
+        .as_ref()
+        .map_or((0, 0), |(v, _, _)| (v.stim_words, v.expect_words));
     let spec = TestbenchSpec {
-        clock_hz: args.clock_hz,
-        stim_depth: args.stim_depth,
-        expect_depth: args.expect_depth,
+        clock_hz,
+        stim_depth: depth(args.stim_depth, words.0, "--stim-depth", STIM_HEX)?,
+        expect_depth: depth(args.expect_depth, words.1, "--expect-depth", EXPECT_HEX)?,
         mcu_diagnostics: args.mcu_diagnostics,
     };
     let Some(tb) = testbench(&config, &spec) else {
         bail!(
-            "--clock-hz {}: the clock period 1e9 / clock_hz ns must be a whole number, at least 2",
-            args.clock_hz
+            "clock {clock_hz} Hz: the clock period 1e9 / clock_hz ns must be a whole number, at least 2"
         );
     };
     let options = Options {
@@ -78,15 +160,35 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         ..Options::default()
     };
     let design = generate(&config, &options);
-    let files = write_design(&args.out, &design, Some(&tb))?;
+    let mut known: Vec<String> = design.files.iter().map(|f| f.name.clone()).collect();
+    known.extend([tb.name.clone(), STIM_HEX.into(), EXPECT_HEX.into()]);
+    let out = OutputFolder::create(&args.out, known)?;
+    let staged = write_design(out.staging(), &design, Some(&tb))?;
+    if let Some((v, _, _)) = &vectors {
+        hex::write_vectors(out.staging(), v)?;
+    }
+    out.commit()
+        .with_context(|| format!("writing {}", args.out.display()))?;
     println!(
         "configuration hash {:016x}: {} files in {}",
         config.hash(),
-        files.len(),
+        staged.len(),
         args.out.display()
     );
-    for f in &files {
-        println!("  {}", f.display());
+    for f in &staged {
+        if let Some(name) = f.file_name() {
+            println!("  {}", args.out.join(name).display());
+        }
+    }
+    if let Some((v, hz, source)) = &vectors {
+        println!(
+            "vectors from {source}: {} clocks at {hz} Hz; {} ({} words), {} ({} words)",
+            v.cycles, STIM_HEX, v.stim_words, EXPECT_HEX, v.expect_words
+        );
+        println!(
+            "run: cd {} && iverilog -g2005 -o tb *.v && vvp tb",
+            args.out.display()
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

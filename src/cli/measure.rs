@@ -1,8 +1,14 @@
 //! `tooltouch measure`: simulate in-process diameter measurements on a lathe with the
-//! golden model (docs/domain.md §2), print a table, and write plots, vectors and a JSON summary.
+//! golden model (docs/domain.md §2), print a table, and write plots, vectors and a JSON
+//! summary into an output folder that always holds one whole run ([`OutputFolder`]).
+//!
+//! Exit codes: 0 every measurement decided; 1 an error (bad settings, a file that could
+//! not be written); 3 the run completed and its files were written, but some measurement
+//! did not decide ([`UNDECIDED`]).
 
 use crate::lathe::RetractAt;
 use crate::measurement_cycle::{self, CycleRun};
+use crate::output::OutputFolder;
 use crate::settings::{Settings, SettingsError};
 use crate::vectors::{self, binary, vcd};
 use anyhow::Context;
@@ -63,10 +69,29 @@ pub enum VcdSpan {
     None,
 }
 
+/// Exit code of a run in which some measurement did not decide (its files are written).
+pub const UNDECIDED: u8 = 3;
+
+/// Every file `measure` can write into its output folder.
+pub const OUTPUTS: [&str; 6] = [
+    "contact_density.svg",
+    "diameters.svg",
+    "measure.vcd",
+    "events.ttv",
+    "expected_outputs.ttv",
+    "summary.json",
+];
+
 /// Arguments of `tooltouch measure`. Every setting has a flag; flags override `--config`.
 #[derive(clap::Args, Debug)]
+#[command(after_help = "\
+Exit codes: 0 every measurement decided; 1 error (bad settings, unwritable files); 3 the run \
+completed and wrote its files, but some measurement did not decide.")]
 pub struct Args {
-    /// Output folder (created): plots, VCD, binary vectors, summary.json.
+    /// Output folder (created): plots, VCD, binary vectors, summary.json. A run replaces
+    /// this command's files in the folder (and removes those it did not write this time,
+    /// e.g. measure.vcd with `--vcd none`); other files are left alone; a failed run leaves
+    /// the folder as it was.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
     /// Settings file (TOML: [measure] and [lathe] tables; see README).
@@ -399,8 +424,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let settings = args.settings()?;
     let (config, scenario) = settings.resolve()?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating the output folder {}", args.out.display()))?;
+    let out = OutputFolder::create(&args.out, OUTPUTS)?;
 
     let bar = if args.no_progress {
         indicatif::ProgressBar::hidden()
@@ -417,16 +441,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     print!("{}", table(&run, &config));
 
-    let out = &args.out;
-    let file = |name: &str| out.join(name);
     crate::plot::contact_density(
-        &file("contact_density.svg"),
+        &out.path("contact_density.svg"),
         &run.measurements,
         config.window_pulses(),
         config.settings().i_def,
     )?;
     crate::plot::diameters(
-        &file("diameters.svg"),
+        &out.path("diameters.svg"),
         &run.measurements,
         scenario.diameter_mm,
     )?;
@@ -437,21 +459,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         VcdSpan::All => Some(run.stimulus.total_cycles()),
     };
     if let Some(end) = vcd_end {
-        let path = file("measure.vcd");
-        let f =
-            std::fs::File::create(&path).with_context(|| format!("creating {}", path.display()))?;
-        let mut w = std::io::BufWriter::new(f);
+        let mut w = out.create_file("measure.vcd")?;
         vcd::write_golden(&mut w, &run.stimulus, &config, Some(end))
             .and_then(|_| w.flush())
-            .with_context(|| format!("writing {}", path.display()))?;
+            .with_context(|| format!("writing {}", out.final_path("measure.vcd").display()))?;
     }
 
     let events = vectors::events_from_stimulus(&run.stimulus, &config);
     let outputs = vectors::outputs_after_each_event(&events, &config);
-    let write = |name: &str, bytes: Vec<u8>| {
-        std::fs::write(file(name), bytes)
-            .with_context(|| format!("writing {}", file(name).display()))
-    };
+    let write = |name: &str, bytes: Vec<u8>| out.write(name, bytes);
     write(
         "events.ttv",
         binary::encode_events(&events, &config, scenario.clock_hz),
@@ -480,6 +496,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         "summary.json",
         serde_json::to_vec_pretty(&summary).context("encoding summary.json")?,
     )?;
+    let dir = out.dir().to_path_buf();
+    out.commit()?;
     println!(
         "simulated {:.2} s of lathe time ({} clocks, {} clocked, {} events) in {:.2} s; wrote {}",
         run.stimulus.total_cycles() as f64 / f64::from(scenario.clock_hz),
@@ -487,7 +505,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         run.clocked_cycles,
         events.len(),
         started.elapsed().as_secs_f64(),
-        out.display()
+        dir.display()
     );
+    let t = &run.summary;
+    if t.decided < t.measurements {
+        eprintln!(
+            "measure: {} of {} measurements did not decide (exit code {UNDECIDED})",
+            t.measurements - t.decided,
+            t.measurements
+        );
+        return Ok(ExitCode::from(UNDECIDED));
+    }
     Ok(ExitCode::SUCCESS)
 }

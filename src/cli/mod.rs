@@ -5,6 +5,7 @@ pub mod control;
 pub mod hdl;
 pub mod measure;
 pub mod tune;
+pub mod vectors;
 pub mod wear;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +26,9 @@ enum Command {
     Measure(measure::Args),
     /// Compare a device-under-test trace with the golden expected trace.
     Check(check::Args),
+    /// Compute the golden response to your own stimulus (VCD of the pins, event stream,
+    /// run-length pins) as VCD, testbench vectors and firmware streams.
+    Vectors(vectors::Args),
     /// Run the force-control depth-step scenario.
     Control(control::Args),
     /// Run the tool-wear monitoring scenario.
@@ -41,6 +45,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Measure(args) => measure::run(args),
         Command::Check(args) => check::run(args),
+        Command::Vectors(args) => vectors::run(args),
         Command::Control(args) => control::run(args),
         Command::Wear(args) => wear::run(args),
         Command::Hdl(args) => hdl::run(args),

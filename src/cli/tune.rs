@@ -2,6 +2,7 @@
 //! error against the float reference and its FPGA cost, the Pareto front, CSV/JSON/SVG in
 //! `--out DIR`; `--shard K/N` runs one slice, `tooltouch tune merge DIR...` joins slices.
 
+use crate::output::OutputFolder;
 use crate::tune::{self, output, Overrides, Shard, SweepSpec};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -28,7 +29,7 @@ enum Command {
         /// Slice directories (or their results.json files).
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
-        /// Output directory.
+        /// Output directory (replaced files as for a sweep).
         #[arg(long, default_value = "out/tune")]
         out: PathBuf,
     },
@@ -40,7 +41,9 @@ struct SweepArgs {
     /// Sweep spec, TOML (parameters not given keep the default sweep's values).
     #[arg(long)]
     spec: Option<PathBuf>,
-    /// Output directory for results.json, results.csv, pareto.svg.
+    /// Output directory for results.json, results.csv, force.csv, pareto.svg. A run
+    /// replaces this command's files in the folder (and removes those it did not write
+    /// this time); other files are left alone; a failed run leaves the folder as it was.
     #[arg(long, default_value = "out/tune")]
     out: PathBuf,
     /// Run only slice K of N (0-based): points whose index % N == K.
@@ -170,7 +173,7 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
     let results = tune::run(&spec, shard, &|| bar.inc(1))?;
     bar.finish_and_clear();
     let wall = t.elapsed().as_secs_f64();
-    output::write(&results, &a.out)?;
+    write_folder(&results, &a.out)?;
     let scenarios = spec.scenarios;
     match shard {
         Some(s) => println!(
@@ -268,13 +271,26 @@ fn summary(r: &tune::Results) {
     }
 }
 
+/// Writes a sweep's files through an [`OutputFolder`]: a run replaces the files of an
+/// earlier one (a slice's run removes an earlier whole sweep's pareto.svg), and a failed
+/// run leaves the folder as it was.
+fn write_folder(results: &tune::Results, dir: &std::path::Path) -> Result<()> {
+    let out = OutputFolder::create(
+        dir,
+        [output::JSON, output::CSV, output::FORCE_CSV, output::SVG],
+    )?;
+    output::write(results, out.staging())?;
+    out.commit()?;
+    Ok(())
+}
+
 fn merge(dirs: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
     let parts = dirs
         .iter()
         .map(|d| output::read(d))
         .collect::<Result<Vec<_>>>()?;
     let merged = tune::merge(&parts)?;
-    output::write(&merged, out)?;
+    write_folder(&merged, out)?;
     println!(
         "tune merge: {} slices, {} points → {}",
         parts.len(),

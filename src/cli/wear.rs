@@ -3,6 +3,7 @@
 //! with the updating threshold, through the fixed-point model's wear monitor.
 
 use crate::milling::{WearRun, WearScenario, NEW_TOOL, WORN_TOOL};
+use crate::output::OutputFolder;
 use anyhow::{Context, Result};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -11,7 +12,8 @@ use std::process::ExitCode;
 /// Arguments of `tooltouch wear`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Directory for the plots (`wear_<tool>.svg`).
+    /// Directory for the plots (`wear_<tool>.svg`). A run replaces this command's files in
+    /// the folder; other files are left alone; a failed run leaves the folder as it was.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Noise seed.
@@ -25,10 +27,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
         seed: args.seed,
         ..WearScenario::default()
     };
-    if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("creating output directory {}", dir.display()))?;
-    }
+    let out = match &args.out {
+        Some(dir) => Some(OutputFolder::create(
+            dir,
+            [NEW_TOOL, WORN_TOOL].map(|t| format!("wear_{}.svg", t.name)),
+        )?),
+        None => None,
+    };
     let m = &sc.milling;
     println!(
         "face milling D = {} mm, Z = {}, t = {} mm, s_z = {} mm, {} rpm, [VB] = {} mm, eta = {}",
@@ -91,17 +96,19 @@ pub fn run(args: Args) -> Result<ExitCode> {
             ));
             runs.push((name, r));
         }
-        if let Some(dir) = &args.out {
-            let path = dir.join(format!("wear_{}.svg", tool.name));
-            plot(&path, tool.name, &runs)
-                .with_context(|| format!("plotting {}", path.display()))?;
+        if let Some(out) = &out {
+            let name = format!("wear_{}.svg", tool.name);
+            plot(&out.path(&name), tool.name, &runs)
+                .with_context(|| format!("plotting {}", out.final_path(&name).display()))?;
         }
     }
     bar.finish_and_clear();
     for r in rows {
         println!("{r}");
     }
-    if let Some(dir) = &args.out {
+    if let Some(out) = out {
+        let dir = out.dir().to_path_buf();
+        out.commit()?;
         println!("plots written to {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)

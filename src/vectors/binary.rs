@@ -3,10 +3,23 @@
 //! and an **Outputs** stream (header, one `MEASURE_OUTPUTS` record after each event, END)
 //! for `tooltouch check`. Reading checks everything the header and records promise and
 //! names the file in every error.
+//!
+//! A file holds exactly one stream: bytes after its END record (a second stream, or
+//! anything else) are an error, so a file glued from two runs is not read as the first.
+//! [`decode_output_stream`] reads every output stream a device emits — measurement
+//! outputs, force outputs (`tooltouch control --out`), and the firmware's own trace with
+//! its profile and status records; [`decode_event_stream`] reads every input stream —
+//! measurement events, force events with their configuration chunks, or both.
 
 use std::path::Path;
-use tooltouch_model::wire::{self, Header, Record, Records, StreamKind, WireError};
-use tooltouch_model::{MeasureConfig, MeasureOutputs, TimedEvent};
+use tooltouch_model::force::config::ForceConfig;
+use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::force::kernel::ForceOutputs;
+use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
+use tooltouch_model::wire::force_event::decode_force_event;
+use tooltouch_model::wire::force_outputs::decode_force_outputs;
+use tooltouch_model::wire::{self, kind, Header, Record, Records, StreamKind, WireError};
+use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, TimedEvent};
 
 /// A bad binary vector file.
 #[derive(Debug, thiserror::Error)]
@@ -65,6 +78,52 @@ pub enum BinaryError {
         /// The file.
         file: String,
     },
+    /// Bytes follow the END record.
+    #[error("{file}: {what} after the END record at byte {offset} (one stream per file)")]
+    AfterEnd {
+        /// The file.
+        file: String,
+        /// Byte offset just past the END record.
+        offset: usize,
+        /// What follows: a second stream, or a count of bytes.
+        what: String,
+    },
+    /// The force configuration chunks are broken.
+    #[error("{file}: record {index}: {problem}")]
+    ForceConfig {
+        /// The file.
+        file: String,
+        /// Record number, from 0.
+        index: usize,
+        /// What is wrong.
+        problem: wire::force_chunks::ForceChunkError,
+    },
+    /// The trace holds the firmware's error record: it rejected its input.
+    #[error("{file}: the firmware rejected its input: {what}")]
+    Firmware {
+        /// The file.
+        file: String,
+        /// The error record, explained.
+        what: String,
+    },
+}
+
+/// Fails when bytes follow the END record that ends at `offset`.
+fn nothing_after_end(bytes: &[u8], offset: usize, file: &str) -> Result<(), BinaryError> {
+    let rest = bytes.get(offset..).unwrap_or(&[]);
+    if rest.is_empty() {
+        return Ok(());
+    }
+    let what = if rest.starts_with(&wire::MAGIC) {
+        "a second stream (magic \"TTVX\")".to_string()
+    } else {
+        format!("{} more bytes", rest.len())
+    };
+    Err(BinaryError::AfterEnd {
+        file: file.to_string(),
+        offset,
+        what,
+    })
 }
 
 fn push(out: &mut Vec<u8>, r: &Record) {
@@ -193,6 +252,7 @@ pub fn decode_events(
             file: file.to_string(),
         });
     }
+    nothing_after_end(bytes, offset, file)?;
     let config = config.ok_or_else(|| BinaryError::NoEnd {
         file: file.to_string(),
     })?;
@@ -242,8 +302,10 @@ pub fn decode_outputs(
     expect_stream(file, header, StreamKind::Outputs, expected_hash)?;
     let mut out = Vec::new();
     let mut ended = false;
+    let mut offset = wire::HEADER_LEN;
     for (index, r) in records.enumerate() {
         let r = r.map_err(wire_err)?;
+        offset += r.encoded_len();
         match r.kind {
             wire::kind::END => ended = true,
             wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(r.payload())
@@ -277,7 +339,362 @@ pub fn decode_outputs(
             file: file.to_string(),
         });
     }
+    nothing_after_end(bytes, offset, file)?;
     Ok((header, out))
+}
+
+/// One input event of either path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Input {
+    /// A measurement event.
+    Measure(MeasureEvent),
+    /// A force-path event (ADC sample, control tick, CNC command).
+    Force(ForceEvent),
+}
+
+/// A decoded input stream of the measurement path, the force path, or both.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InputStream {
+    /// Its header.
+    pub header: Header,
+    /// The measurement configuration (when the header's `measure_hash` is not 0).
+    pub measure: Option<MeasureConfig>,
+    /// The force configuration from its chunks (when the header's `force_hash` is not 0).
+    pub force: Option<ForceConfig>,
+    /// Whether the device writes an outputs record after FES events (the
+    /// `FIRMWARE_OBSERVE` record; absent = yes).
+    pub observe_fes: bool,
+    /// Every event, time in ticks, in stream order.
+    pub events: Vec<(u64, Input)>,
+    /// Byte offset of each event's record, for messages.
+    pub offsets: Vec<usize>,
+    /// The END record's time.
+    pub end_time: u64,
+}
+
+impl InputStream {
+    /// The measurement events, timed.
+    pub fn measure_events(&self) -> Vec<TimedEvent> {
+        self.events
+            .iter()
+            .filter_map(|&(time, e)| match e {
+                Input::Measure(event) => Some(TimedEvent { time, event }),
+                Input::Force(_) => None,
+            })
+            .collect()
+    }
+}
+
+/// Decodes an input stream of either path or both; `file` names it in errors. A
+/// measurement configuration record comes first when the header's `measure_hash` is not
+/// 0 (its hash must match), then the force configuration chunks when `force_hash` is not
+/// 0 (reassembled, validated, hash checked), then an optional `FIRMWARE_OBSERVE`, the
+/// events and END, and nothing after it.
+pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, BinaryError> {
+    let wire_err = |problem| BinaryError::Wire {
+        file: file.to_string(),
+        problem,
+    };
+    let (header, records) = Records::new(bytes).map_err(wire_err)?;
+    expect_stream(file, header, StreamKind::Events, None)?;
+    let mut stream = InputStream {
+        header,
+        measure: None,
+        force: None,
+        observe_fes: true,
+        events: Vec::new(),
+        offsets: Vec::new(),
+        end_time: 0,
+    };
+    let mut assembler = (header.force_hash != 0).then(ForceConfigAssembler::new);
+    let mut ended = false;
+    let mut offset = wire::HEADER_LEN;
+    for (index, r) in records.enumerate() {
+        let r = r.map_err(wire_err)?;
+        let bad = |message: String| BinaryError::BadRecord {
+            file: file.to_string(),
+            index,
+            kind: r.kind,
+            message,
+        };
+        if index == 0 && header.measure_hash != 0 {
+            if r.kind != wire::kind::MEASURE_CONFIG {
+                return Err(bad(format!(
+                    "the header names measure_hash {:016x}: the first record must be the configuration",
+                    header.measure_hash
+                )));
+            }
+            let c = wire::measure_config::decode_config(r.payload()).map_err(wire_err)?;
+            if c.hash() != header.measure_hash {
+                return Err(BinaryError::ConfigMismatch {
+                    file: file.to_string(),
+                    found: c.hash(),
+                    expected: header.measure_hash,
+                });
+            }
+            stream.measure = Some(c);
+        } else if let Some(a) = assembler.as_mut() {
+            let problem = if r.kind == kind::FORCE_CONFIG_CHUNK {
+                a.push(r.payload()).err()
+            } else {
+                Some(
+                    a.finish(header.force_hash)
+                        .err()
+                        .unwrap_or(wire::force_chunks::ForceChunkError::AfterComplete),
+                )
+            };
+            if let Some(problem) = problem {
+                return Err(BinaryError::ForceConfig {
+                    file: file.to_string(),
+                    index,
+                    problem,
+                });
+            }
+            if a.is_complete() {
+                let config =
+                    a.finish(header.force_hash)
+                        .map_err(|problem| BinaryError::ForceConfig {
+                            file: file.to_string(),
+                            index,
+                            problem,
+                        })?;
+                stream.force = Some(config);
+                assembler = None;
+            }
+        } else if r.kind == wire::kind::END {
+            ended = true;
+            stream.end_time = r.time;
+        } else if r.kind == kind::FIRMWARE_OBSERVE {
+            if !stream.events.is_empty() {
+                return Err(bad("FIRMWARE_OBSERVE after the first event".into()));
+            }
+            stream.observe_fes = r.payload().first().is_none_or(|&b| b != 0);
+        } else {
+            let measure = wire::measure_event::decode_event(&r, offset).map_err(wire_err)?;
+            let input = match measure {
+                Some(e) if stream.measure.is_some() => Input::Measure(e),
+                Some(_) => {
+                    return Err(bad(
+                        "a measurement event in a stream without a measurement configuration (measure_hash 0)".into(),
+                    ))
+                }
+                None => match decode_force_event(&r, offset).map_err(wire_err)? {
+                    Some(e) if stream.force.is_some() => Input::Force(e),
+                    Some(_) => {
+                        return Err(bad(
+                            "a force event in a stream without a force configuration (force_hash 0)".into(),
+                        ))
+                    }
+                    None => return Err(bad("not an input event".into())),
+                },
+            };
+            stream.events.push((r.time, input));
+            stream.offsets.push(offset);
+        }
+        offset += r.encoded_len();
+    }
+    if let Some(a) = &assembler {
+        let problem = a
+            .finish(header.force_hash)
+            .err()
+            .unwrap_or(wire::force_chunks::ForceChunkError::AfterComplete);
+        return Err(BinaryError::ForceConfig {
+            file: file.to_string(),
+            index: 0,
+            problem,
+        });
+    }
+    if !ended {
+        return Err(BinaryError::NoEnd {
+            file: file.to_string(),
+        });
+    }
+    nothing_after_end(bytes, offset, file)?;
+    if header.measure_hash == 0 && header.force_hash == 0 {
+        return Err(BinaryError::BadRecord {
+            file: file.to_string(),
+            index: 0,
+            kind: 0,
+            message: "the header names no configuration (both hashes 0)".into(),
+        });
+    }
+    Ok(stream)
+}
+
+/// Encodes an input stream: header, the measurement configuration, the force
+/// configuration chunks and the `FIRMWARE_OBSERVE` record (when the stream has them, all
+/// at time 0), the events, END at `end_time`. A measurement-only stream whose END is at
+/// its last event's time encodes as [`encode_events`] does.
+pub fn encode_event_stream(stream: &InputStream) -> Vec<u8> {
+    let mut out = Vec::with_capacity(wire::HEADER_LEN + 16 * stream.events.len() + 64);
+    out.extend_from_slice(&stream.header.encode());
+    if let Some(c) = &stream.measure {
+        push(&mut out, &wire::measure_config::encode_config(c));
+    }
+    if let Some(f) = &stream.force {
+        for r in wire::force_chunks::force_config_chunks(f, 0) {
+            push(&mut out, &r);
+        }
+    }
+    if !stream.observe_fes {
+        push(&mut out, &Record::new(kind::FIRMWARE_OBSERVE, 0, &[0]));
+    }
+    for &(time, e) in &stream.events {
+        let r = match e {
+            Input::Measure(e) => wire::measure_event::encode_event(time, e),
+            Input::Force(e) => tooltouch_model::wire::force_event::encode_force_event(time, &e),
+        };
+        push(&mut out, &r);
+    }
+    push(
+        &mut out,
+        &Record::new(wire::kind::END, stream.end_time, &[]),
+    );
+    out
+}
+
+/// One output record of either path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Output {
+    /// Measurement outputs after a measurement event.
+    Measure(MeasureOutputs),
+    /// Force outputs after a force event other than a sample.
+    Force(ForceOutputs),
+}
+
+/// Encodes an Outputs stream of either path or both: header (`tick_hz` and both hashes
+/// from `header`), one record per output in order, END at the last record's time.
+pub fn encode_output_stream(header: Header, outputs: &[(u64, Output)]) -> Vec<u8> {
+    let header = Header {
+        stream: StreamKind::Outputs,
+        ..header
+    };
+    let mut out = Vec::with_capacity(wire::HEADER_LEN + 54 * outputs.len() + 16);
+    out.extend_from_slice(&header.encode());
+    for &(t, o) in outputs {
+        let r = match o {
+            Output::Measure(o) => Record::new(
+                wire::kind::MEASURE_OUTPUTS,
+                t,
+                &wire::measure_outputs::encode_outputs(&o),
+            ),
+            Output::Force(o) => tooltouch_model::wire::force_outputs::outputs_record(t, &o),
+        };
+        push(&mut out, &r);
+    }
+    let end = outputs.last().map_or(0, |o| o.0);
+    push(&mut out, &Record::new(wire::kind::END, end, &[]));
+    out
+}
+
+/// The firmware's status record (`FIRMWARE_STATUS`) in its trace.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FirmwareStatus {
+    /// Events the firmware replayed.
+    pub events: u32,
+    /// Edges lost (an interrupt still pending at the next edge).
+    pub lost: u32,
+    /// Samples dropped by a full queue.
+    pub overflowed: u32,
+}
+
+/// A decoded Outputs stream of any device: measurement and force outputs in stream
+/// order, and the firmware's status when the stream is a firmware trace.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputStream {
+    /// Its header.
+    pub header: Header,
+    /// Measurement outputs with their times.
+    pub measure: Vec<(u64, MeasureOutputs)>,
+    /// Force outputs with their times.
+    pub force: Vec<(u64, ForceOutputs)>,
+    /// The firmware's status record, if any.
+    pub status: Option<FirmwareStatus>,
+}
+
+fn u32_le(p: &[u8], i: usize) -> u32 {
+    p.get(i..i + 4)
+        .and_then(|b| b.try_into().ok())
+        .map_or(0, u32::from_le_bytes)
+}
+
+/// Decodes an Outputs stream of any device: `MEASURE_OUTPUTS` and force `OUTPUTS`
+/// records, the firmware's profile records (skipped) and status record (kept), END, and
+/// nothing after it. A firmware error record is [`BinaryError::Firmware`].
+pub fn decode_output_stream(bytes: &[u8], file: &str) -> Result<OutputStream, BinaryError> {
+    let wire_err = |problem| BinaryError::Wire {
+        file: file.to_string(),
+        problem,
+    };
+    let (header, records) = Records::new(bytes).map_err(wire_err)?;
+    expect_stream(file, header, StreamKind::Outputs, None)?;
+    let mut s = OutputStream {
+        header,
+        measure: Vec::new(),
+        force: Vec::new(),
+        status: None,
+    };
+    let mut ended = false;
+    let mut offset = wire::HEADER_LEN;
+    for (index, r) in records.enumerate() {
+        let r = r.map_err(wire_err)?;
+        offset += r.encoded_len();
+        let p = r.payload();
+        let bad = |message: String| BinaryError::BadRecord {
+            file: file.to_string(),
+            index,
+            kind: r.kind,
+            message,
+        };
+        match r.kind {
+            wire::kind::END => ended = true,
+            wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(p) {
+                Some(o) => s.measure.push((r.time, o)),
+                None => {
+                    return Err(bad(format!(
+                        "payload of {} bytes, expected {}",
+                        p.len(),
+                        wire::measure_outputs::OUTPUTS_LEN
+                    )))
+                }
+            },
+            tooltouch_model::wire::kind::FORCE_OUTPUTS => match decode_force_outputs(p) {
+                Some(o) => s.force.push((r.time, o)),
+                None => {
+                    return Err(bad(format!(
+                        "force outputs payload of {} bytes, expected {}",
+                        p.len(),
+                        tooltouch_model::wire::force_outputs::FORCE_OUTPUTS_LEN
+                    )))
+                }
+            },
+            kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {}
+            kind::FIRMWARE_STATUS => {
+                if p.len() < 12 {
+                    return Err(bad(format!("status payload of {} bytes", p.len())));
+                }
+                s.status = Some(FirmwareStatus {
+                    events: u32_le(p, 0),
+                    lost: u32_le(p, 4),
+                    overflowed: u32_le(p, 8),
+                });
+            }
+            kind::FIRMWARE_ERROR => {
+                return Err(BinaryError::Firmware {
+                    file: file.to_string(),
+                    what: crate::cosim::trace::describe_firmware_error(p),
+                })
+            }
+            _ => return Err(bad("not an output record".into())),
+        }
+    }
+    if !ended {
+        return Err(BinaryError::NoEnd {
+            file: file.to_string(),
+        });
+    }
+    nothing_after_end(bytes, offset, file)?;
+    Ok(s)
 }
 
 /// Reads a whole file, naming it in the error.

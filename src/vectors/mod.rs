@@ -11,6 +11,9 @@
 //! level's outputs registered after clock `k` (`tests/levels_agree.rs`).
 
 pub mod binary;
+pub mod check;
+pub mod golden_set;
+pub mod stimulus_file;
 pub mod vcd;
 
 use crate::stimulus::Stimulus;

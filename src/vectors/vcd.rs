@@ -1,6 +1,9 @@
 //! Value change dump files, per the VCD contract (docs/CONTRACT.md): the golden
-//! writer (inputs and outputs of the measurement front end at `k·P` ns) and a reader that
-//! takes any tool's dump (Verilator, Icarus) for `tooltouch check`.
+//! writer (inputs and outputs of the measurement front end at `k·P` ns, closed by a
+//! `tooltouch end cycles=<n>` comment so a cut file is told from a whole one), and a
+//! streaming reader that takes any tool's dump (Verilator, Icarus) for `tooltouch check`
+//! and `tooltouch vectors` in constant memory, with [`Dump`] on top of it for callers that
+//! want the whole file in memory.
 
 use super::clock_through;
 use crate::stimulus::Stimulus;
@@ -52,7 +55,8 @@ fn value_text(value: u64, width: u32, id: &str) -> String {
 
 /// Writes the golden VCD of `stimulus` clocks `[0, end)` (all of it when `end` is
 /// `None`): inputs sampled at clock `k` and outputs registered after clock `k`, both at
-/// time `k·P` ns, changes only. Returns the number of clocks covered.
+/// time `k·P` ns, changes only, then the time of the last clock and the closing
+/// `$comment tooltouch end cycles=<n> $end`. Returns the number of clocks covered.
 pub fn write_golden<W: Write>(
     w: &mut W,
     stimulus: &Stimulus,
@@ -168,8 +172,13 @@ pub fn write_golden<W: Write>(
     if end > 0 && last_time != Some((end - 1) * p) {
         writeln!(w, "#{}", (end - 1) * p)?;
     }
+    writeln!(w, "$comment {END_COMMENT} cycles={end} $end")?;
     Ok(end)
 }
+
+/// The `$comment` text a golden file ends with: `tooltouch end cycles=<n>`, so a reader
+/// can tell a whole golden file from one cut short.
+pub const END_COMMENT: &str = "tooltouch end";
 
 /// A value in a dump: bits, and whether any bit was x or z.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -191,21 +200,8 @@ pub struct Signal {
     pub width: u32,
     /// Identifier code.
     pub id: String,
-}
-
-/// A parsed dump: signals and, per identifier code, its changes `(time fs, value)`.
-#[derive(Clone, Debug, Default)]
-pub struct Dump {
-    /// Femtoseconds per time unit of the file's `$timescale`.
-    pub timescale_fs: u64,
-    /// Every `$var`.
-    pub signals: Vec<Signal>,
-    /// Changes per identifier code, in time order.
-    pub changes: HashMap<String, Vec<(u64, Value)>>,
-    /// `$comment` texts.
-    pub comments: Vec<String>,
-    /// Largest time seen, fs.
-    pub last_time_fs: u64,
+    /// Line of its `$var`, from 1.
+    pub line: usize,
 }
 
 /// A malformed dump.
@@ -220,172 +216,580 @@ pub struct VcdError {
     pub message: String,
 }
 
+#[cfg(test)]
 fn parse_value(text: &str, width: u32) -> Value {
+    let (bits, unknown, pad) = parse_bits(text.as_bytes());
+    Value {
+        bits,
+        unknown: unknown || (pad && (text.len() as u32) < width),
+    }
+}
+
+/// Bits of a binary value text, whether some digit was x/z, and whether it left-extends
+/// with x/z (its first digit is x or z).
+fn parse_bits(text: &[u8]) -> (u64, bool, bool) {
     let mut bits = 0u64;
     let mut unknown = false;
-    let chars: Vec<char> = text.chars().collect();
-    // Left-extension: x/z extend with themselves, 0/1 with 0.
-    let pad = matches!(chars.first(), Some('x' | 'X' | 'z' | 'Z'));
-    if pad && (chars.len() as u32) < width {
-        unknown = true;
-    }
-    for c in chars {
+    for &c in text {
         bits = bits.wrapping_shl(1);
         match c {
-            '1' => bits |= 1,
-            '0' => {}
+            b'1' => bits |= 1,
+            b'0' => {}
             _ => unknown = true,
         }
     }
-    Value { bits, unknown }
+    let pad = matches!(text.first(), Some(b'x' | b'X' | b'z' | b'Z'));
+    (bits, unknown, pad)
 }
 
-impl Dump {
-    /// Parses a VCD text; `file` names it in errors.
-    pub fn parse(text: &str, file: &str) -> Result<Dump, VcdError> {
-        let err = |line: usize, message: String| VcdError {
-            file: file.to_string(),
-            line,
-            message,
-        };
-        let mut dump = Dump {
-            timescale_fs: 1_000_000,
-            ..Default::default()
-        };
-        let mut widths: HashMap<String, u32> = HashMap::new();
-        let mut scope: Vec<String> = Vec::new();
-        let mut time = 0u64;
-        let mut in_definitions = true;
-        // Tokenize by whitespace, keeping line numbers.
-        let mut tokens = text
-            .lines()
-            .enumerate()
-            .flat_map(|(i, l)| l.split_whitespace().map(move |t| (i + 1, t)));
-        let until_end = |tokens: &mut dyn Iterator<Item = (usize, &str)>,
-                         start: usize|
-         -> Result<Vec<String>, VcdError> {
-            let mut v = Vec::new();
-            for (_, t) in &mut *tokens {
-                if t == "$end" {
-                    return Ok(v);
+/// The declarations of a dump: timescale, variables, the comments before
+/// `$enddefinitions`, and a dense index per identifier code (several variables may share
+/// a code: the same net seen in several scopes).
+#[derive(Clone, Debug, Default)]
+pub struct Declarations {
+    /// Femtoseconds per time unit of the file's `$timescale`.
+    pub timescale_fs: u64,
+    /// Every `$var`, in file order.
+    pub signals: Vec<Signal>,
+    /// `$comment` texts of the declarations.
+    pub comments: Vec<String>,
+    codes: Vec<String>,
+    widths: Vec<u32>,
+    index: HashMap<String, usize>,
+    /// Dense index + 1 of the one- and two-character codes (the common ones), by
+    /// [`short_code_slot`]; 0 = none. Spares the body's hot loop a string hash.
+    short: Vec<u32>,
+}
+
+/// A decimal number of ASCII digits (no sign, at least one digit), or `None`.
+fn parse_decimal(digits: &[u8]) -> Option<u64> {
+    if digits.is_empty() {
+        return None;
+    }
+    digits.iter().try_fold(0u64, |n, &d| {
+        d.is_ascii_digit()
+            .then(|| n.checked_mul(10)?.checked_add(u64::from(d - b'0')))
+            .flatten()
+    })
+}
+
+/// Printable code characters `'!'..='~'`.
+const CODE_CHARS: usize = 94;
+
+/// The slot of a one- or two-character code in [`Declarations::short`].
+fn short_code_slot(id: &[u8]) -> Option<usize> {
+    let c = |b: u8| (33..=126).contains(&b).then(|| usize::from(b - 33));
+    match *id {
+        [a] => c(a),
+        [a, b] => Some(CODE_CHARS + c(a)? * CODE_CHARS + c(b)?),
+        _ => None,
+    }
+}
+
+impl Declarations {
+    fn add(&mut self, signal: Signal) {
+        if !self.index.contains_key(&signal.id) {
+            if let Some(slot) = short_code_slot(signal.id.as_bytes()) {
+                if self.short.is_empty() {
+                    self.short = vec![0; CODE_CHARS + CODE_CHARS * CODE_CHARS];
                 }
-                v.push(t.to_string());
+                self.short[slot] = self.codes.len() as u32 + 1;
             }
-            Err(err(start, "missing $end".into()))
+            self.index.insert(signal.id.clone(), self.codes.len());
+            self.codes.push(signal.id.clone());
+            self.widths.push(signal.width);
+        }
+        self.signals.push(signal);
+    }
+
+    /// The dense index of identifier code `id`.
+    pub fn code_index(&self, id: &str) -> Option<usize> {
+        self.code_index_bytes(id.as_bytes())
+    }
+
+    /// [`Declarations::code_index`] of a code given as bytes.
+    fn code_index_bytes(&self, id: &[u8]) -> Option<usize> {
+        match short_code_slot(id) {
+            Some(slot) => match self.short.get(slot) {
+                Some(&n) if n > 0 => Some(n as usize - 1),
+                _ => None,
+            },
+            None => std::str::from_utf8(id)
+                .ok()
+                .and_then(|id| self.index.get(id).copied()),
+        }
+    }
+
+    /// Identifier codes by dense index.
+    pub fn codes(&self) -> &[String] {
+        &self.codes
+    }
+
+    /// The signal named `name` in the scope path ending with `scope_suffix`.
+    pub fn find_in_scope(&self, scope_suffix: &str, name: &str) -> Option<&Signal> {
+        find_in_scope(&self.signals, scope_suffix, name)
+    }
+
+    /// The signal compared with golden output `name` (see [`Dump::find_shallowest`]).
+    pub fn find_shallowest(&self, name: &str) -> Option<&Signal> {
+        find_shallowest(&self.signals, name)
+    }
+
+    /// `(measure_hash, clock_hz)` from a golden file's `$comment`.
+    pub fn golden_stamp(&self) -> Option<(u64, u32)> {
+        golden_stamp(&self.comments)
+    }
+}
+
+fn in_scope(s: &Signal, scope: &str) -> bool {
+    s.scope.last().is_some_and(|l| l == scope)
+}
+
+fn find_in_scope<'a>(signals: &'a [Signal], scope_suffix: &str, name: &str) -> Option<&'a Signal> {
+    signals
+        .iter()
+        .find(|s| s.name == name && in_scope(s, scope_suffix))
+}
+
+fn find_shallowest<'a>(signals: &'a [Signal], name: &str) -> Option<&'a Signal> {
+    let named = || signals.iter().filter(move |s| s.name == name);
+    named()
+        .filter(|s| in_scope(s, "outputs"))
+        .min_by_key(|s| s.scope.len())
+        .or_else(|| {
+            named()
+                .filter(|s| !in_scope(s, "inputs"))
+                .min_by_key(|s| s.scope.len())
+        })
+        .or_else(|| named().min_by_key(|s| s.scope.len()))
+}
+
+/// `(measure_hash, clock_hz)` from the `tooltouch measure_hash=… clock_hz=…` comment.
+pub fn golden_stamp(comments: &[String]) -> Option<(u64, u32)> {
+    comments.iter().find_map(|c| {
+        let rest = c.strip_prefix("tooltouch ")?;
+        let mut hash = None;
+        let mut hz = None;
+        for kv in rest.split_whitespace() {
+            if let Some(v) = kv.strip_prefix("measure_hash=") {
+                hash = u64::from_str_radix(v, 16).ok();
+            }
+            if let Some(v) = kv.strip_prefix("clock_hz=") {
+                hz = v.parse().ok();
+            }
+        }
+        Some((hash?, hz?))
+    })
+}
+
+/// The clock count of a golden file's closing `tooltouch end cycles=<n>` comment.
+pub fn golden_end(comments: &[String]) -> Option<u64> {
+    comments.iter().find_map(|c| {
+        c.strip_prefix(END_COMMENT)?
+            .trim()
+            .strip_prefix("cycles=")?
+            .parse()
+            .ok()
+    })
+}
+
+/// One step of a dump's body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Item {
+    /// A `#` time, femtoseconds.
+    Time(u64),
+    /// A value change of the identifier code with this dense index, at the current time.
+    Change(usize, Value),
+}
+
+/// Reads a dump as a stream: the declarations first ([`VcdReader::new`]), then the body
+/// item by item, so that a file of any length is read in constant memory. Any tool's
+/// dump is accepted (scopes, `$timescale`, several codes per line, reals and strings
+/// skipped); errors name the file and line.
+pub struct VcdReader<R> {
+    src: R,
+    file: String,
+    buf: Vec<u8>,
+    pos: usize,
+    line: usize,
+    declarations: Declarations,
+    time_fs: u64,
+    late_comments: Vec<String>,
+}
+
+impl<R: std::io::BufRead> VcdReader<R> {
+    /// Reads the declarations of `src` (up to `$enddefinitions`); `file` names it in
+    /// errors.
+    pub fn new(src: R, file: &str) -> Result<Self, VcdError> {
+        let mut r = VcdReader {
+            src,
+            file: file.to_string(),
+            buf: Vec::with_capacity(256),
+            pos: 0,
+            line: 0,
+            declarations: Declarations {
+                timescale_fs: 1_000_000,
+                ..Default::default()
+            },
+            time_fs: 0,
+            late_comments: Vec::new(),
         };
-        while let Some((line, tok)) = tokens.next() {
-            match tok {
+        r.read_declarations()?;
+        Ok(r)
+    }
+
+    /// The declarations.
+    pub fn declarations(&self) -> &Declarations {
+        &self.declarations
+    }
+
+    /// The file name given to [`VcdReader::new`].
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// The line of the last token read, from 1.
+    pub fn line(&self) -> usize {
+        self.line
+    }
+
+    /// The current time (the last `#` read), femtoseconds; the file's last time once
+    /// [`VcdReader::next_item`] returned `None`.
+    pub fn time_fs(&self) -> u64 {
+        self.time_fs
+    }
+
+    /// `$comment` texts after the declarations read so far (a golden file's closing
+    /// [`END_COMMENT`]).
+    pub fn late_comments(&self) -> &[String] {
+        &self.late_comments
+    }
+
+    fn error(&self, message: String) -> VcdError {
+        VcdError {
+            file: self.file.clone(),
+            line: self.line,
+            message,
+        }
+    }
+
+    /// The byte range of the next whitespace-separated token in `self.buf`, reading lines
+    /// as needed; `None` at the end of the file.
+    fn next_token(&mut self) -> Result<Option<(usize, usize)>, VcdError> {
+        loop {
+            let b = &self.buf;
+            let mut i = self.pos;
+            while i < b.len() && b[i].is_ascii_whitespace() {
+                i += 1;
+            }
+            if i < b.len() {
+                let start = i;
+                while i < b.len() && !b[i].is_ascii_whitespace() {
+                    i += 1;
+                }
+                self.pos = i;
+                return Ok(Some((start, i)));
+            }
+            self.buf.clear();
+            self.pos = 0;
+            let n = self
+                .src
+                .read_until(b'\n', &mut self.buf)
+                .map_err(|e| self.error(format!("cannot read: {e}")))?;
+            if n == 0 {
+                return Ok(None);
+            }
+            self.line += 1;
+        }
+    }
+
+    fn token_text(&self, (a, b): (usize, usize)) -> String {
+        String::from_utf8_lossy(&self.buf[a..b]).into_owned()
+    }
+
+    /// The tokens up to `$end` (not included); `what` names the command in the error.
+    fn until_end(&mut self, what: &str) -> Result<Vec<String>, VcdError> {
+        let start = self.line;
+        let mut v = Vec::new();
+        while let Some(t) = self.next_token()? {
+            if &self.buf[t.0..t.1] == b"$end" {
+                return Ok(v);
+            }
+            v.push(self.token_text(t));
+        }
+        Err(VcdError {
+            file: self.file.clone(),
+            line: start,
+            message: format!("{what} without $end"),
+        })
+    }
+
+    fn read_declarations(&mut self) -> Result<(), VcdError> {
+        let mut scope: Vec<String> = Vec::new();
+        loop {
+            let Some(t) = self.next_token()? else {
+                return Err(self.error("no $enddefinitions".into()));
+            };
+            let tok = self.token_text(t);
+            let line = self.line;
+            match tok.as_str() {
                 "$scope" => {
-                    let v = until_end(&mut tokens, line)?;
+                    let v = self.until_end("$scope")?;
                     scope.push(v.get(1).cloned().unwrap_or_default());
                 }
                 "$upscope" => {
-                    until_end(&mut tokens, line)?;
+                    self.until_end("$upscope")?;
                     scope.pop();
                 }
                 "$var" => {
-                    let v = until_end(&mut tokens, line)?;
+                    let v = self.until_end("$var")?;
                     if v.len() < 4 {
-                        return Err(err(line, format!("malformed $var: {}", v.join(" "))));
+                        return Err(VcdError {
+                            file: self.file.clone(),
+                            line,
+                            message: format!("malformed $var: {}", v.join(" ")),
+                        });
                     }
-                    let width: u32 = v[1]
-                        .parse()
-                        .map_err(|_| err(line, format!("bad $var width `{}`", v[1])))?;
+                    let width: u32 = v[1].parse().map_err(|_| VcdError {
+                        file: self.file.clone(),
+                        line,
+                        message: format!("bad $var width `{}`", v[1]),
+                    })?;
                     let name = v[3].split('[').next().unwrap_or("").to_string();
-                    widths.insert(v[2].clone(), width);
-                    dump.signals.push(Signal {
+                    self.declarations.add(Signal {
                         scope: scope.clone(),
                         name,
                         width,
                         id: v[2].clone(),
+                        line,
                     });
                 }
                 "$timescale" => {
-                    let v = until_end(&mut tokens, line)?.concat();
+                    let v = self.until_end("$timescale")?.concat();
                     let digits: String = v.chars().take_while(|c| c.is_ascii_digit()).collect();
                     let unit = &v[digits.len()..];
+                    let bad = |message: String| VcdError {
+                        file: self.file.clone(),
+                        line,
+                        message,
+                    };
                     let n: u64 = digits
                         .parse()
-                        .map_err(|_| err(line, format!("bad $timescale `{v}`")))?;
-                    let per = match unit {
+                        .map_err(|_| bad(format!("bad $timescale `{v}`")))?;
+                    let per: u64 = match unit {
                         "s" => 1_000_000_000_000_000,
                         "ms" => 1_000_000_000_000,
                         "us" => 1_000_000_000,
                         "ns" => 1_000_000,
                         "ps" => 1_000,
                         "fs" => 1,
-                        _ => return Err(err(line, format!("bad $timescale unit `{unit}`"))),
+                        _ => return Err(bad(format!("bad $timescale unit `{unit}`"))),
                     };
-                    dump.timescale_fs = n * per;
+                    self.declarations.timescale_fs = n * per;
                 }
                 "$comment" => {
-                    let v = until_end(&mut tokens, line)?;
-                    dump.comments.push(v.join(" "));
+                    let v = self.until_end("$comment")?;
+                    self.declarations.comments.push(v.join(" "));
                 }
                 "$enddefinitions" => {
-                    until_end(&mut tokens, line)?;
-                    in_definitions = false;
+                    self.until_end("$enddefinitions")?;
+                    return Ok(());
                 }
                 "$dumpvars" | "$dumpall" | "$dumpon" | "$dumpoff" | "$end" => {}
                 t if t.starts_with('$') => {
-                    until_end(&mut tokens, line)?;
-                }
-                t if in_definitions => {
-                    return Err(err(
-                        line,
-                        format!("unexpected `{t}` before $enddefinitions"),
-                    ));
-                }
-                t if t.starts_with('#') => {
-                    let n: u64 = t[1..]
-                        .parse()
-                        .map_err(|_| err(line, format!("bad time `{t}`")))?;
-                    let fs = n
-                        .checked_mul(dump.timescale_fs)
-                        .ok_or_else(|| err(line, format!("time `{t}` overflows")))?;
-                    if fs < time {
-                        return Err(err(line, format!("time goes backwards: {t}")));
-                    }
-                    time = fs;
-                    dump.last_time_fs = time;
-                }
-                t if t.starts_with(['b', 'B']) => {
-                    let (_, id) = tokens
-                        .next()
-                        .ok_or_else(|| err(line, "vector value without identifier".into()))?;
-                    let width = *widths
-                        .get(id)
-                        .ok_or_else(|| err(line, format!("unknown identifier `{id}`")))?;
-                    dump.changes
-                        .entry(id.to_string())
-                        .or_default()
-                        .push((time, parse_value(&t[1..], width)));
-                }
-                t if t.starts_with(['r', 'R', 's', 'S']) => {
-                    // Real and string values: not compared; skip the identifier.
-                    tokens.next();
+                    self.until_end(t)?;
                 }
                 t => {
-                    let mut chars = t.chars();
-                    let c = chars.next().unwrap_or(' ');
-                    let id = chars.as_str();
-                    if !matches!(c, '0' | '1' | 'x' | 'X' | 'z' | 'Z') || id.is_empty() {
-                        return Err(err(line, format!("unexpected `{t}`")));
-                    }
-                    if !widths.contains_key(id) {
-                        return Err(err(line, format!("unknown identifier `{id}`")));
-                    }
-                    dump.changes
-                        .entry(id.to_string())
-                        .or_default()
-                        .push((time, parse_value(&c.to_string(), 1)));
+                    return Err(self.error(format!("unexpected `{t}` before $enddefinitions")));
                 }
             }
         }
-        if in_definitions {
-            return Err(err(text.lines().count(), "no $enddefinitions".into()));
+    }
+
+    /// The next time or value change of the body; `None` at the end of the file.
+    /// Comments are kept ([`VcdReader::late_comments`]); times must not go backwards.
+    pub fn next_item(&mut self) -> Result<Option<Item>, VcdError> {
+        loop {
+            let Some((a, b)) = self.next_token()? else {
+                return Ok(None);
+            };
+            match self.buf[a] {
+                b'#' => {
+                    let n = parse_decimal(&self.buf[a + 1..b]).ok_or_else(|| {
+                        self.error(format!("bad time `{}`", self.token_text((a, b))))
+                    })?;
+                    let fs = n
+                        .checked_mul(self.declarations.timescale_fs)
+                        .ok_or_else(|| {
+                            self.error(format!("time `{}` overflows", self.token_text((a, b))))
+                        })?;
+                    if fs < self.time_fs {
+                        return Err(
+                            self.error(format!("time goes backwards: {}", self.token_text((a, b))))
+                        );
+                    }
+                    self.time_fs = fs;
+                    return Ok(Some(Item::Time(fs)));
+                }
+                b'0' | b'1' | b'x' | b'X' | b'z' | b'Z' if b - a > 1 => {
+                    let (bits, unknown, _) = parse_bits(&self.buf[a..a + 1]);
+                    let Some(index) = self.declarations.code_index_bytes(&self.buf[a + 1..b])
+                    else {
+                        let id = self.token_text((a + 1, b));
+                        return Err(self.error(format!("unknown identifier `{id}`")));
+                    };
+                    return Ok(Some(Item::Change(index, Value { bits, unknown })));
+                }
+                b'b' | b'B' => {
+                    let (bits, unknown, pad) = parse_bits(&self.buf[a + 1..b]);
+                    let digits = (b - a - 1) as u32;
+                    let Some(t) = self.next_token()? else {
+                        return Err(self.error("vector value without identifier".into()));
+                    };
+                    let Some(index) = self.declarations.code_index_bytes(&self.buf[t.0..t.1])
+                    else {
+                        let id = self.token_text(t);
+                        return Err(self.error(format!("unknown identifier `{id}`")));
+                    };
+                    let width = self.declarations.widths[index];
+                    let unknown = unknown || (pad && digits < width);
+                    return Ok(Some(Item::Change(index, Value { bits, unknown })));
+                }
+                b'r' | b'R' | b's' | b'S' => {
+                    // Real and string values: not compared; skip the identifier.
+                    self.next_token()?;
+                }
+                b'$' => {
+                    let tok = self.token_text((a, b));
+                    match tok.as_str() {
+                        "$comment" => {
+                            let v = self.until_end("$comment")?;
+                            self.late_comments.push(v.join(" "));
+                        }
+                        "$dumpvars" | "$dumpall" | "$dumpon" | "$dumpoff" | "$end" => {}
+                        t => {
+                            self.until_end(t)?;
+                        }
+                    }
+                }
+                _ => {
+                    return Err(self.error(format!("unexpected `{}`", self.token_text((a, b)))));
+                }
+            }
         }
-        Ok(dump)
+    }
+}
+
+/// A source of value changes in time order, for [`crate::vectors::check`]: a streamed
+/// file ([`VcdReader`]) or a parsed [`Dump`].
+pub trait Changes {
+    /// The next change `(time fs, code index, value)`; `None` when none is left.
+    fn next_change(&mut self) -> Result<Option<(u64, usize, Value)>, VcdError>;
+    /// The file's last time, femtoseconds (final once `next_change` returned `None`).
+    fn end_fs(&self) -> u64;
+    /// The line reached, for messages (0 when unknown).
+    fn line(&self) -> usize {
+        0
+    }
+}
+
+impl<R: std::io::BufRead> Changes for VcdReader<R> {
+    fn next_change(&mut self) -> Result<Option<(u64, usize, Value)>, VcdError> {
+        loop {
+            match self.next_item()? {
+                None => return Ok(None),
+                Some(Item::Time(_)) => {}
+                Some(Item::Change(i, v)) => return Ok(Some((self.time_fs, i, v))),
+            }
+        }
+    }
+    fn end_fs(&self) -> u64 {
+        self.time_fs
+    }
+    fn line(&self) -> usize {
+        self.line
+    }
+}
+
+/// A parsed dump: signals and, per identifier code, its changes `(time fs, value)`.
+/// Holds the whole file in memory: for tests and small files; `tooltouch check` streams
+/// with [`VcdReader`].
+#[derive(Clone, Debug, Default)]
+pub struct Dump {
+    /// Femtoseconds per time unit of the file's `$timescale`.
+    pub timescale_fs: u64,
+    /// Every `$var`.
+    pub signals: Vec<Signal>,
+    /// Changes per identifier code, in time order.
+    pub changes: HashMap<String, Vec<(u64, Value)>>,
+    /// `$comment` texts, declarations and body.
+    pub comments: Vec<String>,
+    /// Largest time seen, fs.
+    pub last_time_fs: u64,
+}
+
+impl Dump {
+    /// Parses a VCD text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Dump, VcdError> {
+        let mut r = VcdReader::new(text.as_bytes(), file)?;
+        let mut changes: HashMap<String, Vec<(u64, Value)>> = HashMap::new();
+        while let Some(item) = r.next_item()? {
+            if let Item::Change(i, v) = item {
+                let code = &r.declarations.codes[i];
+                match changes.get_mut(code) {
+                    Some(list) => list.push((r.time_fs, v)),
+                    None => {
+                        changes.insert(code.clone(), vec![(r.time_fs, v)]);
+                    }
+                }
+            }
+        }
+        let VcdReader {
+            declarations,
+            late_comments,
+            time_fs,
+            ..
+        } = r;
+        let mut comments = declarations.comments;
+        comments.extend(late_comments);
+        Ok(Dump {
+            timescale_fs: declarations.timescale_fs,
+            signals: declarations.signals,
+            changes,
+            comments,
+            last_time_fs: time_fs,
+        })
+    }
+
+    /// The declarations of this dump (its signals and comments, codes indexed in
+    /// declaration order), as [`VcdReader::declarations`] would give them.
+    pub fn declarations(&self) -> Declarations {
+        let mut d = Declarations {
+            timescale_fs: self.timescale_fs,
+            comments: self.comments.clone(),
+            ..Default::default()
+        };
+        for s in &self.signals {
+            d.add(s.clone());
+        }
+        d
+    }
+
+    /// Every change in time order, code indexes as in [`Dump::declarations`].
+    pub fn timeline(&self) -> DumpTimeline {
+        let d = self.declarations();
+        let mut all: Vec<(u64, usize, Value)> = Vec::new();
+        for (i, code) in d.codes.iter().enumerate() {
+            for &(t, v) in self.changes.get(code).into_iter().flatten() {
+                all.push((t, i, v));
+            }
+        }
+        // Stable: one code's changes at one time keep their order (the last one holds).
+        all.sort_by_key(|c| c.0);
+        DumpTimeline {
+            changes: all.into_iter(),
+            end_fs: self.last_time_fs,
+        }
     }
 
     /// The value of identifier `id` at time `fs` (the last change at or before it);
@@ -398,44 +802,34 @@ impl Dump {
 
     /// The signal named `name` in the scope path ending with `scope_suffix`.
     pub fn find_in_scope(&self, scope_suffix: &str, name: &str) -> Option<&Signal> {
-        self.signals
-            .iter()
-            .find(|s| s.name == name && s.scope.last().is_some_and(|l| l == scope_suffix))
+        find_in_scope(&self.signals, scope_suffix, name)
     }
 
     /// The DUT signal compared with golden output `name`: one in a scope named `outputs`
     /// if there is one, else the shallowest not in a scope named `inputs` (the input pin
     /// `contact` and the output `contact` share a leaf name), else the shallowest.
     pub fn find_shallowest(&self, name: &str) -> Option<&Signal> {
-        let named = || self.signals.iter().filter(move |s| s.name == name);
-        let in_scope = |s: &Signal, scope: &str| s.scope.last().is_some_and(|l| l == scope);
-        named()
-            .filter(|s| in_scope(s, "outputs"))
-            .min_by_key(|s| s.scope.len())
-            .or_else(|| {
-                named()
-                    .filter(|s| !in_scope(s, "inputs"))
-                    .min_by_key(|s| s.scope.len())
-            })
-            .or_else(|| named().min_by_key(|s| s.scope.len()))
+        find_shallowest(&self.signals, name)
     }
 
     /// `(measure_hash, clock_hz)` from a golden file's `$comment`.
     pub fn golden_stamp(&self) -> Option<(u64, u32)> {
-        self.comments.iter().find_map(|c| {
-            let rest = c.strip_prefix("tooltouch ")?;
-            let mut hash = None;
-            let mut hz = None;
-            for kv in rest.split_whitespace() {
-                if let Some(v) = kv.strip_prefix("measure_hash=") {
-                    hash = u64::from_str_radix(v, 16).ok();
-                }
-                if let Some(v) = kv.strip_prefix("clock_hz=") {
-                    hz = v.parse().ok();
-                }
-            }
-            Some((hash?, hz?))
-        })
+        golden_stamp(&self.comments)
+    }
+}
+
+/// A [`Dump`]'s changes in time order ([`Dump::timeline`]).
+pub struct DumpTimeline {
+    changes: std::vec::IntoIter<(u64, usize, Value)>,
+    end_fs: u64,
+}
+
+impl Changes for DumpTimeline {
+    fn next_change(&mut self) -> Result<Option<(u64, usize, Value)>, VcdError> {
+        Ok(self.changes.next())
+    }
+    fn end_fs(&self) -> u64 {
+        self.end_fs
     }
 }
 

@@ -1,0 +1,169 @@
+//! Output folders that cannot mislead: what a command leaves in its `--out` folder is one
+//! whole run's files, never a mix of two runs and never a file cut short.
+//!
+//! A run writes every file into a hidden staging folder inside the output folder
+//! (`.tooltouch-partial-<pid>-<n>`, same file system, so the final step is a rename) under
+//! its final name. [`OutputFolder::commit`] then renames each file over its final name and
+//! removes the command's other known outputs that this run did not write (e.g. the
+//! `measure.vcd` of an earlier run when this one ran with `--vcd none`); files the command
+//! does not know are left alone. A run that fails, or is dropped before its commit,
+//! removes its staging folder: the output folder is as it was.
+//!
+//! The choice (replace every known output rather than refuse a folder holding another
+//! run's files) keeps a repeated command working in place, as `make`-style loops expect,
+//! while `summary.json` and the other files always describe the same run.
+
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+
+/// The output folder of one run. See the module documentation.
+#[derive(Debug)]
+pub struct OutputFolder {
+    dir: PathBuf,
+    staging: PathBuf,
+    known: Vec<String>,
+    committed: bool,
+}
+
+impl OutputFolder {
+    /// Creates `dir` (and its parents) and a fresh staging folder in it. `known` are the
+    /// file names this command can write there (any run, any option).
+    pub fn create<S: Into<String>>(
+        dir: &Path,
+        known: impl IntoIterator<Item = S>,
+    ) -> anyhow::Result<OutputFolder> {
+        static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("creating the output folder {}", dir.display()))?;
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let staging = dir.join(format!(".tooltouch-partial-{}-{n}", std::process::id()));
+        // A folder left by a killed process of the same id is ours to reuse.
+        if staging.exists() {
+            std::fs::remove_dir_all(&staging)
+                .with_context(|| format!("removing {}", staging.display()))?;
+        }
+        std::fs::create_dir(&staging).with_context(|| format!("creating {}", staging.display()))?;
+        Ok(OutputFolder {
+            dir: dir.to_path_buf(),
+            staging,
+            known: known.into_iter().map(Into::into).collect(),
+            committed: false,
+        })
+    }
+
+    /// The output folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The staging folder: a writer that takes a folder writes here; every file in it is
+    /// moved to the output folder by [`OutputFolder::commit`].
+    pub fn staging(&self) -> &Path {
+        &self.staging
+    }
+
+    /// Where to write the file `name` now (in the staging folder).
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.staging.join(name)
+    }
+
+    /// Where the file `name` will be once committed (for messages).
+    pub fn final_path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// Writes the file `name` with `bytes`.
+    pub fn write(&self, name: &str, bytes: impl AsRef<[u8]>) -> anyhow::Result<()> {
+        let path = self.path(name);
+        std::fs::write(&path, bytes)
+            .with_context(|| format!("writing {}", self.final_path(name).display()))
+    }
+
+    /// Creates the file `name` for writing, buffered.
+    pub fn create_file(&self, name: &str) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+        let path = self.path(name);
+        let f = std::fs::File::create(&path)
+            .with_context(|| format!("creating {}", self.final_path(name).display()))?;
+        Ok(std::io::BufWriter::with_capacity(1 << 20, f))
+    }
+
+    /// Moves every staged file to the output folder (`summary.json` last, so a reader
+    /// that waits for it sees the rest first), removes the known outputs this run did
+    /// not write, and removes the staging folder. Returns the final paths, sorted.
+    pub fn commit(mut self) -> anyhow::Result<Vec<PathBuf>> {
+        let mut names: Vec<String> = std::fs::read_dir(&self.staging)
+            .with_context(|| format!("reading {}", self.staging.display()))?
+            .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+            .collect::<Result<_, _>>()
+            .with_context(|| format!("reading {}", self.staging.display()))?;
+        names.sort_by_key(|n| (n == "summary.json", n.clone()));
+        for stale in self.known.iter().filter(|k| !names.contains(k)) {
+            let path = self.dir.join(stale);
+            match std::fs::remove_file(&path) {
+                Ok(()) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                Err(e) => {
+                    return Err(e).with_context(|| format!("removing the stale {}", path.display()))
+                }
+            }
+        }
+        let mut paths = Vec::with_capacity(names.len());
+        for name in &names {
+            let to = self.dir.join(name);
+            std::fs::rename(self.staging.join(name), &to)
+                .with_context(|| format!("moving {} into place", to.display()))?;
+            paths.push(to);
+        }
+        std::fs::remove_dir(&self.staging)
+            .with_context(|| format!("removing {}", self.staging.display()))?;
+        self.committed = true;
+        paths.sort();
+        Ok(paths)
+    }
+}
+
+impl Drop for OutputFolder {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.staging);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_commit_replaces_known_files_and_removes_stale_ones() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        for f in ["a.txt", "b.txt", "mine.txt"] {
+            std::fs::write(d.join(f), "old").unwrap();
+        }
+        let out = OutputFolder::create(d, ["a.txt", "b.txt", "summary.json"]).unwrap();
+        out.write("a.txt", "new").unwrap();
+        out.write("summary.json", "{}").unwrap();
+        assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "old");
+        let written = out.commit().unwrap();
+        assert_eq!(written, vec![d.join("a.txt"), d.join("summary.json")]);
+        assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "new");
+        assert!(!d.join("b.txt").exists(), "stale known output removed");
+        assert_eq!(std::fs::read_to_string(d.join("mine.txt")).unwrap(), "old");
+        let left: Vec<_> = std::fs::read_dir(d).unwrap().collect();
+        assert_eq!(left.len(), 3, "no staging folder left");
+    }
+
+    #[test]
+    fn a_run_dropped_before_its_commit_changes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::fs::write(d.join("a.txt"), "old").unwrap();
+        {
+            let out = OutputFolder::create(d, ["a.txt"]).unwrap();
+            out.write("a.txt", "half").unwrap();
+        }
+        assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "old");
+        assert_eq!(std::fs::read_dir(d).unwrap().count(), 1);
+    }
+}

@@ -1,0 +1,484 @@
+//! The comparisons behind `tooltouch check`: a device's trace against the golden one,
+//! first difference reported, and nothing passed that the golden file does not cover.
+//!
+//! **VCD** (docs/CONTRACT.md): every signal of the golden `outputs` scope against the DUT
+//! signal of the same leaf name, sampled at `k·P + P/2` for every clock `k`. Both files are
+//! read as streams in step ([`Changes`]): values only change at change times, so the state
+//! between two consecutive change times of either file is constant and only the first
+//! sample inside such an interval needs a look, which keeps the work proportional to the
+//! changes and the memory to the signals. The golden file must be whole (its closing
+//! `tooltouch end cycles=<n>` comment, its last time at clock `n − 1`); a DUT trace that ends
+//! at another clock than the golden one is a mismatch that names both ends.
+//!
+//! **Binary** (`.ttv`): one Outputs stream per file ([`binary::decode_output_stream`]):
+//! measurement outputs and force outputs record by record, the firmware's status (a lost or
+//! overflowed event is a mismatch), record counts, the headers' hashes and tick rates.
+
+use super::binary::{self, OutputStream};
+use super::vcd::{golden_end, Changes, Declarations, Signal, Value, VcdError};
+
+/// The result of a comparison.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// Everything matched; the one-line summary.
+    Match(String),
+    /// The first difference, as one line.
+    Mismatch(String),
+}
+
+/// Bad input to `check`, with the file and what is wrong.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct BadInput(pub String);
+
+impl From<VcdError> for BadInput {
+    fn from(e: VcdError) -> Self {
+        BadInput(e.to_string())
+    }
+}
+
+impl From<binary::BinaryError> for BadInput {
+    fn from(e: binary::BinaryError) -> Self {
+        BadInput(e.to_string())
+    }
+}
+
+fn hex(v: Option<Value>) -> String {
+    match v {
+        Some(Value {
+            unknown: false,
+            bits,
+        }) => format!("0x{bits:x}"),
+        Some(_) => "x".to_string(),
+        None => "x (no value yet)".to_string(),
+    }
+}
+
+/// One side of a VCD comparison: its name, declarations and change stream, and the
+/// comments read after the declarations once the stream is exhausted.
+pub struct VcdSide<'a> {
+    /// The file name, for messages.
+    pub name: &'a str,
+    /// Its declarations.
+    pub declarations: &'a Declarations,
+    /// Its changes in time order.
+    pub changes: &'a mut dyn Changes,
+}
+
+/// A compared output: the golden signal, the DUT signal matched to it, its mask.
+struct Compared<'a> {
+    golden: &'a Signal,
+    mask: u64,
+}
+
+/// Lookahead over one side's changes.
+struct Cursor<'a, 'b> {
+    side: &'b mut VcdSide<'a>,
+    next: Option<(u64, usize, Value)>,
+    done: bool,
+}
+
+impl Cursor<'_, '_> {
+    fn advance(&mut self) -> Result<(), BadInput> {
+        self.next = self.side.changes.next_change()?;
+        self.done = self.next.is_none();
+        Ok(())
+    }
+}
+
+/// Reads every change of `cursor` at time `t`, storing the compared ones (masked) in
+/// `values` and their slots in `touched` when `values` is given.
+fn apply_at(
+    cursor: &mut Cursor,
+    t: u64,
+    mut values: Option<&mut Vec<Option<Value>>>,
+    touched: &mut Vec<usize>,
+    slots: &[Vec<usize>],
+    outputs: &[Compared],
+) -> Result<(), BadInput> {
+    while let Some((time, code, value)) = cursor.next {
+        if time != t {
+            break;
+        }
+        if let Some(values) = values.as_deref_mut() {
+            for &slot in &slots[code] {
+                values[slot] = Some(Value {
+                    bits: value.bits & outputs[slot].mask,
+                    ..value
+                });
+                touched.push(slot);
+            }
+        }
+        cursor.advance()?;
+    }
+    Ok(())
+}
+
+/// Compares the `outputs` scope of a golden dump with a DUT dump (see the module
+/// documentation). `late_comments` gives the golden file's comments after its
+/// declarations once its stream is read (the closing comment).
+pub fn compare_vcd_sides(
+    e: &mut VcdSide,
+    d: &mut VcdSide,
+    late_comments: &dyn Fn() -> Vec<String>,
+) -> Result<Verdict, BadInput> {
+    let (en, dn) = (e.name.to_string(), d.name.to_string());
+    let (hash, clock_hz) = e.declarations.golden_stamp().ok_or_else(|| {
+        BadInput(format!(
+            "{en}: no `$comment tooltouch measure_hash=… clock_hz=…` line: not a golden file"
+        ))
+    })?;
+    if let Some((dut_hash, dut_hz)) = d.declarations.golden_stamp() {
+        if dut_hash != hash || dut_hz != clock_hz {
+            return Err(BadInput(format!(
+                "configuration mismatch: {en} has measure_hash={hash:016x} clock_hz={clock_hz}, {dn} has measure_hash={dut_hash:016x} clock_hz={dut_hz}"
+            )));
+        }
+    }
+    if clock_hz == 0 || 1_000_000_000 % clock_hz != 0 {
+        return Err(BadInput(format!(
+            "{en}: clock_hz={clock_hz} does not divide 1e9"
+        )));
+    }
+    let period_fs = 1_000_000_000_000_000 / u64::from(clock_hz);
+    let half = period_fs / 2;
+    let outputs: Vec<Compared> = e
+        .declarations
+        .signals
+        .iter()
+        .filter(|s| s.scope.last().is_some_and(|l| l == "outputs"))
+        .map(|s| {
+            if s.width == 0 || s.width > 64 {
+                return Err(BadInput(format!(
+                    "{en}: line {}: golden signal `{}` is {} bits wide (1..=64 can be compared)",
+                    s.line, s.name, s.width
+                )));
+            }
+            let mask = if s.width == 64 {
+                u64::MAX
+            } else {
+                (1u64 << s.width) - 1
+            };
+            Ok(Compared { golden: s, mask })
+        })
+        .collect::<Result<_, _>>()?;
+    if outputs.is_empty() {
+        return Err(BadInput(format!("{en}: no `outputs` scope")));
+    }
+    // Slots per code index, on each side.
+    let mut e_slots: Vec<Vec<usize>> = vec![Vec::new(); e.declarations.codes().len()];
+    let mut d_slots: Vec<Vec<usize>> = vec![Vec::new(); d.declarations.codes().len()];
+    for (slot, c) in outputs.iter().enumerate() {
+        let ds = d
+            .declarations
+            .find_shallowest(&c.golden.name)
+            .ok_or_else(|| {
+                BadInput(format!(
+                    "{dn}: no signal named `{}` (expected from {en})",
+                    c.golden.name
+                ))
+            })?;
+        let ei = e.declarations.code_index(&c.golden.id);
+        let di = d.declarations.code_index(&ds.id);
+        if let (Some(ei), Some(di)) = (ei, di) {
+            e_slots[ei].push(slot);
+            d_slots[di].push(slot);
+        }
+    }
+    let n = outputs.len();
+    let mut ev: Vec<Option<Value>> = vec![None; n];
+    let mut dv: Vec<Option<Value>> = vec![None; n];
+    let mut differs = vec![true; n];
+    let mut differing = n;
+    let mut first: Option<(u64, usize, Option<Value>, Option<Value>)> = None;
+    let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
+
+    let mut ec = Cursor {
+        side: e,
+        next: None,
+        done: false,
+    };
+    let mut dc = Cursor {
+        side: d,
+        next: None,
+        done: false,
+    };
+    ec.advance()?;
+    dc.advance()?;
+    let mut now = 0u64;
+    loop {
+        let next_time = match (ec.next, dc.next) {
+            (Some(a), Some(b)) => Some(a.0.min(b.0)),
+            (Some(a), None) => Some(a.0),
+            (None, Some(b)) => Some(b.0),
+            (None, None) => None,
+        };
+        // The values are constant over [now, next_time): look at its first sample.
+        if first.is_none() && differing > 0 {
+            let mut limit = u64::MAX;
+            if ec.done {
+                limit = limit.min(ec.side.changes.end_fs() / period_fs);
+            }
+            if dc.done {
+                limit = limit.min(dc.side.changes.end_fs() / period_fs);
+            }
+            let k = now.saturating_sub(half).div_ceil(period_fs);
+            let inside = next_time.is_none_or(|t| k * period_fs + half < t);
+            if inside && k <= limit {
+                if let Some(slot) = differs.iter().position(|&x| x) {
+                    first = Some((k, slot, ev[slot], dv[slot]));
+                }
+            }
+        }
+        let Some(t) = next_time else { break };
+        // Apply every change at `t` of both sides (after a mismatch: only read on, so a
+        // malformed or cut file is still reported).
+        let record = first.is_none();
+        touched.clear();
+        apply_at(
+            &mut ec,
+            t,
+            record.then_some(&mut ev),
+            &mut touched,
+            &e_slots,
+            &outputs,
+        )?;
+        apply_at(
+            &mut dc,
+            t,
+            record.then_some(&mut dv),
+            &mut touched,
+            &d_slots,
+            &outputs,
+        )?;
+        if first.is_none() {
+            for &slot in &touched {
+                let same = matches!((ev[slot], dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a.bits == b.bits);
+                if differs[slot] == same {
+                    differs[slot] = !same;
+                    if same {
+                        differing -= 1;
+                    } else {
+                        differing += 1;
+                    }
+                }
+            }
+        }
+        now = t;
+    }
+    let e_end = ec.side.changes.end_fs();
+    let d_end = dc.side.changes.end_fs();
+    let mut comments = ec.side.declarations.comments.clone();
+    comments.extend(late_comments());
+    let cycles = golden_end(&comments).ok_or_else(|| {
+        BadInput(format!(
+            "{en}: ends at line {} (time {} ns) without the closing `$comment tooltouch end cycles=… $end` of a golden file: cut short?",
+            ec.side.changes.line(),
+            e_end / 1_000_000
+        ))
+    })?;
+    if cycles == 0 || e_end != (cycles - 1) * period_fs {
+        return Err(BadInput(format!(
+            "{en}: its closing comment says {cycles} cycles, but its last time is {} ns (cycle {})",
+            e_end / 1_000_000,
+            e_end / period_fs
+        )));
+    }
+    if let Some((k, slot, a, b)) = first {
+        return Ok(Verdict::Mismatch(format!(
+            "cycle {k} (time {} ns): signal {} expected {} got {}",
+            k * period_fs / 1_000_000,
+            outputs[slot].golden.name,
+            hex(a),
+            hex(b)
+        )));
+    }
+    let (e_last, d_last) = (cycles - 1, d_end / period_fs);
+    if d_last != e_last {
+        let (which, by) = if d_last < e_last {
+            ("short", e_last - d_last)
+        } else {
+            ("long", d_last - e_last)
+        };
+        return Ok(Verdict::Mismatch(format!(
+            "the DUT trace ends at cycle {d_last} (time {} ns), the golden trace at cycle {e_last} (time {} ns): {dn} is {by} cycles too {which}",
+            d_end / 1_000_000,
+            e_end / 1_000_000
+        )));
+    }
+    Ok(Verdict::Match(format!(
+        "OK: {cycles} cycles × {n} signals of {en} match {dn}"
+    )))
+}
+
+/// Compares two parsed dumps (see [`compare_vcd_sides`]).
+pub fn compare_vcd(
+    e: &super::vcd::Dump,
+    en: &str,
+    d: &super::vcd::Dump,
+    dn: &str,
+) -> Result<Verdict, BadInput> {
+    let (ed, dd) = (e.declarations(), d.declarations());
+    let (mut et, mut dt) = (e.timeline(), d.timeline());
+    compare_vcd_sides(
+        &mut VcdSide {
+            name: en,
+            declarations: &ed,
+            changes: &mut et,
+        },
+        &mut VcdSide {
+            name: dn,
+            declarations: &dd,
+            changes: &mut dt,
+        },
+        &Vec::new,
+    )
+}
+
+fn last_time<T>(records: &[(u64, T)]) -> String {
+    records
+        .last()
+        .map_or_else(|| "none".to_string(), |r| format!("time {}", r.0))
+}
+
+/// Compares two Outputs streams of any device record by record (see the module
+/// documentation).
+pub fn compare_binary(e: &[u8], en: &str, d: &[u8], dn: &str) -> Result<Verdict, BadInput> {
+    let es = binary::decode_output_stream(e, en)?;
+    let ds = binary::decode_output_stream(d, dn)?;
+    compare_output_streams(&es, en, &ds, dn)
+}
+
+/// Compares two decoded Outputs streams (see [`compare_binary`]).
+pub fn compare_output_streams(
+    es: &OutputStream,
+    en: &str,
+    ds: &OutputStream,
+    dn: &str,
+) -> Result<Verdict, BadInput> {
+    let (eh, dh) = (es.header, ds.header);
+    for (what, want, got) in [
+        ("configuration hash", eh.measure_hash, dh.measure_hash),
+        ("force configuration hash", eh.force_hash, dh.force_hash),
+    ] {
+        if want != got {
+            return Err(BadInput(format!(
+                "{dn}: {what} {got:016x} does not match the expected {want:016x} of {en} (made with another configuration)"
+            )));
+        }
+    }
+    if eh.tick_hz != dh.tick_hz {
+        return Err(BadInput(format!(
+            "{dn}: tick rate {} Hz, {en} has {} Hz",
+            dh.tick_hz, eh.tick_hz
+        )));
+    }
+    if let Some(s) = es.status.filter(|s| s.lost > 0 || s.overflowed > 0) {
+        return Err(BadInput(format!(
+            "{en}: a firmware trace that lost {} and overflowed {} events cannot be the golden trace",
+            s.lost, s.overflowed
+        )));
+    }
+    if let Some(s) = ds.status.filter(|s| s.lost > 0 || s.overflowed > 0) {
+        return Ok(Verdict::Mismatch(format!(
+            "{dn}: the firmware lost {} events and overflowed {} (its status record, after {} events)",
+            s.lost, s.overflowed, s.events
+        )));
+    }
+    // The first difference of each path; the earlier one is reported.
+    let mut first: Option<(u64, String)> = None;
+    let mut note = |time: u64, line: String| {
+        if first.as_ref().is_none_or(|f| time < f.0) {
+            first = Some((time, line));
+        }
+    };
+    for (i, (a, b)) in es.measure.iter().zip(&ds.measure).enumerate() {
+        if a.0 != b.0 {
+            note(
+                a.0.min(b.0),
+                format!("record {i}: time expected {} got {}", a.0, b.0),
+            );
+            break;
+        }
+        let diff = binary::output_fields(&a.1)
+            .into_iter()
+            .zip(binary::output_fields(&b.1))
+            .find(|(x, y)| x.1 != y.1);
+        if let Some(((name, x), (_, y))) = diff {
+            note(
+                a.0,
+                format!(
+                    "record {i} (time {}): field {name} expected 0x{x:x} got 0x{y:x}",
+                    a.0
+                ),
+            );
+            break;
+        }
+    }
+    for (i, (a, b)) in es.force.iter().zip(&ds.force).enumerate() {
+        if a.0 != b.0 {
+            note(
+                a.0.min(b.0),
+                format!("force record {i}: time expected {} got {}", a.0, b.0),
+            );
+            break;
+        }
+        let diff = crate::cosim::force_signals(&a.1)
+            .into_iter()
+            .zip(crate::cosim::force_signals(&b.1))
+            .find(|(x, y)| x.1 != y.1);
+        if let Some(((name, x), (_, y))) = diff {
+            note(
+                a.0,
+                format!(
+                    "force record {i} (time {}): field {name} expected {x} got {y}",
+                    a.0
+                ),
+            );
+            break;
+        }
+    }
+    if let Some((_, line)) = first {
+        return Ok(Verdict::Mismatch(line));
+    }
+    for (what, e_len, d_len, e_last, d_last) in [
+        (
+            "measurement-outputs",
+            es.measure.len(),
+            ds.measure.len(),
+            last_time(&es.measure),
+            last_time(&ds.measure),
+        ),
+        (
+            "force-outputs",
+            es.force.len(),
+            ds.force.len(),
+            last_time(&es.force),
+            last_time(&ds.force),
+        ),
+    ] {
+        if e_len != d_len {
+            let i = e_len.min(d_len);
+            return Ok(Verdict::Mismatch(format!(
+                "record {i}: {dn} ends after {d_len} {what} records (last at {d_last}), {en} after {e_len} (last at {e_last})"
+            )));
+        }
+    }
+    let mut summary = format!("OK: {} records × 15 fields", es.measure.len());
+    if !es.force.is_empty() {
+        summary = if es.measure.is_empty() {
+            format!("OK: {} force records × 14 fields", es.force.len())
+        } else {
+            format!("{summary} and {} force records × 14 fields", es.force.len())
+        };
+    }
+    if let Some(s) = ds.status {
+        summary.push_str(&format!(
+            " of {en} match {dn} (firmware: {} events, none lost or overflowed)",
+            s.events
+        ));
+    } else {
+        summary.push_str(&format!(" of {en} match {dn}"));
+    }
+    Ok(Verdict::Match(summary))
+}

@@ -1,0 +1,167 @@
+//! `tooltouch hdl --vectors` writes stim.hex and expect.hex beside the RTL so that the
+//! generated testbench runs as generated: `cd DIR && iverilog -g2005 -o tb *.v && vvp tb`
+//! prints `TESTBENCH OK <cycles>`, from the lathe run of the settings or from a stimulus
+//! file, and its `+vcd` dump passes `tooltouch check` against `measure`'s golden VCD.
+//! A later run without `--vectors` removes them (no stale vectors beside new RTL).
+//!
+//! Needs Icarus Verilog: without it the test fails naming `cargo xtask setup`.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn tooltouch(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
+        .args(args)
+        .output()
+        .expect("the tooltouch binary runs")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.
+fn icarus(dir: &Path, plusargs: &[&str]) -> String {
+    for tool in ["iverilog", "vvp"] {
+        if let Err(e) = tooltouch::hdl::runner::find_tool(tool) {
+            panic!("{e}");
+        }
+    }
+    let mut sources: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".v"))
+        .collect();
+    sources.sort();
+    let o = Command::new("iverilog")
+        .args(["-g2005", "-o", "tb"])
+        .args(&sources)
+        .current_dir(dir)
+        .output()
+        .expect("iverilog runs");
+    assert!(o.status.success(), "iverilog: {}", text(&o));
+    let o = Command::new("vvp")
+        .arg("tb")
+        .args(plusargs)
+        .current_dir(dir)
+        .output()
+        .expect("vvp runs");
+    text(&o)
+}
+
+const FAST: &str = "\
+[lathe]
+clock_hz = 1000000
+rpm = 6000.0
+[lathe.cycle]
+repeats = 1
+clearance_um = 3.0
+z_dwell_ms = 0.2
+retract_mm_per_s = 2.0
+";
+
+#[test]
+fn the_generated_testbench_passes_with_the_vectors_hdl_writes() {
+    let w = tempfile::tempdir().unwrap();
+    let toml = w.path().join("fast.toml");
+    std::fs::write(&toml, FAST).unwrap();
+    let m = w.path().join("m");
+    let o = tooltouch(&[
+        "measure",
+        "--config",
+        s(&toml),
+        "--out",
+        s(&m),
+        "--no-progress",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+
+    // From the lathe run the settings describe: the span of measure.vcd.
+    let rtl = w.path().join("rtl");
+    let o = tooltouch(&[
+        "hdl",
+        "--config",
+        s(&toml),
+        "--out",
+        s(&rtl),
+        "--vectors",
+        "lathe",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("83701 clocks at 1000000 Hz"),
+        "{}",
+        text(&o)
+    );
+    let out = icarus(&rtl, &["+vcd"]);
+    assert!(
+        out.lines().any(|l| l == "TESTBENCH OK 83701"),
+        "the testbench did not pass:\n{out}"
+    );
+    let o = tooltouch(&[
+        "check",
+        "--expected",
+        s(&m.join("measure.vcd")),
+        "--dut",
+        s(&rtl.join("dut.vcd")),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+
+    // From a stimulus file: measure's event stream (no settings: it carries them, but the
+    // RTL is generated from the settings, so they are given).
+    let rtl2 = w.path().join("rtl2");
+    let o = tooltouch(&[
+        "hdl",
+        "--config",
+        s(&toml),
+        "--out",
+        s(&rtl2),
+        "--vectors",
+        s(&m.join("events.ttv")),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = icarus(&rtl2, &[]);
+    assert!(
+        out.lines().any(|l| l.starts_with("TESTBENCH OK ")),
+        "the testbench did not pass:\n{out}"
+    );
+
+    // Without --vectors the folder keeps no vectors of the earlier run.
+    let o = tooltouch(&["hdl", "--config", s(&toml), "--out", s(&rtl)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(rtl.join("tt_testbench.v").is_file());
+    for f in ["stim.hex", "expect.hex"] {
+        assert!(!rtl.join(f).exists(), "stale {f} left beside the new RTL");
+    }
+    // An explicit depth too small for the vectors is refused.
+    let o = tooltouch(&[
+        "hdl",
+        "--out",
+        s(&rtl),
+        "--config",
+        s(&toml),
+        "--vectors",
+        "lathe",
+        "--stim-depth",
+        "100",
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o).contains("--stim-depth 100: stim.hex holds"),
+        "{}",
+        text(&o)
+    );
+    assert!(
+        rtl.join("tt_testbench.v").is_file(),
+        "a failed run removed files"
+    );
+}

@@ -1,0 +1,148 @@
+//! Output folders that cannot mislead, through the built binary: a run into a folder
+//! holding another run's files replaces all of that command's files and removes the stale
+//! ones (`measure --vcd none` removes the earlier measure.vcd; `control` removes other
+//! controllers' files); a failed run leaves the folder as it was; no staging folder is left
+//! behind. `measure` exits 3 when a measurement did not decide, its files written.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn tooltouch(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
+        .args(args)
+        .output()
+        .expect("the tooltouch binary runs")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+const FAST: &str = "\
+[lathe]
+clock_hz = 1000000
+rpm = 6000.0
+[lathe.cycle]
+repeats = 1
+clearance_um = 3.0
+z_dwell_ms = 0.2
+retract_mm_per_s = 2.0
+";
+
+fn measure(toml: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "measure",
+        "--config",
+        s(toml),
+        "--out",
+        s(out),
+        "--no-progress",
+    ];
+    args.extend_from_slice(extra);
+    tooltouch(&args)
+}
+
+#[test]
+fn measure_replaces_its_files_and_removes_the_stale_vcd() {
+    let w = tempfile::tempdir().unwrap();
+    let toml = w.path().join("fast.toml");
+    std::fs::write(&toml, FAST).unwrap();
+    let out = w.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = measure(&toml, &out, &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.join("measure.vcd").is_file());
+    let o = measure(&toml, &out, &["--vcd", "none", "--i-def", "500"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        names(&out),
+        [
+            "contact_density.svg",
+            "diameters.svg",
+            "events.ttv",
+            "expected_outputs.ttv",
+            "notes.txt",
+            "summary.json"
+        ],
+        "measure.vcd of the earlier run removed, the user's file kept, no staging folder"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["vcd"], "none");
+
+    // A failed run changes nothing.
+    let before: Vec<Vec<u8>> = names(&out)
+        .iter()
+        .map(|n| std::fs::read(out.join(n)).unwrap())
+        .collect();
+    let o = measure(&toml, &out, &["--i-def", "5000"]);
+    assert!(!o.status.success());
+    let after: Vec<Vec<u8>> = names(&out)
+        .iter()
+        .map(|n| std::fs::read(out.join(n)).unwrap())
+        .collect();
+    assert!(before == after, "a failed run changed the folder");
+}
+
+#[test]
+fn measure_exits_3_when_a_measurement_does_not_decide() {
+    let w = tempfile::tempdir().unwrap();
+    let toml = w.path().join("fast.toml");
+    std::fs::write(&toml, FAST).unwrap();
+    let out = w.path().join("out");
+    let o = measure(&toml, &out, &["--max-approach-revs", "1"]);
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
+    assert!(
+        text(&o).contains("decided 0/1")
+            && text(&o).contains("1 of 1 measurements did not decide (exit code 3)"),
+        "{}",
+        text(&o)
+    );
+    assert!(out.join("summary.json").is_file(), "the files are written");
+    let help = tooltouch(&["measure", "--help"]);
+    assert!(
+        text(&help).contains(
+            "3 the run completed and wrote its files, but some measurement did not decide"
+        ),
+        "{}",
+        text(&help)
+    );
+}
+
+#[test]
+fn control_replaces_other_controllers_files() {
+    let w = tempfile::tempdir().unwrap();
+    let out = w.path().join("c");
+    let o = tooltouch(&["control", "--out", s(&out), "--force", "both"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(out.join("pi_measured.outputs.bin").is_file());
+    let o = tooltouch(&["control", "--out", s(&out)]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(
+        names(&out),
+        [
+            "pi_estimated.events.bin",
+            "pi_estimated.outputs.bin",
+            "pi_estimated.svg"
+        ]
+    );
+}
