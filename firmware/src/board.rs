@@ -30,8 +30,8 @@ pub trait Board {
     /// The CNC's force-path command that raised the command interrupt, if any
     /// (identify, control on/off, cutting conditions, tool changed).
     fn force_command() -> Option<ForceEvent>;
-    /// Drives the feed override to the CNC, % (`0..=255`, SPEC 3).
+    /// Drives the feed override to the CNC, % (`0..=255`, docs/domain.md §3).
     fn set_feed_override(percent: u8);
-    /// Drives the wear alarm output (SPEC 4, W9: change the tool).
+    /// Drives the wear alarm output (eq. W9, docs/domain.md: change the tool).
     fn set_wear_alarm(on: bool);
 }
