@@ -1,10 +1,11 @@
-//! `tooltouch control`: the depth-step force-control scenario (docs/domain.md §3) — 500 N
-//! reference, depth 1 mm stepping to 1.5 mm at 8 s — closed through the fixed-point model (or the
+//! `tooltouch control`: the depth-step force-control scenario (docs/domain.md §3) — 500 N reference,
+//! depth 1 mm stepping to 1.5 mm at 8 s — closed through the fixed-point model (or the
 //! float reference), with its metrics, SVG plots and the sample-level vectors.
 
 use crate::drive::scenario::{
     self, scenario_settings, ControlScenario, ControllerKind, Engine, Run,
 };
+use crate::output::OutputFolder;
 use anyhow::{Context, Result};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -64,6 +65,9 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Directory for plots and vectors (`<controller>_<force>.{svg,events.bin,outputs.bin}`).
+    /// A run replaces this command's files in the folder (and removes those it did not
+    /// write this time, e.g. other controllers'); other files are left alone; a failed run
+    /// leaves the folder as it was.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -85,10 +89,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
         EngineArg::Model => Engine::Model,
         EngineArg::Reference => Engine::Reference,
     };
-    if let Some(dir) = &args.out {
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("creating output directory {}", dir.display()))?;
-    }
+    let out = match &args.out {
+        Some(dir) => Some(OutputFolder::create(dir, known_outputs())?),
+        None => None,
+    };
     let jobs: Vec<(ControllerKind, ForceSource)> = kinds
         .iter()
         .flat_map(|&k| sources.iter().map(move |&s| (k, s)))
@@ -117,12 +121,18 @@ pub fn run(args: Args) -> Result<ExitCode> {
         let mut sc = ControlScenario::new(config);
         sc.seed = args.seed;
         let r = scenario::run(&sc, engine, args.out.is_some() && engine == Engine::Model);
-        if let Some(dir) = &args.out {
+        if let Some(out) = &out {
             let stem = format!("{}_{}", k.name(), source_name(source));
-            plot_run(&dir.join(format!("{stem}.svg")), &r, &stem)
+            plot_run(&out.path(&format!("{stem}.svg")), &r, &stem)
                 .with_context(|| format!("plotting {stem}"))?;
             if engine == Engine::Model {
-                write_vectors(dir, &stem, &r, &config, u32::from(settings.sample_hz))?;
+                write_vectors(
+                    out.staging(),
+                    &stem,
+                    &r,
+                    &config,
+                    u32::from(settings.sample_hz),
+                )?;
             }
         }
         rows.push((k, source, r.metrics));
@@ -142,10 +152,25 @@ pub fn run(args: Args) -> Result<ExitCode> {
             m.override_range.1
         );
     }
-    if let Some(dir) = &args.out {
+    if let Some(out) = out {
+        let dir = out.dir().to_path_buf();
+        out.commit()?;
         println!("plots and vectors written to {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Every file `control --out` can write: plot and vectors of each controller and source.
+fn known_outputs() -> Vec<String> {
+    let mut names = Vec::new();
+    for k in ControllerKind::ALL {
+        for s in [ForceSource::Estimated, ForceSource::Measured] {
+            for suffix in ["svg", "events.bin", "outputs.bin"] {
+                names.push(format!("{}_{}.{suffix}", k.name(), source_name(s)));
+            }
+        }
+    }
+    names
 }
 
 fn source_name(s: ForceSource) -> &'static str {
