@@ -4,7 +4,7 @@
 //!
 //! The generators themselves live in [`crate::modules`], one file per generated file.
 
-use crate::{Fault, Options, VerilogFile};
+use crate::design::{Fault, Options, VerilogFile};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
 

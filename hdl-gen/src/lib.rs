@@ -52,76 +52,21 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod design;
 mod emit;
 mod mcu;
 mod modules;
+mod outputs;
 
-use tooltouch_model::{MeasureConfig, MeasureOutputs};
+use tooltouch_model::MeasureConfig;
 
+pub use design::{Design, Fault, Options, VerilogFile, FPGA_TOP, TOP};
 pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
 pub use modules::tt_testbench::{
     testbench, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH,
 };
 pub use modules::tt_testbench_main::{verilator_main, VERILATOR_MAIN};
-
-/// Name of the simulation top module (and of its file, `tt_frontend.v`): every output a
-/// port, compared by the testbench.
-pub const TOP: &str = "tt_frontend";
-/// Name of the chip top for synthesis (file `tt_fpga.v`): pins, MCU bus and strobe only.
-pub const FPGA_TOP: &str = "tt_fpga";
-
-/// A fault deliberately injected into the generated Verilog, so tests can prove that the
-/// co-simulation and `tooltouch check` catch a design that differs from the model. Never
-/// used outside tests.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Fault {
-    /// The correct design.
-    #[default]
-    None,
-    /// The FES pulse is counted *before* a same-clock index pulse ends the window (the
-    /// canonical order is index first), so a pulse arriving with the index is lost from
-    /// the new window.
-    FesBeforeIndex,
-    /// The density detector's fire threshold is one LSB higher than configured.
-    FireThresholdPlusOne,
-}
-
-/// Generation options.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct Options {
-    /// Fault to inject (tests only).
-    pub fault: Fault,
-    /// Make the diagnostic counters (`REVOLUTIONS`, `PULSES`) readable by the MCU. Off by
-    /// default: they are outputs of the simulation top either way, but only a readable
-    /// counter is synthesized into the chip (about 100 logic cells for the two).
-    pub mcu_diagnostics: bool,
-}
-
-/// One generated Verilog source file.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct VerilogFile {
-    /// File name, `<module>.v`.
-    pub name: String,
-    /// Verilog-2005 source text.
-    pub text: String,
-}
-
-/// The generated design: one file per module, the top last.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Design {
-    /// Source files, leaves first, then the simulation top ([`TOP`]) and the chip top
-    /// ([`FPGA_TOP`]).
-    pub files: Vec<VerilogFile>,
-    /// Hash of the configuration the design was made from.
-    pub config_hash: u64,
-}
-
-impl Design {
-    /// File names in compile order.
-    pub fn file_names(&self) -> Vec<&str> {
-        self.files.iter().map(|f| f.name.as_str()).collect()
-    }
-}
+pub use outputs::{mask, output_fields, output_values, outputs_width, OutputField};
 
 /// Writes the Verilog of the front end for `config`.
 pub fn generate(config: &MeasureConfig, options: &Options) -> Design {
@@ -132,45 +77,10 @@ pub fn generate(config: &MeasureConfig, options: &Options) -> Design {
     }
 }
 
-/// One output of the front end, as a port of the top module, a VCD signal and a field of
-/// the expected-response hex vectors.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct OutputField {
-    /// Name, equal to the `MeasureOutputs` field and the VCD signal.
-    pub name: &'static str,
-    /// Width, bits (the VCD contract's widths).
-    pub width: u32,
-}
-
-/// The outputs in `MeasureOutputs` / VCD contract order, with their widths for `config`
-/// ([`MeasureOutputs::widths`], the model's one list).
-pub fn output_fields(config: &MeasureConfig) -> [OutputField; 15] {
-    MeasureOutputs::widths(config).map(|(name, width)| OutputField { name, width })
-}
-
-/// Total width of all outputs, bits.
-pub fn outputs_width(config: &MeasureConfig) -> u32 {
-    output_fields(config).iter().map(|f| f.width).sum()
-}
-
-/// The raw bits of every output (two's-complement positions truncated to `scale_bits`),
-/// in [`output_fields`] order.
-pub fn output_values(config: &MeasureConfig, o: &MeasureOutputs) -> [u64; 15] {
-    o.register_bits(config)
-}
-
-/// `width` low bits set (`width <= 64`).
-pub fn mask(width: u32) -> u64 {
-    if width >= 64 {
-        u64::MAX
-    } else {
-        (1u64 << width) - 1
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tooltouch_model::MeasureOutputs;
 
     #[test]
     fn every_file_names_the_config_hash_and_its_module() {

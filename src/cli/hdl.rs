@@ -22,8 +22,7 @@ use std::process::ExitCode;
 use tooltouch_hdl_gen::{generate, testbench, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX};
 use tooltouch_model::MeasureConfig;
 
-/// Testbench memory depth when neither a depth nor `--vectors` is given, words.
-pub const DEFAULT_DEPTH: usize = 1 << 16;
+pub use crate::hdl::hex::DEFAULT_DEPTH;
 
 /// Arguments of `tooltouch hdl`.
 #[derive(clap::Args, Debug)]

@@ -180,7 +180,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     "  testbench vectors: {} stim.hex words, {} expect.hex words",
                     v.stim_words, v.expect_words
                 );
-                if v.stim_words.max(v.expect_words) > super::hdl::DEFAULT_DEPTH {
+                if v.stim_words.max(v.expect_words) > crate::hdl::hex::DEFAULT_DEPTH {
                     println!(
                         "  (more than a default testbench holds: `tooltouch hdl --vectors {}` sizes it, \
                          or give `--stim-depth {} --expect-depth {}`)",

@@ -1,6 +1,6 @@
 //! Building the QEMU firmware image and booting it on the co-simulation board.
 
-use super::CosimError;
+use super::error::CosimError;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

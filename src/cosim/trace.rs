@@ -2,7 +2,7 @@
 //! `MEASURE_OUTPUTS` record per event, the firmware's profile and status records, `END`;
 //! or an error record that says why the firmware rejected its input.
 
-use super::CosimError;
+use super::error::CosimError;
 use tooltouch_model::force::kernel::ForceOutputs;
 use tooltouch_model::wire::force_outputs::decode_force_outputs;
 use tooltouch_model::wire::measure_outputs::decode_outputs;

@@ -8,6 +8,9 @@ use std::fmt::Write as _;
 use tooltouch_hdl_gen::{output_fields, output_values, outputs_width, STIM_WORD_BITS};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 
+/// Testbench memory depth when neither a depth nor `--vectors` is given, words.
+pub const DEFAULT_DEPTH: usize = 1 << 16;
+
 /// The testbench vectors of one scenario.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Vectors {

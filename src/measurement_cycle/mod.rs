@@ -12,64 +12,16 @@
 //! [`FrontEnd::is_settled`]: a settled front end is unchanged by a clock, so a default run
 //! (about 10^9 clocks) clocks only the few clocks after each pin change.
 
+mod report;
 mod stats;
 
+pub use report::MeasurementReport;
 pub use stats::{Spread, Summary};
 
 use crate::lathe::{Chunk, Lathe, LatheScenario, Motion, RetractAt, ScenarioError};
 use crate::stimulus::{Segment, Stimulus};
-use serde::Serialize;
 use tooltouch_model::measure::frontend::Edges;
 use tooltouch_model::{FrontEnd, MeasureConfig};
-
-/// One measurement's results.
-#[derive(Clone, Debug, Serialize)]
-pub struct MeasurementReport {
-    /// Measurement number, from 0.
-    pub index: usize,
-    /// Axial position, mm from the first measurement.
-    pub z_mm: f64,
-    /// Clock at which the arm line rose (with an index pulse).
-    pub arm_cycle: u64,
-    /// Clock after which the model's `first_contact` output was first high.
-    pub first_contact_cycle: Option<u64>,
-    /// Clock after which the model's `register_now` output was first high.
-    pub decision_cycle: Option<u64>,
-    /// Clock at which the (spike-free) contact line went high for good: the start of the
-    /// run of contact that covered a whole revolution.
-    pub permanent_contact_cycle: Option<u64>,
-    /// Clock at which the feed stopped.
-    pub stop_cycle: u64,
-    /// One past the last clock of this measurement (after retract and Z dwell).
-    pub end_cycle: u64,
-    /// Revolutions from first contact to the decision.
-    pub revs_to_decision: Option<f64>,
-    /// Revolutions from first contact to permanent contact.
-    pub revs_to_permanent: Option<f64>,
-    /// Latched scale position at the decision, counts relative to power-on (the model's
-    /// `decision_position`, unwrapped from `scale_bits`).
-    pub decision_position: Option<i64>,
-    /// Latched scale position at first contact, counts relative to power-on.
-    pub first_contact_position: Option<i64>,
-    /// Measured diameter: `2 · (home count + decision position + ½) · resolution`, mm (the
-    /// middle of the latched count's cell).
-    pub diameter_mm: Option<f64>,
-    /// Diameter at the first contact, mm (the single-pulse reading, whatever the method).
-    pub first_contact_diameter_mm: Option<f64>,
-    /// True mean diameter of the workpiece at this Z, mm.
-    pub true_mean_diameter_mm: f64,
-    /// True largest diameter of the workpiece at this Z, mm.
-    pub true_largest_diameter_mm: f64,
-    /// Measured minus true mean diameter, µm.
-    pub error_vs_mean_um: Option<f64>,
-    /// Measured minus true largest diameter, µm.
-    pub error_vs_largest_um: Option<f64>,
-    /// The model's `last_window_count` after each index pulse of the approach (contact
-    /// pulses per window: the contact density × window pulses).
-    pub window_counts: Vec<u32>,
-    /// Fraction of each approach revolution the (spike-free) contact line was high.
-    pub contact_fraction: Vec<f64>,
-}
 
 /// A whole closed-loop run.
 #[derive(Clone, Debug)]

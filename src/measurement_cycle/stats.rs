@@ -1,6 +1,6 @@
 //! Statistics over a series of measurements: mean and scatter (docs/domain.md §2.5).
 
-use super::MeasurementReport;
+use super::report::MeasurementReport;
 use serde::Serialize;
 
 /// Mean, sample standard deviation (1σ, the "±" of the report) and range of a series.

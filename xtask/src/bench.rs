@@ -7,8 +7,8 @@ use anyhow::Result;
 
 /// Runs the speed table (and, with `--criterion`, every criterion bench).
 pub fn run(args: &[String]) -> Result<()> {
-    let root = crate::root();
-    crate::run(
+    let root = crate::process::root();
+    crate::process::run(
         &root,
         "cargo",
         &[
@@ -22,7 +22,7 @@ pub fn run(args: &[String]) -> Result<()> {
         ],
     )?;
     if args.iter().any(|a| a == "--criterion") {
-        crate::run(&root, "cargo", &["bench", "-p", "tooltouch"])?;
+        crate::process::run(&root, "cargo", &["bench", "-p", "tooltouch"])?;
     }
     Ok(())
 }

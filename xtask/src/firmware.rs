@@ -34,7 +34,7 @@ fn cargo_args<'a>(verb: &'a str, board: &'a Board, extra: &[&'a str]) -> Vec<&'a
 }
 
 fn firmware_dir() -> Result<std::path::PathBuf> {
-    let dir = crate::root().join("firmware");
+    let dir = crate::process::root().join("firmware");
     if !dir.join("Cargo.toml").exists() {
         bail!("firmware/Cargo.toml is missing");
     }
@@ -45,7 +45,7 @@ fn firmware_dir() -> Result<std::path::PathBuf> {
 pub fn build_all() -> Result<()> {
     let dir = firmware_dir()?;
     for board in &BOARDS {
-        crate::run(
+        crate::process::run(
             &dir,
             "cargo",
             &cargo_args("build", board, &["--bin", board.name]),
@@ -61,9 +61,9 @@ pub fn build_all() -> Result<()> {
 /// the shipped images with their sizes.
 pub fn check_all() -> Result<()> {
     let dir = firmware_dir()?;
-    crate::run(&dir, "cargo", &["fmt", "--", "--check"])?;
+    crate::process::run(&dir, "cargo", &["fmt", "--", "--check"])?;
     for board in &BOARDS {
-        crate::run(
+        crate::process::run(
             &dir,
             "cargo",
             &cargo_args(
@@ -89,7 +89,7 @@ pub fn check_all() -> Result<()> {
             "--bin",
             board.name,
         ];
-        crate::run(&dir, "cargo", &args).with_context(|| {
+        crate::process::run(&dir, "cargo", &args).with_context(|| {
             format!(
                 "the no-panic check of board `{}` failed: a panic path is linked into the \
                  firmware (look for `tooltouch_firmware_panic_path_linked_into_the_image`)",
@@ -112,7 +112,7 @@ pub fn check_all() -> Result<()> {
     let mut clippy = vec!["clippy"];
     clippy.extend_from_slice(&load_variant);
     clippy.extend_from_slice(&["--", "-D", "warnings"]);
-    crate::run(&dir, "cargo", &clippy)?;
+    crate::process::run(&dir, "cargo", &clippy)?;
     // The check builds share the release folder: build the shipped images last.
     build_all()
 }
@@ -123,7 +123,7 @@ pub fn check_all() -> Result<()> {
 pub fn host_tests() -> Result<()> {
     let dir = firmware_dir()?;
     let host = host_triple()?;
-    crate::run(
+    crate::process::run(
         &dir,
         "cargo",
         &[
@@ -137,7 +137,7 @@ pub fn host_tests() -> Result<()> {
             "warnings",
         ],
     )?;
-    crate::run(
+    crate::process::run(
         &dir,
         "cargo",
         &["test", "--target", &host, "--no-default-features"],

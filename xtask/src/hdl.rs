@@ -25,7 +25,7 @@ const BLESS_VAR: &str = "TOOLTOUCH_BLESS";
 
 /// Runs `cargo args…` in the workspace root with [`BLESS_VAR`] set.
 fn cargo_blessing(args: &[&str]) -> Result<()> {
-    let root = crate::root();
+    let root = crate::process::root();
     println!("$ {BLESS_VAR}=1 cargo {}", args.join(" "));
     let status = Command::new("cargo")
         .args(args)
@@ -51,8 +51,8 @@ pub fn bless_snapshots() -> Result<()> {
         "--",
         "--nocapture",
     ])?;
-    crate::run(
-        &crate::root(),
+    crate::process::run(
+        &crate::process::root(),
         "git",
         &["status", "--short", "--", "hdl-gen/snapshots"],
     )?;
@@ -114,7 +114,7 @@ struct Synthesis {
 /// by default (the MCU reads the measurement registers), then with the diagnostic
 /// counters readable too (`tooltouch hdl --mcu-diagnostics`).
 pub fn report() -> Result<()> {
-    let root = crate::root();
+    let root = crate::process::root();
     let out = root.join("target/hdl-report");
     let main = synthesize(&out, false)?;
     println!("\nHDL synthesis report: default configuration, iCE40 HX8K (ct256), top tt_fpga, seed {SEED}");
@@ -159,8 +159,8 @@ fn refit_cost_model() -> Result<()> {
         "--",
         "--nocapture",
     ])?;
-    crate::run(
-        &crate::root(),
+    crate::process::run(
+        &crate::process::root(),
         "git",
         &["status", "--short", "--", "src/tune/cost_model.json"],
     )?;
@@ -171,7 +171,7 @@ fn refit_cost_model() -> Result<()> {
 /// Writes the Verilog of the default configuration into `out/<variant>/rtl`, synthesizes
 /// and places it.
 fn synthesize(out: &Path, diagnostics: bool) -> Result<Synthesis> {
-    let root = crate::root();
+    let root = crate::process::root();
     let out = out.join(if diagnostics {
         "diagnostics"
     } else {
@@ -193,7 +193,7 @@ fn synthesize(out: &Path, diagnostics: bool) -> Result<Synthesis> {
     if diagnostics {
         args.push("--mcu-diagnostics");
     }
-    crate::run(&root, "cargo", &args)?;
+    crate::process::run(&root, "cargo", &args)?;
     let files: Vec<String> = FILES
         .iter()
         .map(|f| rtl.join(f).to_string_lossy().into_owned())
@@ -205,7 +205,7 @@ fn synthesize(out: &Path, diagnostics: bool) -> Result<Synthesis> {
         files.join(" "),
         json.display()
     );
-    crate::run(
+    crate::process::run(
         &out,
         "yosys",
         &["-q", "-l", &synth_log.to_string_lossy(), "-p", &script],
@@ -280,7 +280,7 @@ fn print_blocks(out: &Path) -> Result<()> {
         "read_verilog {}; synth_ice40 {SYNTH_FLAGS} -noflatten -top tt_fpga; stat",
         files.join(" ")
     );
-    crate::run(
+    crate::process::run(
         out,
         "yosys",
         &["-q", "-l", &blocks_log.to_string_lossy(), "-p", &script],

@@ -7,12 +7,13 @@
 mod bench;
 mod firmware;
 mod hdl;
+mod process;
 mod setup;
 
 use anyhow::{bail, Context, Result};
-use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
+
+use process::{root, run};
 
 const USAGE: &str = "\
 usage: cargo xtask <verb>
@@ -47,28 +48,6 @@ fn main() -> Result<()> {
         }
         other => bail!("unknown verb `{other}`\n\n{USAGE}"),
     }
-}
-
-/// The workspace root (the parent of xtask/).
-pub fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .map(Path::to_path_buf)
-        .unwrap_or_else(|| PathBuf::from("."))
-}
-
-/// Runs `program args…` in `dir`, echoing the command; fails naming it on a non-zero exit.
-pub fn run(dir: &Path, program: &str, args: &[&str]) -> Result<()> {
-    println!("$ (cd {}) {program} {}", dir.display(), args.join(" "));
-    let status = Command::new(program)
-        .args(args)
-        .current_dir(dir)
-        .status()
-        .with_context(|| format!("could not start `{program}`"))?;
-    if !status.success() {
-        bail!("`{program} {}` failed ({status})", args.join(" "));
-    }
-    Ok(())
 }
 
 /// Runs one named step and prints its wall time.

@@ -1,6 +1,6 @@
 //! `cargo xtask setup`: what a fresh machine needs, installed only when missing.
 
-use crate::run as run_in;
+use crate::process::run as run_in;
 use anyhow::{bail, Context, Result};
 use std::process::Command;
 
@@ -33,7 +33,7 @@ fn is_root() -> bool {
 
 /// Installs missing rustup targets and components, then missing Debian packages.
 pub fn run() -> Result<()> {
-    let root = crate::root();
+    let root = crate::process::root();
     let installed = Command::new("rustup")
         .args(["target", "list", "--installed"])
         .current_dir(&root)

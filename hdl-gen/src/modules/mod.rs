@@ -18,8 +18,8 @@ pub(crate) mod tt_synchronizer;
 pub(crate) mod tt_testbench;
 pub(crate) mod tt_testbench_main;
 
+use crate::design::VerilogFile;
 use crate::emit::Context;
-use crate::VerilogFile;
 
 /// The design's files in compile order: leaves first, then the simulation top and the
 /// chip top.
@@ -40,7 +40,7 @@ pub(crate) fn design(ctx: &Context) -> Vec<VerilogFile> {
 
 #[cfg(test)]
 mod tests {
-    use crate::{Fault, Options};
+    use crate::design::{Fault, Options};
     use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod};
     use tooltouch_model::MeasureSettings;
 

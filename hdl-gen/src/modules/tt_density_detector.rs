@@ -5,8 +5,8 @@
 //! update are shared. The [`Fault::FireThresholdPlusOne`] variant raises the fire
 //! threshold by one LSB.
 
+use crate::design::{Fault, VerilogFile};
 use crate::emit::{bool_lit, fill, ge_const, lit, lt_const, Context};
-use crate::{Fault, VerilogFile};
 use tooltouch_model::measure::config::ChargeLaw;
 
 /// The density detector's threshold tests of the new charge and the values after a

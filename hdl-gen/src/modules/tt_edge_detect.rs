@@ -3,8 +3,8 @@
 //! one clock early from the glitch filter's toggles and registered, so the kernel's
 //! logic starts at flip-flops.
 
+use crate::design::VerilogFile;
 use crate::emit::{fill, pin_index, Context};
-use crate::VerilogFile;
 use tooltouch_model::measure::frontend::pin;
 
 /// The edges, registered (model: `filtered ^ FrontEnd::previous`), and the strobes

@@ -2,8 +2,9 @@
 //! bus and the register-now strobe leave the FPGA; the reset pin is synchronized and the
 //! bus address and read data are registered (without reset: they hold no state).
 
+use crate::design::{VerilogFile, TOP};
 use crate::emit::{fill, lit, Context};
-use crate::{output_fields, VerilogFile, TOP};
+use crate::outputs::output_fields;
 use tooltouch_model::measure::frontend::pin;
 
 /// The chip top for synthesis: only the pins, the MCU bus and the strobe leave the
@@ -75,17 +76,21 @@ ${CONNS}        .irq(irq)
 endmodule
 "#,
         &[
-            ("FPGA", crate::FPGA_TOP.to_string()),
+            ("FPGA", crate::design::FPGA_TOP.to_string()),
             ("TOP", TOP.to_string()),
             ("PIN_PORTS", pin_ports),
             ("PIN_CONNS", pin_conns),
-            ("AB1", (crate::MCU_ADDR_BITS - 1).to_string()),
-            ("DB1", (crate::MCU_DATA_BITS - 1).to_string()),
+            ("AB1", (crate::mcu::MCU_ADDR_BITS - 1).to_string()),
+            ("DB1", (crate::mcu::MCU_DATA_BITS - 1).to_string()),
             ("WIRES", wires),
             ("CONNS", conns),
-            ("DZERO", lit(crate::MCU_DATA_BITS, 0)),
-            ("AZERO", lit(crate::MCU_ADDR_BITS, 0)),
+            ("DZERO", lit(crate::mcu::MCU_DATA_BITS, 0)),
+            ("AZERO", lit(crate::mcu::MCU_ADDR_BITS, 0)),
         ],
     );
-    ctx.file(crate::FPGA_TOP, "the FPGA's top for synthesis", &body)
+    ctx.file(
+        crate::design::FPGA_TOP,
+        "the FPGA's top for synthesis",
+        &body,
+    )
 }

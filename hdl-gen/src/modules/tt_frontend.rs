@@ -2,9 +2,11 @@
 //! filter → edge detection → kernel, every output a port (compared by the testbench), and
 //! the MCU register file's combinational read mux ([`crate::MCU_REGISTERS`]).
 
+use crate::design::{VerilogFile, TOP};
 use crate::emit::{fill, lit, pin_index, Context};
 use crate::mcu::mcu_words;
-use crate::{output_fields, VerilogFile, MCU_REGISTERS, TOP};
+use crate::mcu::MCU_REGISTERS;
+use crate::outputs::output_fields;
 use tooltouch_model::measure::frontend::pin;
 
 /// The top: pins in, outputs and the MCU register file out.
@@ -27,7 +29,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
     for (reg, word) in MCU_REGISTERS.iter().zip(words.iter()) {
         cases.push_str(&format!(
             "            {}: mcu_rdata = {word};  // {}\n",
-            lit(crate::MCU_ADDR_BITS, reg.addr.into()),
+            lit(crate::mcu::MCU_ADDR_BITS, reg.addr.into()),
             reg.name
         ));
     }
@@ -95,8 +97,8 @@ endmodule
             ("TOP", TOP.to_string()),
             ("LAT", ctx.config.latency_cycles().to_string()),
             ("PIN_PORTS", pin_ports),
-            ("AB1", (crate::MCU_ADDR_BITS - 1).to_string()),
-            ("DB1", (crate::MCU_DATA_BITS - 1).to_string()),
+            ("AB1", (crate::mcu::MCU_ADDR_BITS - 1).to_string()),
+            ("DB1", (crate::mcu::MCU_DATA_BITS - 1).to_string()),
             ("PORTS", ports),
             ("N1", (pin::COUNT - 1).to_string()),
             ("PINS", pins.join(", ")),
@@ -104,7 +106,7 @@ endmodule
             ("CONTACT", pin_index(pin::CONTACT)),
             ("CONNS", conns),
             ("CASES", cases),
-            ("DZERO", lit(crate::MCU_DATA_BITS, 0)),
+            ("DZERO", lit(crate::mcu::MCU_DATA_BITS, 0)),
         ],
     );
     ctx.file(TOP, "top of the FPGA measurement front end", &body)

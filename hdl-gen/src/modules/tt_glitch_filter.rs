@@ -2,8 +2,8 @@
 //! `glitch_cycles` = 0 each pin is a single register; otherwise a level register and a
 //! stability counter per pin, whose limit test is written as bit logic.
 
+use crate::design::VerilogFile;
 use crate::emit::{fill, ge_const, lit, Context};
-use crate::VerilogFile;
 use tooltouch_model::measure::frontend::pin;
 
 /// Per pin: the filtered level and its stability counter (model: `FrontEnd::filter`).

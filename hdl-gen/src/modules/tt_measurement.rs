@@ -3,8 +3,8 @@
 //! quadrature decoder and the two position latches. The contact rule picks the pulse's
 //! contact bit and the decision method picks which detector drives the decision latch.
 
+use crate::design::VerilogFile;
 use crate::emit::{fill, pin_index, Context};
-use crate::VerilogFile;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::pin;
 

@@ -1,8 +1,8 @@
 //! `tt_position_latch.v`: the capture-once position register (model: `PositionLatch`),
 //! instantiated twice by `tt_measurement` (first contact, decision).
 
+use crate::design::VerilogFile;
 use crate::emit::{fill, lit, Context};
-use crate::VerilogFile;
 
 /// Capture-once position register, model: `PositionLatch`.
 pub(crate) fn emit(ctx: &Context) -> VerilogFile {

@@ -4,8 +4,8 @@
 //! equalities, and the decision is written flat over flip-flops. The
 //! [`Fault::FesBeforeIndex`] variant swaps index and pulse.
 
+use crate::design::{Fault, VerilogFile};
 use crate::emit::{bool_lit, fill, lit, Context};
-use crate::{Fault, VerilogFile};
 
 /// Device 1 (docs/domain.md §2.3), model: `PulseCounter`.
 pub(crate) fn emit(ctx: &Context) -> VerilogFile {

@@ -2,8 +2,8 @@
 //! (docs/domain.md §1; model: `QuadratureDecoder`): a `scale_bits` position stepped by the
 //! edge stage's up/down strobes through one adder, and a saturating error count.
 
+use crate::design::VerilogFile;
 use crate::emit::{fill, lit, Context};
-use crate::VerilogFile;
 
 /// x4 quadrature decoder (docs/domain.md §1), model: `QuadratureDecoder`.
 pub(crate) fn emit(ctx: &Context) -> VerilogFile {

@@ -2,8 +2,8 @@
 //! (model: `FrontEnd::sync1`, `sync2`). Fixed structure; only the pin count comes from
 //! the model.
 
+use crate::design::VerilogFile;
 use crate::emit::{fill, lit, Context};
-use crate::VerilogFile;
 use tooltouch_model::measure::frontend::pin;
 
 /// Two flip-flops per pin (model: `FrontEnd::sync1`, `sync2`).

@@ -21,9 +21,11 @@
 //! The last line is `TESTBENCH OK <cycles>`, or `TESTBENCH FAIL <mismatching cycles>
 //! <cycles>` with `+nostop`.
 
+use crate::design::TOP;
 use crate::emit::{describe, lit};
 use crate::mcu::mcu_words;
-use crate::{output_fields, outputs_width, MCU_ADDR_BITS, MCU_DATA_BITS, TOP};
+use crate::mcu::{MCU_ADDR_BITS, MCU_DATA_BITS};
+use crate::outputs::{output_fields, outputs_width};
 use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
 
@@ -66,7 +68,10 @@ pub const TESTBENCH: &str = "tt_testbench";
 
 /// Writes the testbench for `config` (file `tt_testbench.v`). Returns `None` when the
 /// clock is not usable (see [`TestbenchSpec::period_ns`]).
-pub fn testbench(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::VerilogFile> {
+pub fn testbench(
+    config: &MeasureConfig,
+    spec: &TestbenchSpec,
+) -> Option<crate::design::VerilogFile> {
     let period = spec.period_ns()?;
     let fields = output_fields(config);
     let width = outputs_width(config);
@@ -300,7 +305,7 @@ endmodule
         dpad = format!("{}'d0, ", 64 - MCU_DATA_BITS),
         concat = fields.iter().map(|f| f.name).collect::<Vec<_>>().join(", "),
     );
-    Some(crate::VerilogFile {
+    Some(crate::design::VerilogFile {
         name: format!("{TESTBENCH}.v"),
         text,
     })

@@ -12,7 +12,10 @@ pub const VERILATOR_MAIN: &str = "tt_testbench_main.cpp";
 /// without `--timing`): rising edge k at time k·P ns, falling edge P/2 later, until the
 /// testbench calls `$finish` (or `$fatal`, which exits non-zero). Returns `None` for an
 /// unusable clock (see [`TestbenchSpec::period_ns`]).
-pub fn verilator_main(config: &MeasureConfig, spec: &TestbenchSpec) -> Option<crate::VerilogFile> {
+pub fn verilator_main(
+    config: &MeasureConfig,
+    spec: &TestbenchSpec,
+) -> Option<crate::design::VerilogFile> {
     let period = spec.period_ns()?;
     let text = format!(
         r#"// {VERILATOR_MAIN}: clocks {TESTBENCH} under Verilator.
@@ -45,7 +48,7 @@ int main(int argc, char** argv) {{
         high = period / 2,
         low = period - period / 2,
     );
-    Some(crate::VerilogFile {
+    Some(crate::design::VerilogFile {
         name: VERILATOR_MAIN.into(),
         text,
     })

@@ -4,7 +4,7 @@
 //! flip-flop and LUT cells of the last `stat`. The points run in parallel (one yosys per
 //! rayon thread); each run's wall time is kept so the cost of the check is visible.
 
-use super::{Calibration, CalibrationPoint};
+use super::calibration::{Calibration, CalibrationPoint};
 use crate::hdl::runner::find_tool;
 use crate::hdl::{io_err, write_design, HdlError, Result};
 use rayon::prelude::*;
