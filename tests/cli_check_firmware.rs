@@ -8,27 +8,11 @@
 //! with a message naming `cargo xtask setup`.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 use tooltouch::cosim::{self, Fault};
 
-fn tooltouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .args(args)
-        .output()
-        .expect("the tooltouch binary runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::{s, text, tooltouch};
 
 const FAST: &str = "\
 [lathe]

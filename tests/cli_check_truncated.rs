@@ -10,23 +10,10 @@
 //!   its count, the firmware's error record is bad input.
 
 use std::path::Path;
-use std::process::{Command, Output};
 use tooltouch_model::wire::{kind, Record, MAX_PAYLOAD, RECORD_HEADER_LEN};
 
-fn tooltouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .args(args)
-        .output()
-        .expect("the tooltouch binary runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+mod common;
+use common::{text, tooltouch};
 
 fn check(expected: &Path, dut: &Path) -> (Option<i32>, String) {
     let o = tooltouch(&[

@@ -7,26 +7,10 @@
 //! Needs Icarus Verilog: without it the test fails naming `cargo xtask setup`.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
 
-fn tooltouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .args(args)
-        .output()
-        .expect("the tooltouch binary runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::{s, text, tooltouch};
 
 /// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.
 fn icarus(dir: &Path, plusargs: &[&str]) -> String {

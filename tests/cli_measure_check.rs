@@ -2,22 +2,10 @@
 //! bad settings named, check's exit codes (0 match, 1 mismatch, 2 bad input).
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn tooltouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .args(args)
-        .output()
-        .expect("the tooltouch binary runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+mod common;
+use common::{text, tooltouch};
 
 fn measure(dir: &Path, extra: &[&str]) -> Output {
     let out = dir.to_str().unwrap();

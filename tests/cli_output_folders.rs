@@ -5,26 +5,10 @@
 //! behind. `measure` exits 3 when a measurement did not decide, its files written.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn tooltouch(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .args(args)
-        .output()
-        .expect("the tooltouch binary runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::{s, text, tooltouch};
 
 fn names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
