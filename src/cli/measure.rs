@@ -69,7 +69,7 @@ pub struct Args {
     /// Output folder (created): plots, VCD, binary vectors, summary.json.
     #[arg(long, default_value = "out")]
     pub out: PathBuf,
-    /// Settings file (TOML: [measure] and [lathe] tables; see README).
+    /// Settings file (TOML: [measure] and [lathe] tables; see docs/measure.md).
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Part of the run written as VCD.
