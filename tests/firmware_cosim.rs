@@ -96,7 +96,7 @@ fn fes_pulses(cases: &[Case]) -> u64 {
 /// The FES path's cost per pulse when runs are folded: the compare interrupts, and the
 /// whole measurement load (every measurement task, the folds they do included) spread
 /// over the pulses, in instructions and interrupts (QEMU counts no cycles for the
-/// exception entry and exit: the README converts these to Cortex-M4 cycles).
+/// exception entry and exit: docs/firmware.md converts these to Cortex-M4 cycles).
 fn print_fes_cost(cases: &[Case], r: &cosim::Report) {
     let pulses = fes_pulses(cases).max(1) as f64;
     let interrupts =
