@@ -196,7 +196,7 @@ pub fn observe<B: Board>(d: &mut MeasureDomain) -> MeasureOutputs {
     d.kernel.outputs()
 }
 
-/// Queued ADC samples: one control period holds `samples_per_period` (50 at the SPEC's
+/// Queued ADC samples: one control period holds `samples_per_period` (50 at docs/domain.md §3:
 /// 1 kHz / 20 Hz); the capacity leaves room for a control period that starts late.
 pub const SAMPLE_QUEUE: usize = 256;
 /// The ADC-to-control sample queue (single producer, single consumer, lock-free).

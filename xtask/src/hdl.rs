@@ -67,7 +67,7 @@ const TARGET_CELLS: u64 = 400;
 /// synth_ice40 options: clock enables only for enables shared by 64 or more flip-flops
 /// (otherwise nextpnr promotes each enable to a global buffer, which costs more than a LUT
 /// input), and the classic ABC mapping: on this design it gives 10–25 MHz more than
-/// `-abc9` for the same cell count (measured over seeds 1–3; see the README).
+/// `-abc9` for the same cell count (measured over seeds 1–3; see docs/hdl.md).
 const SYNTH_FLAGS: &str = "-dffe_min_ce_use 64";
 /// Placement seed, fixed so that the report is repeatable (fmax varies by a few MHz
 /// with the seed).

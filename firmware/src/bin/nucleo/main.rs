@@ -2,7 +2,7 @@
 //! interrupts bound to the same shared handlers as the QEMU board, and TIM2 counts the FES
 //! pulses; defmt logs over RTT (probe-rs prints them).
 //!
-//! Pin map (Arduino / Morpho header names in brackets; README has the wiring):
+//! Pin map (Arduino / Morpho header names in brackets; docs/firmware.md has the wiring):
 //!
 //! | pin  | header   | signal                         | interrupt        | edges   |
 //! |------|----------|--------------------------------|------------------|---------|
@@ -41,7 +41,7 @@
 //! `handlers::FES_FOLD_LIMIT` pulses after the last fold (`handlers::MeasureDomain`).
 //! The timer's input filter (IC2F = 0011) counts a level that holds for 8 of its 84 MHz
 //! clocks, so it rejects spikes under 95 ns and counts FES rates up to about 5 MHz, no
-//! longer bounded by an interrupt per pulse; the README gives the cycle budget. The
+//! longer bounded by an interrupt per pulse; docs/firmware.md gives the cycle budget. The
 //! channel is an input (CC2S = 01), so the pin is never driven; channel 1 is an output
 //! compare in frozen mode (OC1M = 000, CC1E = 0) that drives no pin either.
 //!
@@ -53,7 +53,7 @@
 //! the reset clocks (HSI 16 MHz, every bus /1) with timer and ADC settings derived for
 //! those, so the 1 kHz and 20 Hz periods and the 15.625 kHz PWM stay exact and only the
 //! FES-rate budget shrinks. The handlers' cost is counted in instructions and cycles, see
-//! README for the rates 168 MHz allows. The cutting-conditions command has no pin:
+//! docs/firmware.md for the rates 168 MHz allows. The cutting-conditions command has no pin:
 //! condition set 0 is used on this board.
 #![no_std]
 #![no_main]
@@ -128,7 +128,7 @@ fn configure_clocks(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> BusTi
         Err(fault) => {
             defmt::error!(
                 "clock setup failed ({}): running from the 16 MHz HSI, the measurement \
-                 tasks take 10.5 times longer than the README's 168 MHz budget",
+                 tasks take 10.5 times longer than the 168 MHz budget of docs/firmware.md",
                 fault
             );
             RESET_TIMING
