@@ -2,8 +2,8 @@
 //! ([`crate::drive`]: V/f induction motor with its speed loop, lagging measured power, F10
 //! with drifting K_s and τ_p, a depth-of-cut step) closed around the golden model's
 //! [`ForceKernel`] ([`ClosedLoop`]), under a random force configuration
-//! ([`random_force_settings`]: controller kind and gains, reference, filters, estimator,
-//! wear monitor) fitted to that plant — and a CNC timeline: no-load identification first
+//! ([`random_force_settings`]: the test kit's draw with the gains, scales, reference,
+//! estimator constants and wear powers fitted to that plant) — and a CNC timeline: no-load identification first
 //! (docs/domain.md §3: B identified just before the tool touches), condition set 0, the cut under
 //! force control with the depth step, retract; random condition changes (some out of
 //! range) and tool changes. As a fault, ADC saturation: the front end's gain is 4× for a
@@ -17,13 +17,16 @@ use crate::drive::scenario::ClosedLoop;
 use crate::drive::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
 use rand::Rng;
-use tooltouch_model::force::config::{ForceConfig, ForceSettings, ForceSource};
-use tooltouch_model::force::control::fuzzy::{NO_RULE, STANDARD_RULES};
-use tooltouch_model::force::control::ControllerSettings;
+use tooltouch_model::force::config::{ForceConfig, ForceSettings};
+use tooltouch_model::force::control::{
+    AdaptiveSettings, ControllerSettings, FuzzySettings, PiSettings,
+};
+use tooltouch_model::force::estimator::settings::EstimatorSettings;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::sampling::AdcScales;
 use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::force::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::force::wear::{ConditionSet, Threshold, WearSettings};
+use tooltouch_model::testing::force::draw_force;
 use tooltouch_model::units::Fx;
 
 /// ADC sample rates drawn, Hz (each divides the 50 MHz tick rate).
@@ -84,14 +87,22 @@ fn fx(x: f64) -> Fx {
     Fx::from_num(x)
 }
 
-/// Draws force-path settings fitted to `plant`, every field inside the range its
-/// `validate` documents: sample rate and period, low-pass, ADC scales that keep the plant's
-/// signals inside 12 bits, estimator parameters near the plant's (misestimated by up to
-/// ±50 %), force source, reference 200–800 N, manual override, the controller (PI,
-/// adaptive or fuzzy, each designed on the plant's nominal process and detuned by up to
-/// 2×; fuzzy sometimes with rules removed), and the wear monitor (1–4 condition sets,
-/// updating or constant threshold, filter and debounce).
+/// Draws force-path settings fitted to `plant`: the test kit's draw
+/// ([`tooltouch_model::testing::force::draw_force`], every field inside its validated
+/// range) with what the plant dictates overridden — a sample rate that divides the tick rate
+/// and a period of 20–100 ms; ADC scales that keep the plant's signals inside 12 bits; a
+/// sampling low-pass no slower than half a control period (the kit's shift, capped); a
+/// reference of 200–800 N and a manual override of 60–140 % (so the cut before force
+/// control stays inside the ADC range too); the estimator's drive constants near the
+/// plant's (misestimated by up to ±50 %), its speed floor below the spindle speed and its
+/// slip gain near 1; the controller's gains designed on the plant's nominal process and
+/// detuned by up to 2× (PI integrator clamps, the adaptive controller's re-estimation
+/// guards and the fuzzy scalings with them); the wear monitor's powers and efficiency from
+/// the plant's idle and cutting power. Everything else — controller kind, force source,
+/// the adaptive gain filter, the fuzzy rule table, the F9 switch threshold and hold, the
+/// number of condition sets, the wear filter, debounce and threshold kind — is the kit's.
 pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSettings {
+    let kit = draw_force(rng.gen());
     let d = &plant.drive;
     let p = &plant.process;
     let sample_hz = SAMPLE_RATES[rng.gen_range(0..SAMPLE_RATES.len())];
@@ -114,39 +125,25 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
         volts_per_lsb: fx(v_peak / rng.gen_range(1200.0..1900.0)),
         amps_per_lsb: fx(i_peak / rng.gen_range(1000.0..1800.0)),
     };
-    let mut s = ForceSettings {
-        sample_hz,
-        samples_per_period,
-        lowpass_shift: rng.gen_range(1..=8),
-        scales,
-        force_source: if rng.gen_bool(0.25) {
-            ForceSource::Measured
-        } else {
-            ForceSource::Estimated
-        },
-        reference: fx(reference),
-        manual_override: rng.gen_range(60..=140),
-        ..ForceSettings::default()
+    let estimator = EstimatorSettings {
+        stator_resistance: fx(d.stator_resistance * rng.gen_range(0.8..1.2)),
+        inertia: fx(d.inertia * rng.gen_range(0.9..1.1)),
+        // B ≤ J/(2h) (validate); the plant's B is far below.
+        viscous_nominal: fx((d.viscous * rng.gen_range(0.5..1.5)).min(d.inertia * 0.9 / (2.0 * h))),
+        coulomb_nominal: fx(d.coulomb * rng.gen_range(0.5..1.5)),
+        friction_f: [
+            fx(d.friction_f0 * rng.gen_range(0.5..1.5)),
+            fx(rng.gen_range(-0.001..0.001)),
+        ],
+        friction_g: [
+            fx(d.friction_g0 * rng.gen_range(0.5..1.5)),
+            fx(rng.gen_range(-1e-4..1e-4)),
+        ],
+        min_speed: fx(rng.gen_range(1.0..20.0)),
+        slip_gain: fx(rng.gen_range(0.8..1.2)),
+        workpiece_radius: fx(p.radius),
+        ..kit.estimator
     };
-    let e = &mut s.estimator;
-    e.stator_resistance = fx(d.stator_resistance * rng.gen_range(0.8..1.2));
-    e.inertia = fx(d.inertia * rng.gen_range(0.9..1.1));
-    // B ≤ J/(2h) (validate); the plant's B is far below.
-    e.viscous_nominal = fx((d.viscous * rng.gen_range(0.5..1.5)).min(d.inertia * 0.9 / (2.0 * h)));
-    e.coulomb_nominal = fx(d.coulomb * rng.gen_range(0.5..1.5));
-    e.friction_f = [
-        fx(d.friction_f0 * rng.gen_range(0.5..1.5)),
-        fx(rng.gen_range(-0.001..0.001)),
-    ];
-    e.friction_g = [
-        fx(d.friction_g0 * rng.gen_range(0.5..1.5)),
-        fx(rng.gen_range(-1e-4..1e-4)),
-    ];
-    e.min_speed = fx(rng.gen_range(1.0..20.0));
-    e.switch_threshold = fx(rng.gen_range(0.05..1.0));
-    e.slip_gain = fx(rng.gen_range(0.8..1.2));
-    e.slip_hold_periods = rng.gen_range(1..=10);
-    e.workpiece_radius = fx(p.radius);
     let nominal = NominalProcess {
         ks: p.ks,
         depth_mm: plant.depth.before,
@@ -157,60 +154,57 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
     let (kp, ki) = nominal.ziegler_nichols_pi();
     let (kp, ki) = (kp * rng.gen_range(0.5..2.0), ki * rng.gen_range(0.5..2.0));
     let k = nominal.gain();
-    s.controller = match rng.gen_range(0..3) {
-        0 => {
-            let mut pi = pi_settings(kp, ki);
-            pi.integrator_min = fx(f64::from(rng.gen_range(0..=40)));
-            pi.integrator_max = fx(f64::from(rng.gen_range(180..=255)));
-            ControllerSettings::Pi(pi)
-        }
-        1 => {
-            let mut a = adaptive_settings(rng.gen_range(0.1..0.6) / h, k);
-            a.gain_min = fx(k / rng.gen_range(5.0..20.0));
-            a.gain_max = fx(k * rng.gen_range(5.0..30.0));
-            a.initial_gain = fx(k * rng.gen_range(0.5..2.0));
-            a.gain_filter_shift = rng.gen_range(0..=8);
-            a.min_override = fx(rng.gen_range(1.0..20.0));
-            a.min_force = fx(rng.gen_range(10.0..100.0));
-            ControllerSettings::Adaptive(a)
-        }
-        _ => {
-            let mut f = fuzzy_from_pi(kp, ki, h, rng.gen_range(150.0..500.0));
-            f.rules = STANDARD_RULES;
-            if rng.gen_bool(0.4) {
-                for _ in 0..rng.gen_range(1..8) {
-                    let (i, j) = (rng.gen_range(0..7), rng.gen_range(0..7));
-                    // Keep the centre rule so the table is never empty.
-                    if (i, j) != (3, 3) {
-                        f.rules[i][j] = if rng.gen_bool(0.5) {
-                            NO_RULE
-                        } else {
-                            rng.gen_range(-3..=3)
-                        };
-                    }
-                }
-            }
-            ControllerSettings::Fuzzy(f)
-        }
+    let controller = match kit.controller {
+        ControllerSettings::Pi(_) => ControllerSettings::Pi(PiSettings {
+            integrator_min: fx(f64::from(rng.gen_range(0..=40))),
+            integrator_max: fx(f64::from(rng.gen_range(180..=255))),
+            ..pi_settings(kp, ki)
+        }),
+        ControllerSettings::Adaptive(drawn) => ControllerSettings::Adaptive(AdaptiveSettings {
+            gain_min: fx(k / rng.gen_range(5.0..20.0)),
+            gain_max: fx(k * rng.gen_range(5.0..30.0)),
+            initial_gain: fx(k * rng.gen_range(0.5..2.0)),
+            gain_filter_shift: drawn.gain_filter_shift,
+            min_override: fx(rng.gen_range(1.0..20.0)),
+            min_force: fx(rng.gen_range(10.0..100.0)),
+            ..adaptive_settings(rng.gen_range(0.1..0.6) / h, k)
+        }),
+        ControllerSettings::Fuzzy(drawn) => ControllerSettings::Fuzzy(FuzzySettings {
+            rules: drawn.rules,
+            ..fuzzy_from_pi(kp, ki, h, rng.gen_range(150.0..500.0))
+        }),
     };
-    let w = &mut s.wear;
-    w.set_count = rng.gen_range(1..=4);
-    w.sets = [ConditionSet::default(); MAX_CONDITION_SETS];
-    for set in w.sets.iter_mut().take(usize::from(w.set_count)) {
+    let mut sets = kit.wear.sets;
+    for set in sets.iter_mut().take(usize::from(kit.wear.set_count)) {
         *set = ConditionSet {
             mean_power_limit: fx(cut * rng.gen_range(0.6..1.5)),
             idle_power: fx(idle * rng.gen_range(0.7..1.3)),
         };
     }
-    w.efficiency = fx(rng.gen_range(0.6..1.0));
-    w.lowpass_shift = rng.gen_range(0..=8);
-    w.debounce_periods = rng.gen_range(1..=30);
-    w.threshold = if rng.gen_bool(0.7) {
-        Threshold::Updating
-    } else {
-        Threshold::Constant(fx(idle + cut * rng.gen_range(0.8..1.5)))
+    let wear = WearSettings {
+        sets,
+        efficiency: fx(rng.gen_range(0.6..1.0)),
+        threshold: match kit.wear.threshold {
+            Threshold::Updating => Threshold::Updating,
+            Threshold::Constant(_) => Threshold::Constant(fx(idle + cut * rng.gen_range(0.8..1.5))),
+        },
+        ..kit.wear
     };
-    s
+    // The sampling low-pass's time constant, 2^k samples, at most half a control period:
+    // a slower filter lags the loop into oscillation and the plant's force off the ADC.
+    let slowest_lowpass = (u16::BITS - 1 - (samples_per_period / 2).max(2).leading_zeros()) as u8;
+    ForceSettings {
+        sample_hz,
+        samples_per_period,
+        lowpass_shift: kit.lowpass_shift.min(slowest_lowpass),
+        scales,
+        estimator,
+        reference: fx(reference),
+        manual_override: rng.gen_range(60..=140),
+        controller,
+        wear,
+        ..kit
+    }
 }
 
 /// The front end with 4× gain: every channel clips at its rails.
