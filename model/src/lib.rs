@@ -40,8 +40,6 @@ pub mod wire;
 extern crate std;
 #[cfg(feature = "testing")]
 pub mod testing;
-#[cfg(all(test, not(feature = "testing")))]
-compile_error!("the model's tests draw configurations from its test kit: `--features testing`");
 
 pub use measure::config::{MeasureConfig, MeasureSettings};
 pub use measure::events::{MeasureEvent, TimedEvent};
