@@ -12,9 +12,46 @@
 //! The choice (replace every known output rather than refuse a folder holding another
 //! run's files) keeps a repeated command working in place, as `make`-style loops expect,
 //! while `summary.json` and the other files always describe the same run.
+//!
+//! A run stopped by a signal (Ctrl-C, `kill`, a closed terminal) does not unwind, so
+//! `Drop` would not run: every open staging folder is also kept in a process-wide list,
+//! and [`remove_staging_on_signal`] installs a handler that removes them and exits with
+//! 130. A commit holds that list's lock while it renames, so a signal never lands between
+//! two renames of one commit.
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// Staging folders not yet committed or dropped, removed by the signal handler.
+static OPEN_STAGING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Exit code after a signal stopped the run (128 + SIGINT, as shells report Ctrl-C).
+pub const INTERRUPTED: i32 = 130;
+
+fn open_staging() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    OPEN_STAGING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Installs the handler of Ctrl-C, SIGTERM and SIGHUP: it removes every staging folder
+/// still open (the output folders are then as they were) and exits with [`INTERRUPTED`].
+/// Call once, at the start of the command line; a second call changes nothing.
+pub fn remove_staging_on_signal() {
+    // An error here means a handler is already installed (tests call `cli::main` twice).
+    let _ = ctrlc::set_handler(|| {
+        let open = open_staging();
+        for dir in open.iter() {
+            // A writer thread may still create a file in the folder: retry a few times.
+            for _ in 0..5 {
+                if std::fs::remove_dir_all(dir).is_ok() || !dir.exists() {
+                    break;
+                }
+            }
+        }
+        eprintln!("interrupted: no output written");
+        std::process::exit(INTERRUPTED);
+    });
+}
 
 /// The output folder of one run. See the module documentation.
 #[derive(Debug)]
@@ -33,6 +70,12 @@ impl OutputFolder {
         known: impl IntoIterator<Item = S>,
     ) -> anyhow::Result<OutputFolder> {
         static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+        if dir.exists() && !dir.is_dir() {
+            anyhow::bail!(
+                "output folder {}: is a file, not a folder (give a folder path)",
+                dir.display()
+            );
+        }
         std::fs::create_dir_all(dir)
             .with_context(|| format!("creating the output folder {}", dir.display()))?;
         let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -42,7 +85,16 @@ impl OutputFolder {
             std::fs::remove_dir_all(&staging)
                 .with_context(|| format!("removing {}", staging.display()))?;
         }
-        std::fs::create_dir(&staging).with_context(|| format!("creating {}", staging.display()))?;
+        let mut open = open_staging();
+        std::fs::create_dir(&staging).with_context(|| {
+            format!(
+                "output folder {}: cannot write in it (creating {})",
+                dir.display(),
+                staging.display()
+            )
+        })?;
+        open.push(staging.clone());
+        drop(open);
         Ok(OutputFolder {
             dir: dir.to_path_buf(),
             staging,
@@ -91,6 +143,7 @@ impl OutputFolder {
     /// that waits for it sees the rest first), removes the known outputs this run did
     /// not write, and removes the staging folder. Returns the final paths, sorted.
     pub fn commit(mut self) -> anyhow::Result<Vec<PathBuf>> {
+        let mut open = open_staging();
         let mut names: Vec<String> = std::fs::read_dir(&self.staging)
             .with_context(|| format!("reading {}", self.staging.display()))?
             .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
@@ -117,6 +170,7 @@ impl OutputFolder {
         std::fs::remove_dir(&self.staging)
             .with_context(|| format!("removing {}", self.staging.display()))?;
         self.committed = true;
+        open.retain(|d| *d != self.staging);
         paths.sort();
         Ok(paths)
     }
@@ -125,7 +179,9 @@ impl OutputFolder {
 impl Drop for OutputFolder {
     fn drop(&mut self) {
         if !self.committed {
+            let mut open = open_staging();
             let _ = std::fs::remove_dir_all(&self.staging);
+            open.retain(|d| *d != self.staging);
         }
     }
 }

@@ -19,8 +19,13 @@
 //! period_revs = 2.7
 //! ```
 //! Every field is optional (defaults: [`MeasureSettings::default`],
-//! [`LatheScenario::default`]); unknown fields are errors. [`Settings::resolve`] checks
-//! every value and names the first bad field with its allowed range.
+//! [`LatheScenario::default`]); unknown tables and fields are errors. [`Settings::resolve`]
+//! checks every value and names the first bad field with its allowed range.
+//!
+//! Every settings-like text file of the command line (this one, a tune spec) is read by
+//! [`read_text_file`]: at most [`MAX_TEXT_FILE_BYTES`], checked before it is read (a TOML
+//! parse takes about twenty times the file's size), valid UTF-8, each failure one message
+//! naming the file.
 
 use crate::lathe::{LatheScenario, ScenarioError};
 use serde::{Deserialize, Serialize};
@@ -38,17 +43,73 @@ pub struct Settings {
     pub lathe: LatheScenario,
 }
 
+/// Largest settings or spec file read, bytes (1 MiB: the largest useful file, every
+/// field and a few hundred harmonics, is a few kB).
+pub const MAX_TEXT_FILE_BYTES: u64 = 1 << 20;
+
+/// Reads the text file `path` (`what` says what it is, e.g. `settings file`): refuses a
+/// directory, a file over [`MAX_TEXT_FILE_BYTES`] before reading it, and bytes that are
+/// not UTF-8 (with their offset), and an empty (or blank) file. The error is one line
+/// naming the file.
+pub fn read_text_file(path: &Path, what: &str) -> Result<String, String> {
+    use std::io::Read;
+    let name = path.display();
+    let file = std::fs::File::open(path).map_err(|e| format!("{what} {name}: {e}"))?;
+    let meta = file.metadata().map_err(|e| format!("{what} {name}: {e}"))?;
+    if meta.is_dir() {
+        return Err(format!("{what} {name}: is a folder, not a file"));
+    }
+    if meta.len() > MAX_TEXT_FILE_BYTES {
+        return Err(format!(
+            "{what} {name}: {} bytes, more than the {MAX_TEXT_FILE_BYTES} bytes a settings file may have",
+            meta.len()
+        ));
+    }
+    // `take` also bounds a file that grows, or a pipe whose length is unknown.
+    let mut bytes = Vec::new();
+    file.take(MAX_TEXT_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("{what} {name}: {e}"))?;
+    if bytes.len() as u64 > MAX_TEXT_FILE_BYTES {
+        return Err(format!(
+            "{what} {name}: more than the {MAX_TEXT_FILE_BYTES} bytes a settings file may have"
+        ));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "{what} {name}: not a text file (byte {} is not valid UTF-8)",
+            e.utf8_error().valid_up_to()
+        )
+    })?;
+    // Every setting has a default, so an empty file would be valid TOML: it is far more
+    // likely a mistake (a failed redirect, the wrong file) than a wish for the defaults.
+    if text.trim().is_empty() {
+        return Err(format!(
+            "{what} {name}: empty (leave the flag out to run with the defaults)"
+        ));
+    }
+    Ok(text)
+}
+
+/// A TOML error as one line: `line N: <the parser's message>` (the parser's own text
+/// spans several lines with a drawing of the spot).
+pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().trim().replace('\n', " ");
+    match e.span() {
+        Some(span) => {
+            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+            format!("line {line}: {message}")
+        }
+        None => message,
+    }
+}
+
 /// Bad settings.
 #[derive(Debug, thiserror::Error)]
 pub enum SettingsError {
-    /// The file could not be read.
-    #[error("{file}: {source}")]
-    Io {
-        /// The file.
-        file: String,
-        /// The cause.
-        source: std::io::Error,
-    },
+    /// The file could not be read (the message names it and says why).
+    #[error("{0}")]
+    Io(String),
     /// The file is not valid TOML for these settings.
     #[error("{file}: {message}")]
     Parse {
@@ -72,10 +133,7 @@ impl Settings {
     /// Reads a settings file.
     pub fn load(path: &Path) -> Result<Settings, SettingsError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SettingsError::Io {
-            file: file.clone(),
-            source,
-        })?;
+        let text = read_text_file(path, "settings file").map_err(SettingsError::Io)?;
         Settings::parse(&text, &file)
     }
 
@@ -83,7 +141,7 @@ impl Settings {
     pub fn parse(text: &str, file: &str) -> Result<Settings, SettingsError> {
         toml::from_str(text).map_err(|e| SettingsError::Parse {
             file: file.to_string(),
-            message: e.to_string(),
+            message: toml_error(text, &e),
         })
     }
 

@@ -2,7 +2,7 @@
 //! holding another run's files replaces all of that command's files and removes the stale
 //! ones (`measure --vcd none` removes the earlier measure.vcd; `control` removes other
 //! controllers' files); a failed run leaves the folder as it was; no staging folder is left
-//! behind. `measure` exits 3 when a measurement did not decide, its files written.
+//! behind. `measure` exits 1 when a measurement did not decide, its files written.
 
 use std::path::Path;
 use std::process::Output;
@@ -88,16 +88,16 @@ fn measure_replaces_its_files_and_removes_the_stale_vcd() {
 }
 
 #[test]
-fn measure_exits_3_when_a_measurement_does_not_decide() {
+fn measure_exits_1_when_a_measurement_does_not_decide() {
     let w = tempfile::tempdir().unwrap();
     let toml = w.path().join("fast.toml");
     std::fs::write(&toml, FAST).unwrap();
     let out = w.path().join("out");
     let o = measure(&toml, &out, &["--max-approach-revs", "1"]);
-    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(
         text(&o).contains("decided 0/1")
-            && text(&o).contains("1 of 1 measurements did not decide (exit code 3)"),
+            && text(&o).contains("1 of 1 measurements did not decide (exit code 1)"),
         "{}",
         text(&o)
     );

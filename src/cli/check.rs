@@ -119,11 +119,11 @@ impl<R: BufRead> crate::vectors::vcd::Changes for CommentsKept<'_, R> {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     match compare_files(&args.expected, &args.dut) {
         Ok(Verdict::Match(line)) => {
-            println!("{line}");
+            outln!("{line}");
             Ok(ExitCode::SUCCESS)
         }
         Ok(Verdict::Mismatch(line)) => {
-            println!("MISMATCH: {line}");
+            outln!("MISMATCH: {line}");
             Ok(ExitCode::from(1))
         }
         Err(e) => {

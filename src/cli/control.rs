@@ -51,6 +51,7 @@ pub enum EngineArg {
 
 /// Arguments of `tooltouch control`.
 #[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Controller; `all` prints the table for the three.
     #[arg(long, value_enum, default_value = "pi")]
@@ -102,13 +103,19 @@ pub fn run(args: Args) -> Result<ExitCode> {
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} runs {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    println!(
+    outln!(
         "depth step 1.0 -> 1.5 mm at 8 s, reference 500 N, engine {:?}",
         engine
     );
-    println!(
+    outln!(
         "{:<9} {:<10} {:>10} {:>11} {:>12} {:>10} {:>10}",
-        "controller", "force", "overshoot", "settling", "ss error", "IAE", "override"
+        "controller",
+        "force",
+        "overshoot",
+        "settling",
+        "ss error",
+        "IAE",
+        "override"
     );
     let mut rows = Vec::new();
     for &(k, source) in &jobs {
@@ -140,7 +147,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     for (k, source, m) in rows {
-        println!(
+        outln!(
             "{:<9} {:<10} {:>9.1}% {:>10.2}s {:>10.1} N {:>8.1}Ns {:>5}-{:<4}",
             k.name(),
             source_name(source),
@@ -155,7 +162,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(out) = out {
         let dir = out.dir().to_path_buf();
         out.commit()?;
-        println!("plots and vectors written to {}", dir.display());
+        outln!("plots and vectors written to {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
 }

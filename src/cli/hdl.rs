@@ -7,7 +7,7 @@
 //! The configuration file is read as `tooltouch vectors` reads it
 //! ([`super::vectors::load_settings`]): the `[measure]` table of `tooltouch measure`'s
 //! settings (or the `MeasureSettings` fields at top level) and the `[lathe]` table (its
-//! clock, and the lathe run of `--vectors lathe`); other tables are ignored. Without
+//! clock, and the lathe run of `--vectors lathe`); other tables are errors. Without
 //! `--config`, the defaults.
 
 use super::vectors::{golden_set_of, load_settings, CLOCK_RULE};
@@ -24,9 +24,13 @@ use tooltouch_model::MeasureConfig;
 
 pub use crate::hdl::hex::DEFAULT_DEPTH;
 
+/// Largest `--stim-depth` / `--expect-depth`, words: far inside the testbench's 32-bit
+/// `integer` indices, and 2^26 words are already 0.5 GB of simulator memory.
+pub const MAX_DEPTH: usize = 1 << 26;
+
 /// Arguments of `tooltouch hdl`.
 #[derive(clap::Args, Debug)]
-#[command(after_help = CLOCK_RULE)]
+#[command(after_help = CLOCK_RULE, allow_negative_numbers = true)]
 pub struct Args {
     /// Settings TOML: a `[measure]` table (or the measurement fields at top level) and an
     /// optional `[lathe]` table (clock, and the run of `--vectors lathe`).
@@ -87,7 +91,8 @@ fn vectors_for(
             segments: crate::measurement_cycle::slice(&run.stimulus, 0, end),
         }
     } else {
-        let (set, _) = golden_set_of(Path::new(what), settings, config_given)?;
+        let (set, _) = golden_set_of(Path::new(what), settings, config_given)
+            .with_context(|| format!("--vectors {what}"))?;
         let Some(cycle) = set.cycle else {
             match set.no_cycle_level {
                 Some(why) => bail!("{why}"),
@@ -117,6 +122,18 @@ fn vectors_for(
 /// A depth: the one given (at least `needed`), else `needed` when vectors are written
 /// (`needed` > 0: the memories then match the files exactly), else [`DEFAULT_DEPTH`].
 fn depth(given: Option<usize>, needed: usize, flag: &str, file: &str) -> anyhow::Result<usize> {
+    if let Some(d) = given.filter(|&d| d > MAX_DEPTH) {
+        bail!(
+            "{flag} {d} is out of range: allowed up to {MAX_DEPTH} words (the testbench's memories and \
+             its 32-bit Verilog `integer` indices)"
+        );
+    }
+    if needed > MAX_DEPTH {
+        bail!(
+            "{file} would hold {needed} words, more than the {MAX_DEPTH} a testbench memory may have: \
+             give a shorter stimulus"
+        );
+    }
     match given {
         Some(d) if d < needed => bail!(
             "{flag} {d}: {file} holds {needed} words; give at least {needed} (or leave the flag out)"
@@ -168,7 +185,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     out.commit()
         .with_context(|| format!("writing {}", args.out.display()))?;
-    println!(
+    outln!(
         "configuration hash {:016x}: {} files in {}",
         config.hash(),
         staged.len(),
@@ -176,15 +193,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     );
     for f in &staged {
         if let Some(name) = f.file_name() {
-            println!("  {}", args.out.join(name).display());
+            outln!("  {}", args.out.join(name).display());
         }
     }
     if let Some((v, hz, source)) = &vectors {
-        println!(
+        outln!(
             "vectors from {source}: {} clocks at {hz} Hz; {} ({} words), {} ({} words)",
-            v.cycles, STIM_HEX, v.stim_words, EXPECT_HEX, v.expect_words
+            v.cycles,
+            STIM_HEX,
+            v.stim_words,
+            EXPECT_HEX,
+            v.expect_words
         );
-        println!(
+        outln!(
             "run: cd {} && iverilog -g2005 -o tb *.v && vvp tb",
             args.out.display()
         );

@@ -2,9 +2,14 @@
 //! golden model (docs/domain.md §2), print a table, and write plots, vectors and a JSON
 //! summary into an output folder that always holds one whole run ([`OutputFolder`]).
 //!
-//! Exit codes: 0 every measurement decided; 1 an error (bad settings, a file that could
-//! not be written); 3 the run completed and its files were written, but some measurement
-//! did not decide ([`UNDECIDED`]).
+//! Exit codes (as every subcommand, docs/cli.md): 0 every measurement decided; 1 the run
+//! completed and its files were written, but some measurement did not decide
+//! ([`UNDECIDED`]); 2 bad input (a bad setting, named by its flag or its key in the
+//! settings file, a run too large to hold, a folder that cannot be written).
+//!
+//! A run is sized before it starts ([`check_run_size`]): its event vectors are held in
+//! memory, so settings that would make more than [`MAX_EVENTS`] events (a tiny feed over
+//! a large clearance with many revolutions allowed) are refused with the estimate.
 
 use crate::lathe::RetractAt;
 use crate::measurement_cycle::{self, CycleRun};
@@ -70,7 +75,11 @@ pub enum VcdSpan {
 }
 
 /// Exit code of a run in which some measurement did not decide (its files are written).
-pub const UNDECIDED: u8 = 3;
+pub const UNDECIDED: u8 = super::NOT_PASSED;
+
+/// Most input events a run may make (about 80 bytes each in memory across the event
+/// list, the expected outputs and their encodings: 25 million events are about 2 GB).
+pub const MAX_EVENTS: f64 = 25e6;
 
 /// Every file `measure` can write into its output folder.
 pub const OUTPUTS: [&str; 6] = [
@@ -84,9 +93,13 @@ pub const OUTPUTS: [&str; 6] = [
 
 /// Arguments of `tooltouch measure`. Every setting has a flag; flags override `--config`.
 #[derive(clap::Args, Debug)]
-#[command(after_help = "\
-Exit codes: 0 every measurement decided; 1 error (bad settings, unwritable files); 3 the run \
-completed and wrote its files, but some measurement did not decide.")]
+#[command(
+    allow_negative_numbers = true,
+    after_help = "\
+Exit codes: 0 every measurement decided; 1 the run completed and wrote its files, but some \
+measurement did not decide; 2 bad input (a setting out of range, named by its flag or key; a \
+run too large; an unreadable settings file; an unwritable output folder)."
+)]
 pub struct Args {
     /// Output folder (created): plots, VCD, binary vectors, summary.json. A run replaces
     /// this command's files in the folder (and removes those it did not write this time,
@@ -232,6 +245,33 @@ pub struct SettingFlags {
     pub max_approach_revs: Option<u32>,
 }
 
+/// Multiplies each amplitude of the `[lathe] list` by `gain` (the flag `flag`), naming the
+/// flag when the gain or a scaled amplitude is out of range (`0..=1000` µm).
+fn scale_amplitudes<'a>(
+    flag: &str,
+    gain: f64,
+    list: &str,
+    amplitudes: impl Iterator<Item = &'a mut f64>,
+) -> Result<(), SettingsError> {
+    if !(gain.is_finite() && gain >= 0.0) {
+        return Err(SettingsError::Conflict(format!(
+            "{flag} {gain} is out of range: allowed 0 or more (a factor on every [lathe] {list} amplitude)"
+        )));
+    }
+    for (i, a) in amplitudes.enumerate() {
+        let scaled = *a * gain;
+        if scaled > 1000.0 {
+            return Err(SettingsError::Conflict(format!(
+                "{flag} {gain} makes [lathe] {list}[{i}].amplitude_um {} × {gain} = {scaled} µm, \
+                 out of range: allowed 0..=1000 µm",
+                *a
+            )));
+        }
+        *a = scaled;
+    }
+    Ok(())
+}
+
 fn set<T: Copy>(target: &mut T, flag: Option<T>) {
     if let Some(v) = flag {
         *target = v;
@@ -246,6 +286,89 @@ impl Args {
 }
 
 impl SettingFlags {
+    /// The flag that set the settings field `field` (as a [`ScenarioError`] or
+    /// `ConfigError` names it: `rpm`, `cycle.repeats`, `i_def`) and its value as given.
+    ///
+    /// [`ScenarioError`]: crate::lathe::ScenarioError
+    pub fn flag_of(&self, field: &str) -> Option<(String, String)> {
+        fn v<T: std::fmt::Display>(x: Option<T>) -> Option<String> {
+            x.map(|x| x.to_string())
+        }
+        let leaf = field.rsplit('.').next().unwrap_or(field);
+        let value = match leaf {
+            "i_def" => v(self.i_def),
+            "pulses_per_rev" => v(self.pulses_per_rev),
+            "window_revs" => v(self.window_revs),
+            "charge_bits" => v(self.charge_bits),
+            "charge_step" => v(self.charge_step),
+            "discharge_step" => v(self.discharge_step),
+            "charge_shift" => v(self.charge_shift),
+            "discharge_shift" => v(self.discharge_shift),
+            "fire_threshold" => v(self.fire_threshold),
+            "rearm_threshold" => v(self.rearm_threshold),
+            "glitch_cycles" => v(self.glitch_cycles),
+            "scale_bits" => v(self.scale_bits),
+            "clock_hz" => v(self.clock_hz),
+            "rpm" => v(self.rpm),
+            "diameter_mm" => v(self.diameter_mm),
+            "feed_mm_per_rev" => v(self.feed_mm_per_rev),
+            "scale_resolution_um" => v(self.scale_resolution_um),
+            "random_um" => v(self.random_um),
+            "repeating_mismatch" => v(self.repeating_mismatch),
+            "seed" => v(self.seed),
+            "bounce_pulses" => v(self.bounce_pulses),
+            "non_conduction_us" => v(self.non_conduction_us),
+            "spike_rate_hz" => v(self.spike_rate_hz),
+            "spike_max_cycles" => v(self.spike_max_cycles),
+            "repeats" => v(self.repeats),
+            "clearance_um" => v(self.clearance_um),
+            "retract_mm_per_s" => v(self.retract_mm_per_s),
+            "z_step_mm" => v(self.z_step_mm),
+            "nose_radius_mm" => v(self.nose_radius_mm),
+            "z_dwell_ms" => v(self.z_dwell_ms),
+            "cnc_reaction_us" => v(self.cnc_reaction_us),
+            "max_approach_revs" => v(self.max_approach_revs),
+            _ => None,
+        }?;
+        Some((format!("--{}", leaf.replace('_', "-")), value))
+    }
+
+    /// The flag of a settings field whether given or not (`cycle.retract_mm_per_s` →
+    /// `--retract-mm-per-s`), or its key for a field without a flag.
+    fn flag_of_name(&self, field: &str) -> String {
+        let leaf = field.rsplit('.').next().unwrap_or(field);
+        let flag = format!("--{}", leaf.replace('_', "-"));
+        let known = crate::cli::Cli::command_has_flag("measure", &flag[2..]);
+        if known {
+            flag
+        } else {
+            format!("`{field}` in --config")
+        }
+    }
+
+    /// A settings error told as the user spelled the culprit: the flag and its value when
+    /// a flag set the field, else the settings file (when the field is in it), else a
+    /// default the user did not set. `config` is the `--config` file.
+    pub fn explain(&self, e: SettingsError, config: Option<&std::path::Path>) -> anyhow::Error {
+        let field = match &e {
+            SettingsError::Measure(c) => c.field.to_string(),
+            SettingsError::Lathe(l) => l.field.clone(),
+            _ => return e.into(),
+        };
+        if let Some((flag, value)) = self.flag_of(&field) {
+            return anyhow::anyhow!("{flag} {value}: {e}");
+        }
+        match config {
+            Some(path) if file_sets(path, &e, &field) => {
+                anyhow::anyhow!("settings file {}: {e}", path.display())
+            }
+            _ => anyhow::anyhow!(
+                "{e}; this value is the default (not set by a flag or the settings file) and does not fit the other settings: set {} or change those",
+                self.flag_of_name(&field)
+            ),
+        }
+    }
+
     /// The settings: defaults, then the file `config`, then these flags.
     pub fn settings(&self, config: Option<&std::path::Path>) -> Result<Settings, SettingsError> {
         let mut s = match config {
@@ -325,10 +448,20 @@ impl SettingFlags {
         set(&mut l.repeating_mismatch, self.repeating_mismatch);
         set(&mut l.seed, self.seed);
         if let Some(g) = self.profile_gain {
-            l.profile.iter_mut().for_each(|h| h.amplitude_um *= g);
+            scale_amplitudes(
+                "--profile-gain",
+                g,
+                "profile",
+                l.profile.iter_mut().map(|h| &mut h.amplitude_um),
+            )?;
         }
         if let Some(g) = self.slow_gain {
-            l.slow.iter_mut().for_each(|h| h.amplitude_um *= g);
+            scale_amplitudes(
+                "--slow-gain",
+                g,
+                "slow",
+                l.slow.iter_mut().map(|h| &mut h.amplitude_um),
+            )?;
         }
         let e = &mut l.electrics;
         set(&mut e.bounce_pulses, self.bounce_pulses);
@@ -352,6 +485,71 @@ impl SettingFlags {
         }
         Ok(s)
     }
+}
+
+/// Whether the settings file `path` sets the field of `e` (`field`, dotted, with list
+/// indices `profile[0].amplitude_um`).
+fn file_sets(path: &std::path::Path, e: &SettingsError, field: &str) -> bool {
+    let Ok(text) = crate::settings::read_text_file(path, "settings file") else {
+        return false;
+    };
+    let Ok(table) = toml::from_str::<toml::Table>(&text) else {
+        return false;
+    };
+    let (root, alt) = match e {
+        SettingsError::Measure(_) => ("measure", Some("charge_law")),
+        _ => ("lathe", None),
+    };
+    let lookup = |prefix: Option<&str>| {
+        let mut at = table.get(root);
+        for part in prefix.into_iter().chain(field.split('.')) {
+            let (key, index) = match part.split_once('[') {
+                Some((k, i)) => (k, i.trim_end_matches(']').parse::<usize>().ok()),
+                None => (part, None),
+            };
+            at = at.and_then(|t| t.get(key));
+            if let Some(i) = index {
+                at = at.and_then(|t| t.get(i));
+            }
+        }
+        at.is_some()
+    };
+    lookup(None) || alt.is_some_and(|a| lookup(Some(a)))
+}
+
+/// Refuses a run whose event vectors would not fit in memory, before it starts: the
+/// estimate is the FES pulses of every measurement's approach (bounded by
+/// `max_approach_revs`), retract and Z dwell, about one input event each.
+pub fn check_run_size(
+    scenario: &crate::lathe::LatheScenario,
+    config: &MeasureConfig,
+) -> anyhow::Result<f64> {
+    let c = &scenario.cycle;
+    let feed_um_per_rev = scenario.feed_mm_per_rev * 1000.0;
+    let window = f64::from(config.settings().window_revs);
+    let approach_revs = (c.clearance_um / feed_um_per_rev + 2.0 * window + 4.0)
+        .min(f64::from(c.max_approach_revs) + 2.0 * window + 4.0);
+    let revs_per_s = scenario.rpm / 60.0;
+    let retract_s = (c.clearance_um * 1e-3 + 0.1) / c.retract_mm_per_s;
+    let other_revs = revs_per_s * (c.z_dwell_ms * 1e-3 + retract_s);
+    let revs = f64::from(c.repeats) * (approach_revs + other_revs);
+    let events = revs * f64::from(config.pulses_per_rev());
+    if events > MAX_EVENTS {
+        anyhow::bail!(
+            "this run would make about {events:.3e} events ({revs:.3e} revolutions × {} pulses_per_rev; \
+             per measurement up to {approach_revs:.0} revolutions of approach: clearance_um {} / feed_mm_per_rev {} \
+             capped by max_approach_revs {}; repeats {}), about {:.1} GB of vectors in memory: \
+             the limit is {MAX_EVENTS:.0} events. Lower --repeats, --max-approach-revs or --clearance-um, \
+             or raise --feed-mm-per-rev",
+            config.pulses_per_rev(),
+            c.clearance_um,
+            scenario.feed_mm_per_rev,
+            c.max_approach_revs,
+            c.repeats,
+            events * 80.0 / 1e9
+        );
+    }
+    Ok(events)
 }
 
 fn opt(v: Option<f64>, decimals: usize) -> String {
@@ -388,6 +586,13 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
         ));
     }
     let t = &run.summary;
+    if t.decided == 0 {
+        s.push_str(&format!(
+            "decided 0/{}: no measurement decided, so no diameter (one count = {:.2} µm)\n",
+            t.measurements, t.diameter_quantum_um
+        ));
+        return s;
+    }
     s.push_str(&format!(
         "decided {}/{}; diameter {:.4} mm ± {:.2} µm (1σ, range {:.2} µm, one count = {:.2} µm)\n",
         t.decided,
@@ -423,7 +628,10 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
     let settings = args.settings()?;
-    let (config, scenario) = settings.resolve()?;
+    let (config, scenario) = settings
+        .resolve()
+        .map_err(|e| args.flags.explain(e, args.config.as_deref()))?;
+    check_run_size(&scenario, &config)?;
     let out = OutputFolder::create(&args.out, OUTPUTS)?;
 
     let bar = if args.no_progress {
@@ -439,7 +647,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     bar.finish_and_clear();
     let simulated = started.elapsed();
 
-    print!("{}", table(&run, &config));
+    out!("{}", table(&run, &config));
 
     crate::plot::contact_density(
         &out.path("contact_density.svg"),
@@ -498,7 +706,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     )?;
     let dir = out.dir().to_path_buf();
     out.commit()?;
-    println!(
+    outln!(
         "simulated {:.2} s of lathe time ({} clocks, {} clocked, {} events) in {:.2} s; wrote {}",
         run.stimulus.total_cycles() as f64 / f64::from(scenario.clock_hz),
         run.stimulus.total_cycles(),

@@ -1,4 +1,48 @@
 //! Command-line interface: one module per subcommand.
+//!
+//! Every subcommand exits alike (docs/cli.md): 0 success; 1 a verdict that is not a pass
+//! (a `check` mismatch, a `measure` run in which some measurement did not decide); 2 bad
+//! input (a usage error, a bad value or file, refused work, an output folder that cannot be
+//! written), each message naming the file, the flag or key, the value and what is allowed;
+//! 130 stopped by a signal (no partial output left). Standard output goes through
+//! [`outln!`]: a reader that went away (`tooltouch control | head -1`) ends the printing
+//! quietly instead of panicking.
+
+/// Writes one formatted piece to standard output. After a write error (the reader closed
+/// the pipe) the rest of the run's printing is dropped; the run itself goes on, so its
+/// files are still written.
+pub fn write_stdout(args: std::fmt::Arguments) {
+    use std::io::Write;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    static CLOSED: AtomicBool = AtomicBool::new(false);
+    if CLOSED.load(Ordering::Relaxed) {
+        return;
+    }
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.flush()) {
+        CLOSED.store(true, Ordering::Relaxed);
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("warning: standard output: {e}; printing stops here");
+        }
+    }
+}
+
+/// `println!` through [`write_stdout`].
+macro_rules! outln {
+    () => {
+        $crate::cli::write_stdout(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// `print!` through [`write_stdout`].
+macro_rules! out {
+    ($($arg:tt)*) => {
+        $crate::cli::write_stdout(format_args!($($arg)*))
+    };
+}
 
 pub mod check;
 pub mod control;
@@ -11,10 +55,22 @@ pub mod wear;
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+/// Exit code of a verdict that is not a pass: a mismatch, an undecided measurement.
+pub const NOT_PASSED: u8 = 1;
+/// Exit code of bad input: usage, values, files, refused work, unwritable output.
+pub const BAD_INPUT: u8 = 2;
+
 /// Simulate in-process measurement and force control on a CNC lathe with the golden
 /// fixed-point model; write and check test vectors.
 #[derive(Parser, Debug)]
-#[command(name = "tooltouch", version, about)]
+#[command(
+    name = "tooltouch",
+    version,
+    about,
+    after_help = "Exit codes (every subcommand): 0 success; 1 a check mismatch or an undecided \
+measurement; 2 bad input (usage, values, files, refused work, unwritable output); 130 \
+interrupted (no partial output left). See docs/cli.md."
+)]
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -39,9 +95,43 @@ enum Command {
     Tune(tune::Args),
 }
 
+/// Lets a value that starts with `-` reach the flag's own parser (`--rpm -inf`, `--seed
+/// -1`, `--glitch-cycles -5..=5`), so the error names the flag instead of an "unexpected
+/// argument `-i`". Every argument that takes a value other than a path or a named choice.
+fn hyphen_values(c: clap::Command) -> clap::Command {
+    c.mut_args(|a| {
+        let path = a.get_value_parser().type_id() == std::any::TypeId::of::<std::path::PathBuf>();
+        if a.get_action().takes_values() && !path && a.get_possible_values().is_empty() {
+            a.allow_hyphen_values(true)
+        } else {
+            a
+        }
+    })
+    .mut_subcommands(hyphen_values)
+}
+
+impl Cli {
+    /// The command line's definition as parsed: the derived one with
+    /// [`hyphen_values`] applied.
+    pub fn definition() -> clap::Command {
+        use clap::CommandFactory;
+        hyphen_values(Cli::command())
+    }
+
+    /// Whether the subcommand `sub` has the long flag `--long`.
+    pub fn command_has_flag(sub: &str, long: &str) -> bool {
+        use clap::CommandFactory;
+        Cli::command()
+            .find_subcommand(sub)
+            .is_some_and(|c| c.get_arguments().any(|a| a.get_long() == Some(long)))
+    }
+}
+
 /// Parses the arguments, runs the subcommand, and reports an error with its context.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    use clap::FromArgMatches;
+    let cli = Cli::from_arg_matches(&Cli::definition().get_matches()).unwrap_or_else(|e| e.exit());
+    crate::output::remove_staging_on_signal();
     let result = match cli.command {
         Command::Measure(args) => measure::run(args),
         Command::Check(args) => check::run(args),
@@ -55,7 +145,7 @@ pub fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::FAILURE
+            ExitCode::from(BAD_INPUT)
         }
     }
 }

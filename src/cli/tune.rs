@@ -12,7 +12,13 @@ use std::time::Instant;
 
 /// Arguments of `tooltouch tune`.
 #[derive(clap::Args, Debug)]
-#[command(args_conflicts_with_subcommands = true)]
+#[command(
+    args_conflicts_with_subcommands = true,
+    allow_negative_numbers = true,
+    after_help = "Exit codes: 0 success; 2 bad input (a spec or flag value out of range, a sweep \
+larger than the limit, an unreadable spec or results.json, slices that do not make one sweep, an \
+unwritable output folder)."
+)]
 pub struct Args {
     #[command(subcommand)]
     command: Option<Command>,
@@ -56,58 +62,58 @@ struct SweepArgs {
     #[arg(long)]
     revolutions: Option<u32>,
     /// Decision methods: counter, density, single_pulse.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     method: Option<String>,
     /// Contact rules: sticky, sampled.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     contact_rule: Option<String>,
     /// Charge laws: linear, exponential.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     law: Option<String>,
     /// Capacitor widths, bits.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     charge_bits: Option<String>,
     /// Scale position widths, bits.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     scale_bits: Option<String>,
     /// Glitch filter lengths, clocks.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     glitch_cycles: Option<String>,
     /// Counter thresholds, contact pulses per window.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     i_def: Option<String>,
     /// Counting windows, revolutions.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     window_revs: Option<String>,
     /// Linear law: pulses from empty to full.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     charge_pulses: Option<String>,
     /// Linear law: pulses from full to empty.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     discharge_pulses: Option<String>,
     /// Exponential law: charge shifts.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     charge_shift: Option<String>,
     /// Exponential law: discharge shifts.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     discharge_shift: Option<String>,
     /// Fire thresholds, percent of full scale.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     fire_percent: Option<String>,
     /// Re-arm thresholds, percent of full scale.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     rearm_percent: Option<String>,
     /// Force controllers: pi, adaptive, fuzzy, or `none` to skip the force sweep.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     force_controller: Option<String>,
     /// Force controllers' proportional gain, percent of the Ziegler–Nichols design.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     kp_percent: Option<String>,
     /// Force controllers' integral gain, percent of the design.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     ki_percent: Option<String>,
     /// Force feedback: estimated, measured.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     force_source: Option<String>,
 }
 
@@ -156,14 +162,16 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
     let mut spec = match &a.spec {
         Some(p) => {
             let text =
-                std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+                crate::settings::read_text_file(p, "sweep spec").map_err(anyhow::Error::msg)?;
             SweepSpec::from_toml(&text).with_context(|| format!("sweep spec {}", p.display()))?
         }
         None => SweepSpec::default(),
     };
-    spec.apply(&a.overrides())?;
+    let overrides = a.overrides();
+    spec.apply(&overrides)?;
     let shard: Option<Shard> = a.shard.as_deref().map(str::parse).transpose()?;
-    let n = tune::points_in(&spec, shard)?;
+    let n = tune::points_in(&spec, shard)
+        .map_err(|e| name_the_flag(e, &overrides, a.spec.as_deref()))?;
     let bar = ProgressBar::new(n as u64);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} points, {elapsed} elapsed, ETA {eta}")
@@ -176,7 +184,7 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
     write_folder(&results, &a.out)?;
     let scenarios = spec.scenarios;
     match shard {
-        Some(s) => println!(
+        Some(s) => outln!(
             "tune: slice {}/{}: {} of {} points × {scenarios} scenarios in {wall:.1} s → {}",
             s.k,
             s.n,
@@ -185,7 +193,7 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
             a.out.display()
         ),
         None => {
-            println!(
+            outln!(
                 "tune: {} measurement points × {scenarios} scenarios of {} revolutions and {} \
                  force-control points × 2 engines in {wall:.1} s ({} threads)",
                 results.points,
@@ -194,17 +202,54 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
                 rayon::current_num_threads()
             );
             summary(&results);
-            println!("wrote {}", a.out.display());
+            outln!("wrote {}", a.out.display());
         }
     }
     Ok(ExitCode::SUCCESS)
 }
 
+/// A sweep error told with the flag that set its parameter (`--force-controller x:`),
+/// when a flag did, else with the spec file `spec_file` (when one was given).
+fn name_the_flag(
+    e: tune::TuneError,
+    overrides: &Overrides,
+    spec_file: Option<&std::path::Path>,
+) -> anyhow::Error {
+    if let tune::TuneError::Spec(spec) = &e {
+        let flag_value = |key: &str| {
+            overrides
+                .values
+                .iter()
+                .find(|(k, _)| k == key)
+                .map(|(k, v)| (k.rsplit('.').next().unwrap_or(k).to_string(), v.clone()))
+        };
+        let set = match spec.parameter.as_str() {
+            "scenarios" => overrides
+                .scenarios
+                .map(|n| ("scenarios".into(), n.to_string())),
+            "approach.revolutions" => overrides
+                .revolutions
+                .map(|n| ("revolutions".into(), n.to_string())),
+            "force.controller" => {
+                flag_value("force.controller").map(|(_, v)| ("force_controller".into(), v))
+            }
+            p => flag_value(p),
+        };
+        if let Some((key, value)) = set {
+            return anyhow::anyhow!("--{} {value}: {e}", key.replace('_', "-"));
+        }
+        if let Some(file) = spec_file {
+            return anyhow::anyhow!("sweep spec {}: {e}", file.display());
+        }
+    }
+    e.into()
+}
+
 fn summary(r: &tune::Results) {
     let mut front: Vec<&tune::Row> = r.rows.iter().filter(|r| r.pareto).collect();
     front.sort_by_key(|r| r.logic_cells);
-    println!("Pareto front (mean |diameter error| vs float reference against logic cells):");
-    println!(
+    outln!("Pareto front (mean |diameter error| vs float reference against logic cells):");
+    outln!(
         "{:>5} {:>12} {:>7} {:>6} {:>6} {:>6} {:>11} {:>9} {:>4} {:>4} {:>10} {:>8}",
         "index",
         "method",
@@ -220,7 +265,7 @@ fn summary(r: &tune::Results) {
         "revs"
     );
     for x in front {
-        println!(
+        outln!(
             "{:>5} {:>12} {:>7} {:>6} {:>6} {:>6} {:>11} {:>9} {:>4} {:>4} {:>10.3} {:>8.2}",
             x.index,
             x.method,
@@ -237,8 +282,8 @@ fn summary(r: &tune::Results) {
         );
     }
     if !r.force.is_empty() {
-        println!("Force control (depth-step scenario, IAE of |F_r − F| in N·s):");
-        println!(
+        outln!("Force control (depth-step scenario, IAE of |F_r − F| in N·s):");
+        outln!(
             "{:>5} {:>9} {:>10} {:>5} {:>5} {:>10} {:>10} {:>9} {:>9}",
             "index",
             "ctrl",
@@ -251,7 +296,7 @@ fn summary(r: &tune::Results) {
             "overshoot%"
         );
         for x in &r.force {
-            println!(
+            outln!(
                 "{:>5} {:>9} {:>10} {:>5} {:>5} {:>10.2} {:>10.2} {:>9.3} {:>9.1}",
                 x.index,
                 x.controller,
@@ -267,7 +312,7 @@ fn summary(r: &tune::Results) {
     }
     let misses = r.rows.iter().filter(|r| r.misses > 0).count();
     if misses > 0 {
-        println!("{misses} points missed a decision the reference took (or the reverse)");
+        outln!("{misses} points missed a decision the reference took (or the reverse)");
     }
 }
 
@@ -291,7 +336,7 @@ fn merge(dirs: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
         .collect::<Result<Vec<_>>>()?;
     let merged = tune::merge(&parts)?;
     write_folder(&merged, out)?;
-    println!(
+    outln!(
         "tune merge: {} slices, {} points → {}",
         parts.len(),
         merged.points,

@@ -24,7 +24,7 @@ before it); its clocks run from time 0 to its last time.";
 
 /// Arguments of `tooltouch vectors`.
 #[derive(clap::Args, Debug)]
-#[command(after_help = CLOCK_RULE)]
+#[command(after_help = CLOCK_RULE, allow_negative_numbers = true)]
 pub struct Args {
     /// The stimulus: a VCD holding the six input pins (arm contact index fes scale_a
     /// scale_b: in a scope `inputs`, or named `pin_<name>`, or the shallowest outside a
@@ -33,7 +33,7 @@ pub struct Args {
     #[arg(long)]
     pub stimulus: PathBuf,
     /// Settings TOML, as `tooltouch measure` takes it: the golden model's `[measure]`
-    /// table (or its fields at top level) and `[lathe] clock_hz`; other tables ignored.
+    /// table (or its fields at top level) and `[lathe] clock_hz`; other tables are errors.
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// FPGA clock, Hz (see the clock rule below).
@@ -61,7 +61,7 @@ pub struct LoadedSettings {
 
 /// Reads the settings file `path`: the `[measure]` table (or, when the file has neither a
 /// `[measure]` nor a `[lathe]` table, the measurement fields at top level), the `[lathe]`
-/// table; other tables are ignored. `clock_flag` is `--clock-hz`, which wins over the
+/// table; any other table or key is an error. `clock_flag` is `--clock-hz`, which wins over the
 /// file's `[lathe] clock_hz`.
 pub fn load_settings(
     path: Option<&Path>,
@@ -79,16 +79,38 @@ pub fn load_settings(
         return Ok(loaded);
     };
     let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let table: toml::Table =
-        toml::from_str(&text).with_context(|| format!("{}: not valid TOML", path.display()))?;
+        crate::settings::read_text_file(path, "settings file").map_err(anyhow::Error::msg)?;
+    let table: toml::Table = toml::from_str(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "settings file {}: not valid TOML: {}",
+            path.display(),
+            crate::settings::toml_error(&text, &e)
+        )
+    })?;
+    if table.contains_key("measure") || table.contains_key("lathe") {
+        if let Some(unknown) = table
+            .keys()
+            .find(|k| !matches!(k.as_str(), "measure" | "lathe"))
+        {
+            anyhow::bail!(
+                "settings file {}: unknown table or key `{unknown}`: allowed `[measure]` and `[lathe]`",
+                path.display()
+            );
+        }
+    }
     let settings: MeasureSettings = match (table.get("measure"), table.get("lathe")) {
         (Some(measure), _) => measure
             .clone()
             .try_into()
             .with_context(|| format!("{}: [measure]", path.display()))?,
         (None, Some(_)) => MeasureSettings::default(),
-        (None, None) => toml::from_str(&text).with_context(|| format!("{}", path.display()))?,
+        (None, None) => toml::from_str(&text).map_err(|e| {
+            anyhow::anyhow!(
+                "settings file {}: {}",
+                path.display(),
+                crate::settings::toml_error(&text, &e)
+            )
+        })?,
     };
     loaded.config = settings
         .validate()
@@ -157,7 +179,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     .filter_map(|(k, what)| summary[k].as_str().map(|h| format!("{what} {h}")))
     .collect::<Vec<_>>()
     .join(", ");
-    println!(
+    outln!(
         "{hashes}: {} events, {} force events, decisions: {}; wrote {}",
         summary["events"],
         summary["force_events"],
@@ -165,10 +187,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         dir.display()
     );
     if let Some(why) = &set.no_cycle_level {
-        println!("  no golden VCD nor testbench vectors: {why}");
+        outln!("  no golden VCD nor testbench vectors: {why}");
     }
     if let Some(c) = &set.cycle {
-        println!(
+        outln!(
             "  {} clocks at {} Hz in {} segments",
             c.stimulus.total_cycles(),
             c.stimulus.clock_hz,
@@ -176,12 +198,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         match &c.hex {
             Ok(v) => {
-                println!(
+                outln!(
                     "  testbench vectors: {} stim.hex words, {} expect.hex words",
-                    v.stim_words, v.expect_words
+                    v.stim_words,
+                    v.expect_words
                 );
                 if v.stim_words.max(v.expect_words) > crate::hdl::hex::DEFAULT_DEPTH {
-                    println!(
+                    outln!(
                         "  (more than a default testbench holds: `tooltouch hdl --vectors {}` sizes it, \
                          or give `--stim-depth {} --expect-depth {}`)",
                         args.stimulus.display(),
@@ -190,11 +213,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     );
                 }
             }
-            Err(why) => println!("  no testbench vectors: {why}"),
+            Err(why) => outln!("  no testbench vectors: {why}"),
         }
     }
     for f in files {
-        println!("  {}", f.display());
+        outln!("  {}", f.display());
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 
 /// Arguments of `tooltouch wear`.
 #[derive(clap::Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Directory for the plots (`wear_<tool>.svg`). A run replaces this command's files in
     /// the folder; other files are left alone; a failed run leaves the folder as it was.
@@ -35,7 +36,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         None => None,
     };
     let m = &sc.milling;
-    println!(
+    outln!(
         "face milling D = {} mm, Z = {}, t = {} mm, s_z = {} mm, {} rpm, [VB] = {} mm, eta = {}",
         m.diameter_mm,
         m.teeth,
@@ -48,7 +49,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     for (i, d) in sc.depths.iter().enumerate() {
         let c = sc.conditions(i);
         let limit = m.mean_power(sc.vb_limit_mm, &c);
-        println!(
+        outln!(
             "  cut {} (depth {d} mm, from {:.0} s): [P-bar] = {:.0} W (W7 at [VB]), [P] = {:.0} W (W9)",
             i + 1,
             sc.idle_s + i as f64 * sc.segment_s,
@@ -56,9 +57,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
             m.motor_power(limit)
         );
     }
-    println!(
+    outln!(
         "{:<6} {:<10} {:>12} {:>12} {:>10}",
-        "tool", "threshold", "alarm at", "during cut", "verdict"
+        "tool",
+        "threshold",
+        "alarm at",
+        "during cut",
+        "verdict"
     );
     let bar = indicatif::ProgressBar::new(4);
     let mut rows = Vec::new();
@@ -104,12 +109,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
     }
     bar.finish_and_clear();
     for r in rows {
-        println!("{r}");
+        outln!("{r}");
     }
     if let Some(out) = out {
         let dir = out.dir().to_path_buf();
         out.commit()?;
-        println!("plots written to {}", dir.display());
+        outln!("plots written to {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -183,6 +183,17 @@ pub struct ScenarioError {
     pub range: String,
 }
 
+/// Most harmonics a `profile`, `repeating` or `slow` list may hold.
+pub const MAX_HARMONICS: usize = 256;
+
+impl ScenarioError {
+    /// The error with the reason of a range that other fields set appended to its range.
+    fn because(mut self, reason: String) -> ScenarioError {
+        self.range = format!("{} ({reason})", self.range);
+        self
+    }
+}
+
 fn check(field: &str, value: f64, min: f64, max: f64) -> Result<(), ScenarioError> {
     if value.is_finite() && value >= min && value <= max {
         Ok(())
@@ -209,7 +220,12 @@ impl LatheScenario {
         }
         let ppr = f64::from(config.pulses_per_rev());
         let max_rpm = (f64::from(self.clock_hz) * 60.0 / (ppr * 8.0)).min(1e6);
-        check("rpm", self.rpm, 1.0, max_rpm)?;
+        check("rpm", self.rpm, 1.0, max_rpm).map_err(|e| {
+            e.because(format!(
+                "at least 8 clocks per FES pulse: clock_hz {} × 60 / (8 × pulses_per_rev {ppr}), at most 1e6",
+                self.clock_hz
+            ))
+        })?;
         check("diameter_mm", self.diameter_mm, 0.1, 2000.0)?;
         check("feed_mm_per_rev", self.feed_mm_per_rev, 1e-6, 1.0)?;
         check(
@@ -218,6 +234,22 @@ impl LatheScenario {
             0.001,
             100.0,
         )?;
+        for (name, len) in [
+            ("profile", self.profile.len()),
+            ("repeating", self.repeating.len()),
+            ("slow", self.slow.len()),
+        ] {
+            if len > MAX_HARMONICS {
+                return Err(ScenarioError {
+                    field: name.into(),
+                    value: len as f64,
+                    range: format!(
+                        "at most {MAX_HARMONICS} harmonics (the value is the list's length; \
+                         every harmonic is summed at every surface sample)"
+                    ),
+                });
+            }
+        }
         for (name, list) in [("profile", &self.profile), ("repeating", &self.repeating)] {
             for (i, h) in list.iter().enumerate() {
                 check(&format!("{name}[{i}].order"), h.order.into(), 1.0, 512.0)?;
@@ -288,7 +320,15 @@ impl LatheScenario {
             c.retract_mm_per_s,
             0.001,
             max_retract.min(1000.0),
-        )?;
+        )
+        .map_err(|e| {
+            e.because(format!(
+                "one scale count per 4·(glitch_cycles + 2) clocks: scale_resolution_um {} × 1e-3 × clock_hz {} / (4·({} + 2)), at most 1000",
+                self.scale_resolution_um,
+                self.clock_hz,
+                config.settings().glitch_cycles
+            ))
+        })?;
         check("cycle.nose_radius_mm", c.nose_radius_mm, 0.0, 10.0)?;
         if !(c.z_step_mm.is_finite() && c.z_step_mm > c.nose_radius_mm && c.z_step_mm <= 100.0) {
             return Err(ScenarioError {

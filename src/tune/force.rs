@@ -114,6 +114,28 @@ impl ForceSpec {
         let kps = self.kp_percent.expand("force.kp_percent", 1, 1000)?;
         let kis = self.ki_percent.expand("force.ki_percent", 1, 1000)?;
         let sources = self.force_source.expand("force.force_source", &SOURCES)?;
+        let per_source: usize = CONTROLLERS
+            .iter()
+            .filter(|(_, k)| controllers.contains(k))
+            .map(|(_, k)| {
+                let kis = if matches!(k, Kind::Adaptive) {
+                    1
+                } else {
+                    kis.len()
+                };
+                kps.len().saturating_mul(kis)
+            })
+            .fold(0usize, usize::saturating_add);
+        super::spec::check_sweep_size(
+            "force sweep",
+            &[
+                ("force.force_source", sources.len()),
+                (
+                    "force.controller × force.kp_percent × force.ki_percent",
+                    per_source,
+                ),
+            ],
+        )?;
         let nominal = NominalProcess::default();
         let (kp, ki) = nominal.ziegler_nichols_pi();
         let mut out = Vec::new();

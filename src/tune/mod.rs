@@ -264,8 +264,11 @@ pub fn merge(parts: &[Results]) -> Result<Results, TuneError> {
     let first = parts
         .first()
         .ok_or_else(|| TuneError::Merge("no results to merge".into()))?;
-    let mut rows: Vec<Row> = Vec::with_capacity(first.points);
-    let mut force_rows: Vec<force::ForceRow> = Vec::with_capacity(first.force_points);
+    // `points` and `force_points` come from the files: nothing is sized by them, they
+    // are checked against the rows present, and added without overflow.
+    let mut rows: Vec<Row> = Vec::with_capacity(parts.iter().map(|p| p.rows.len()).sum());
+    let mut force_rows: Vec<force::ForceRow> =
+        Vec::with_capacity(parts.iter().map(|p| p.force.len()).sum());
     for (i, p) in parts.iter().enumerate() {
         if p.format != FORMAT {
             return Err(TuneError::Merge(format!(
@@ -302,10 +305,14 @@ pub fn merge(parts: &[Results]) -> Result<Results, TuneError> {
         }
         n += 1;
     }
-    if n != first.points + first.force_points || rows.len() != first.points {
+    let stated = first.points.checked_add(first.force_points);
+    if stated != Some(n) || rows.len() != first.points {
         return Err(TuneError::Merge(format!(
-            "{n} of {} points present (is a shard missing?)",
-            first.points + first.force_points
+            "{n} points present ({} measurement, {} force), the results.json files say `points` = {}, `force_points` = {} (is a shard missing?)",
+            rows.len(),
+            force_rows.len(),
+            first.points,
+            first.force_points
         )));
     }
     mark_pareto(&mut rows);

@@ -218,6 +218,28 @@ impl SweepSpec {
         let ds = self.discharge_shift.expand("discharge_shift", 0, 24)?;
         let fire = self.fire_percent.expand("fire_percent", 1, 100)?;
         let rearm = self.rearm_percent.expand("rearm_percent", 0, 99)?;
+        let linear = laws.iter().filter(|l| **l == Law::Linear).count();
+        let exponential = laws.len() - linear;
+        let factors: [(&str, usize); 10] = [
+            ("method", methods.len()),
+            ("contact_rule", rules.len()),
+            ("charge_bits", charge_bits.len()),
+            (
+                "law × steps",
+                (linear.saturating_mul(cp.len()).saturating_mul(dp.len())).saturating_add(
+                    exponential
+                        .saturating_mul(cs.len())
+                        .saturating_mul(ds.len()),
+                ),
+            ),
+            ("fire_percent", fire.len()),
+            ("rearm_percent", rearm.len()),
+            ("glitch_cycles", glitch.len()),
+            ("scale_bits", scale_bits.len()),
+            ("window_revs", window.len()),
+            ("i_def", i_def.len()),
+        ];
+        check_sweep_size("measurement sweep", &factors)?;
         let mut out = Vec::new();
         for &method in &methods {
             for &rule in &rules {
@@ -324,6 +346,41 @@ impl SweepSpec {
     }
 }
 
+/// Most points one sweep (measurement or force) may have: a million points are about
+/// 100 MB of points and rows, and hours of work at the default scenarios.
+pub const MAX_POINTS: u128 = 1_000_000;
+
+/// Checks that the product of `factors` (parameter, number of values) is at most
+/// [`MAX_POINTS`], before any point is made; the error names every factor.
+pub(crate) fn check_sweep_size(what: &str, factors: &[(&str, usize)]) -> Result<(), SpecError> {
+    let product = factors
+        .iter()
+        .try_fold(1u128, |p, &(_, n)| p.checked_mul(n as u128));
+    match product {
+        Some(n) if n <= MAX_POINTS => Ok(()),
+        _ => {
+            let shown = product.map_or_else(|| "more than 10^38".to_string(), |n| n.to_string());
+            let list = factors
+                .iter()
+                .filter(|(_, n)| *n != 1)
+                .map(|(p, n)| format!("{p} {n}"))
+                .collect::<Vec<_>>()
+                .join(" × ");
+            let names: Vec<&str> = factors
+                .iter()
+                .filter(|(_, n)| *n > 1)
+                .map(|(p, _)| *p)
+                .collect();
+            Err(err(
+                &names.join(", "),
+                format!(
+                    "the {what} has {shown} points ({list}), more than the {MAX_POINTS} a sweep may have: give fewer values or wider steps"
+                ),
+            ))
+        }
+    }
+}
+
 /// One slice of a sweep: points whose index `% n == k`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Shard {
@@ -340,14 +397,19 @@ impl std::str::FromStr for Shard {
         let (k, n) = s
             .split_once('/')
             .ok_or_else(|| err("shard", format!("`{s}` is not K/N")))?;
-        let k: u32 = k
-            .trim()
-            .parse()
-            .map_err(|_| err("shard", format!("K `{k}` is not a whole number")))?;
-        let n: u32 = n
-            .trim()
-            .parse()
-            .map_err(|_| err("shard", format!("N `{n}` is not a whole number")))?;
+        let whole = |what: &str, t: &str| -> Result<u32, SpecError> {
+            let t = t.trim();
+            t.parse::<u32>().map_err(|e| {
+                let why = match e.kind() {
+                    std::num::IntErrorKind::PosOverflow => {
+                        format!("is out of range: allowed 0..={}", u32::MAX)
+                    }
+                    _ => "is not a whole number".to_string(),
+                };
+                err("shard", format!("{what} `{t}` in `--shard {s}` {why}"))
+            })
+        };
+        let (k, n) = (whole("K", k)?, whole("N", n)?);
         if n == 0 {
             return Err(err("shard", "N must be at least 1"));
         }

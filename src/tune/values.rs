@@ -18,6 +18,9 @@ pub struct SpecError {
     pub message: String,
 }
 
+/// Most values one parameter may list (a range's values, a list's entries).
+pub const MAX_VALUES: usize = 100_000;
+
 pub(crate) fn err(parameter: &str, message: impl Into<String>) -> SpecError {
     SpecError {
         parameter: parameter.to_string(),
@@ -51,6 +54,15 @@ impl Values {
         };
         if raw.is_empty() {
             return Err(err(parameter, "no values (an empty list)"));
+        }
+        if raw.len() > MAX_VALUES {
+            return Err(err(
+                parameter,
+                format!(
+                    "{} values, more than the {MAX_VALUES} a parameter may have",
+                    raw.len()
+                ),
+            ));
         }
         let mut out = Vec::with_capacity(raw.len());
         for v in raw {
@@ -93,13 +105,18 @@ fn parse_text(parameter: &str, t: &str) -> Result<Vec<i64>, SpecError> {
         if a > b {
             return Err(err(parameter, format!("empty range {a}..={b}")));
         }
-        if (b - a) / step > 100_000 {
+        // In i128: `b - a` of two i64 can exceed i64 (`-5e18..=5e18`).
+        let count = (i128::from(b) - i128::from(a)) / i128::from(step) + 1;
+        if count > MAX_VALUES as i128 {
             return Err(err(
                 parameter,
-                format!("range {a}..={b}:{step} has too many values"),
+                format!(
+                    "range {a}..={b}:{step} has {count} values, more than the {MAX_VALUES} a parameter may have"
+                ),
             ));
         }
-        return Ok((a..=b).step_by(step as usize).collect());
+        let step = usize::try_from(step).map_err(|_| err(parameter, "range step too large"))?;
+        return Ok((a..=b).step_by(step).collect());
     }
     if t.contains("..") {
         return Err(err(
