@@ -155,7 +155,10 @@ enum Failure {
     Unnamed,
 }
 
-fn judge(c: &Case, o: &Outcome) -> Result<(), (Failure, String)> {
+/// A row's verdict: passed, or the failure kind and what happened.
+type Verdict = Result<(), (Failure, String)>;
+
+fn judge(c: &Case, o: &Outcome) -> Verdict {
     let (code, text) = match o {
         Outcome::TimedOut => {
             return Err((Failure::Hang, format!("ran past {TIME_LIMIT:?}")));
@@ -927,7 +930,7 @@ fn named_rows(f: &Fixtures, rows: &mut Vec<Case>) {
 }
 
 /// `tooltouch ... | head -1`: the reader goes away before the first line.
-fn closed_pipe_rows(f: &Fixtures) -> Vec<(String, Result<(), (Failure, String)>)> {
+fn closed_pipe_rows(f: &Fixtures) -> Vec<(String, Verdict)> {
     let mut out = Vec::new();
     for (name, args) in [
         ("control | head", vec!["control", "--controller", "all"]),
@@ -979,7 +982,7 @@ fn closed_pipe_rows(f: &Fixtures) -> Vec<(String, Result<(), (Failure, String)>)
 }
 
 /// Ctrl-C in the middle of a run: exit 130, nothing left in the output folder.
-fn interrupt_row(f: &Fixtures) -> (String, Result<(), (Failure, String)>) {
+fn interrupt_row(f: &Fixtures) -> (String, Verdict) {
     let name = "measure interrupted by SIGINT".to_string();
     let o = f.dir.join("interrupted");
     let args: Vec<String> = [
@@ -1057,7 +1060,7 @@ fn hostile_inputs_neither_panic_nor_hang_nor_blow_up_and_name_the_culprit() {
     let named = rows.len() - numeric - files - outputs;
 
     let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<(String, Result<(), (Failure, String)>)>> = Mutex::new(Vec::new());
+    let results: Mutex<Vec<(String, Verdict)>> = Mutex::new(Vec::new());
     std::thread::scope(|s| {
         for _ in 0..WORKERS {
             s.spawn(|| loop {

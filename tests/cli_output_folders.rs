@@ -105,7 +105,7 @@ fn measure_exits_1_when_a_measurement_does_not_decide() {
     let help = tooltouch(&["measure", "--help"]);
     assert!(
         text(&help).contains(
-            "3 the run completed and wrote its files, but some measurement did not decide"
+            "1 the run completed and wrote its files, but some measurement did not decide"
         ),
         "{}",
         text(&help)

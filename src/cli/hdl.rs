@@ -83,6 +83,7 @@ fn vectors_for(
         scenario
             .validate(config)
             .map_err(|e| anyhow::anyhow!("--vectors lathe: [lathe] {e}"))?;
+        super::measure::check_run_size(&scenario, config).context("--vectors lathe")?;
         let run = crate::measurement_cycle::run(&scenario, config, &mut |_| {})
             .map_err(|e| anyhow::anyhow!("--vectors lathe: {e}"))?;
         let end = run.measurements.first().map_or(0, |m| m.end_cycle);

@@ -458,6 +458,40 @@ mod tests {
     }
 
     #[test]
+    fn a_range_whose_width_overflows_is_refused_by_its_count() {
+        let e = Values::text("-5000000000000000000..=5000000000000000000")
+            .expand("glitch_cycles", 0, 255)
+            .unwrap_err();
+        assert!(e.message.contains("10000000000000000001 values"), "{e}");
+        let e = Values::text("0..=9223372036854775807:1")
+            .expand("i_def", 0, 1023)
+            .unwrap_err();
+        assert!(e.message.contains("more than the 100000"), "{e}");
+    }
+
+    #[test]
+    fn a_sweep_over_the_cap_is_refused_before_its_points_are_made() {
+        let mut s = SweepSpec::default();
+        s.apply(&Overrides {
+            values: vec![
+                ("i_def".into(), "0..=1023".into()),
+                ("glitch_cycles".into(), "0..=255".into()),
+            ],
+            ..Default::default()
+        })
+        .unwrap();
+        let e = s.points().unwrap_err();
+        assert!(
+            e.parameter.contains("i_def") && e.message.contains("more than the 1000000"),
+            "{e}"
+        );
+        // The product overflows u128 without a panic.
+        let factors = [("a", usize::MAX); 3];
+        let e = check_sweep_size("sweep", &factors).unwrap_err();
+        assert!(e.message.contains("more than 10^38"), "{e}");
+    }
+
+    #[test]
     fn default_sweep_is_valid() {
         let p = SweepSpec::default().points().unwrap();
         assert_eq!(p.len(), 3 * 2 * 3 * 3 * 3 * 2);
