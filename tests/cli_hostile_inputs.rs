@@ -990,7 +990,7 @@ fn interrupt_row(f: &Fixtures) -> (String, Verdict) {
         "--config",
         f.settings.to_str().unwrap(),
         "--repeats",
-        "1000",
+        "500",
         "--no-progress",
         "--out",
         o.to_str().unwrap(),
