@@ -15,6 +15,8 @@ const TOOLS: &[(&str, &str)] = &[
     ("yosys", "yosys"),
     ("nextpnr-ice40", "nextpnr-ice40"),
     ("icepack", "fpga-icestorm"),
+    // The hostile-input test table runs the CLI under `prlimit --as`.
+    ("prlimit", "util-linux"),
 ];
 
 fn on_path(program: &str) -> bool {
