@@ -111,7 +111,7 @@ pub enum SettingsError {
     #[error("{0}")]
     Io(String),
     /// The file is not valid TOML for these settings.
-    #[error("{file}: {message}")]
+    #[error("settings file {file}: {message}")]
     Parse {
         /// The file.
         file: String,
