@@ -51,7 +51,6 @@ pub enum EngineArg {
 
 /// Arguments of `tooltouch control`.
 #[derive(clap::Args, Debug)]
-#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Controller; `all` prints the table for the three.
     #[arg(long, value_enum, default_value = "pi")]

@@ -30,7 +30,7 @@ pub const MAX_DEPTH: usize = 1 << 26;
 
 /// Arguments of `tooltouch hdl`.
 #[derive(clap::Args, Debug)]
-#[command(after_help = CLOCK_RULE, allow_negative_numbers = true)]
+#[command(after_help = CLOCK_RULE)]
 pub struct Args {
     /// Settings TOML: a `[measure]` table (or the measurement fields at top level) and an
     /// optional `[lathe]` table (clock, and the run of `--vectors lathe`).

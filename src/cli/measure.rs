@@ -97,13 +97,10 @@ pub const OUTPUTS: [&str; 6] = [
 
 /// Arguments of `tooltouch measure`. Every setting has a flag; flags override `--config`.
 #[derive(clap::Args, Debug)]
-#[command(
-    allow_negative_numbers = true,
-    after_help = "\
+#[command(after_help = "\
 Exit codes: 0 every measurement decided; 1 the run completed and wrote its files, but some \
 measurement did not decide; 2 bad input (a setting out of range, named by its flag or key; a \
-run too large; an unreadable settings file; an unwritable output folder)."
-)]
+run too large; an unreadable settings file; an unwritable output folder).")]
 pub struct Args {
     /// Output folder (created): plots, VCD, binary vectors, summary.json. A run replaces
     /// this command's files in the folder (and removes those it did not write this time,

@@ -14,7 +14,6 @@ use std::time::Instant;
 #[derive(clap::Args, Debug)]
 #[command(
     args_conflicts_with_subcommands = true,
-    allow_negative_numbers = true,
     after_help = "Exit codes: 0 success; 2 bad input (a spec or flag value out of range, a sweep \
 larger than the limit, an unreadable spec or results.json, slices that do not make one sweep, an \
 unwritable output folder)."
@@ -62,58 +61,58 @@ struct SweepArgs {
     #[arg(long)]
     revolutions: Option<u32>,
     /// Decision methods: counter, density, single_pulse.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     method: Option<String>,
     /// Contact rules: sticky, sampled.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     contact_rule: Option<String>,
     /// Charge laws: linear, exponential.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     law: Option<String>,
     /// Capacitor widths, bits.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     charge_bits: Option<String>,
     /// Scale position widths, bits.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     scale_bits: Option<String>,
     /// Glitch filter lengths, clocks.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     glitch_cycles: Option<String>,
     /// Counter thresholds, contact pulses per window.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     i_def: Option<String>,
     /// Counting windows, revolutions.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     window_revs: Option<String>,
     /// Linear law: pulses from empty to full.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     charge_pulses: Option<String>,
     /// Linear law: pulses from full to empty.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     discharge_pulses: Option<String>,
     /// Exponential law: charge shifts.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     charge_shift: Option<String>,
     /// Exponential law: discharge shifts.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     discharge_shift: Option<String>,
     /// Fire thresholds, percent of full scale.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     fire_percent: Option<String>,
     /// Re-arm thresholds, percent of full scale.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     rearm_percent: Option<String>,
     /// Force controllers: pi, adaptive, fuzzy, or `none` to skip the force sweep.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     force_controller: Option<String>,
     /// Force controllers' proportional gain, percent of the Ziegler–Nichols design.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     kp_percent: Option<String>,
     /// Force controllers' integral gain, percent of the design.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     ki_percent: Option<String>,
     /// Force feedback: estimated, measured.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long)]
     force_source: Option<String>,
 }
 

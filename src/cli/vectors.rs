@@ -24,7 +24,7 @@ before it); its clocks run from time 0 to its last time.";
 
 /// Arguments of `tooltouch vectors`.
 #[derive(clap::Args, Debug)]
-#[command(after_help = CLOCK_RULE, allow_negative_numbers = true)]
+#[command(after_help = CLOCK_RULE)]
 pub struct Args {
     /// The stimulus: a VCD holding the six input pins (arm contact index fes scale_a
     /// scale_b: in a scope `inputs`, or named `pin_<name>`, or the shallowest outside a

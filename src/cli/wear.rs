@@ -11,7 +11,6 @@ use std::process::ExitCode;
 
 /// Arguments of `tooltouch wear`.
 #[derive(clap::Args, Debug)]
-#[command(allow_negative_numbers = true)]
 pub struct Args {
     /// Directory for the plots (`wear_<tool>.svg`). A run replaces this command's files in
     /// the folder; other files are left alone; a failed run leaves the folder as it was.
