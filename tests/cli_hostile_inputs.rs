@@ -17,9 +17,10 @@
 //!   large to hold, oversized and binary settings files, messages that blamed the wrong
 //!   field, a closed pipe, Ctrl-C.
 //!
-//! Running as root, permission bits do not stop reads or writes: the unreadable-file and
-//! read-only-folder rows are then skipped, and the skip and its reason are printed with the
-//! counts. Run `cargo test --test cli_hostile_inputs -- --nocapture` to see the counts.
+//! Running as root, permission bits do not stop reads or writes: the read-only folders are
+//! then made immutable (`chattr +i`, which stops root too, where the file system has it),
+//! and the unreadable-file rows (nothing stops root from reading) are skipped, each skip
+//! printed with its reason beside the counts. Run `cargo test --test cli_hostile_inputs -- --nocapture` to see the counts.
 
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -509,7 +510,41 @@ fn file_rows(f: &Fixtures, rows: &mut Vec<Case>, skipped: &mut Vec<String>) {
     }
 }
 
-fn output_rows(f: &Fixtures, rows: &mut Vec<Case>, skipped: &mut Vec<String>) {
+/// Folders made immutable (`chattr +i`, which stops root too), made mutable again when
+/// dropped so the temporary folder can be removed.
+#[derive(Default)]
+struct Immutable(Vec<PathBuf>);
+
+impl Immutable {
+    /// Makes `dir` immutable; false where the file system or `chattr` does not allow it.
+    fn add(&mut self, dir: &Path) -> bool {
+        let ok = Command::new("chattr")
+            .arg("+i")
+            .arg(dir)
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if ok {
+            self.0.push(dir.to_path_buf());
+        }
+        ok
+    }
+}
+
+impl Drop for Immutable {
+    fn drop(&mut self) {
+        for d in &self.0 {
+            let _ = Command::new("chattr").arg("-i").arg(d).status();
+        }
+    }
+}
+
+fn output_rows(
+    f: &Fixtures,
+    rows: &mut Vec<Case>,
+    skipped: &mut Vec<String>,
+    immutable: &mut Immutable,
+) {
     let root = running_as_root();
     let outs = f.dir.join("outs");
     std::fs::create_dir_all(&outs).unwrap();
@@ -533,16 +568,20 @@ fn output_rows(f: &Fixtures, rows: &mut Vec<Case>, skipped: &mut Vec<String>) {
                 Expect::Code(0),
             ),
         ];
-        if root {
-            skipped.push(format!(
-                "{sub} --out read-only: running as root, permission bits do not stop writes"
-            ));
-        } else {
-            let ro = outs.join(format!("{tag}-read-only"));
-            std::fs::create_dir_all(&ro).unwrap();
+        let ro = outs.join(format!("{tag}-read-only"));
+        std::fs::create_dir_all(&ro).unwrap();
+        if !root {
             use std::os::unix::fs::PermissionsExt;
             std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
             classes.push(("a read-only folder", ro, Expect::Code(2)));
+        } else if immutable.add(&ro) {
+            // Root writes through permission bits, not through the immutable attribute.
+            classes.push(("a read-only (immutable) folder", ro, Expect::Code(2)));
+        } else {
+            skipped.push(format!(
+                "{sub} --out read-only: running as root (permission bits do not stop writes) \
+                 on a file system without `chattr +i`"
+            ));
         }
         for (class, path, expect) in classes {
             let base = base_args(&sub, f, &path);
@@ -1054,7 +1093,9 @@ fn hostile_inputs_neither_panic_nor_hang_nor_blow_up_and_name_the_culprit() {
     let numeric = rows.len();
     file_rows(&f, &mut rows, &mut skipped);
     let files = rows.len() - numeric;
-    output_rows(&f, &mut rows, &mut skipped);
+    // Declared after `tmp`, so dropped before it: the folders are mutable again in time.
+    let mut immutable = Immutable::default();
+    output_rows(&f, &mut rows, &mut skipped, &mut immutable);
     let outputs = rows.len() - numeric - files;
     named_rows(&f, &mut rows);
     let named = rows.len() - numeric - files - outputs;
