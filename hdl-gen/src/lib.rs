@@ -63,7 +63,8 @@ use tooltouch_model::MeasureConfig;
 pub use design::{Design, Fault, Options, VerilogFile, FPGA_TOP, TOP};
 pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
 pub use modules::tt_testbench::{
-    testbench, TestbenchSpec, EXPECT_HEX, STIM_HEX, STIM_WORD_BITS, TESTBENCH,
+    testbench, TestbenchSpec, EXPECT_HEX, MAX_CYCLES, MAX_DEPTH, STIM_HEX, STIM_WORD_BITS,
+    TESTBENCH,
 };
 pub use modules::tt_testbench_main::{verilator_main, VERILATOR_MAIN};
 pub use outputs::{mask, output_fields, output_values, outputs_width, OutputField};

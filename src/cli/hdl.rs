@@ -2,7 +2,8 @@
 //! simulation top `tt_frontend.v`, the chip top `tt_fpga.v`) and its self-checking
 //! testbench `tt_testbench.v`, all derived from one measurement configuration, and with
 //! `--vectors` the testbench's `stim.hex` and `expect.hex` beside them, so that
-//! `cd DIR && iverilog -g2005 -o tb *.v && vvp tb` prints `TESTBENCH OK <cycles>`.
+//! `cd DIR && iverilog -g2005 -o tb *.v && vvp tb` (or `verilator --binary --top-module
+//! tt_testbench -o tb *.v && obj_dir/tb`) prints `TESTBENCH OK <cycles>`.
 //!
 //! The configuration file is read as `tooltouch vectors` reads it
 //! ([`super::vectors::load_settings`]): the `[measure]` table of `tooltouch measure`'s
@@ -19,14 +20,15 @@ use crate::vectors::stimulus_file::DEFAULT_CLOCK_HZ;
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use tooltouch_hdl_gen::{generate, testbench, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX};
+use tooltouch_hdl_gen::{
+    generate, testbench, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX, TESTBENCH,
+};
 use tooltouch_model::MeasureConfig;
 
 pub use crate::hdl::hex::DEFAULT_DEPTH;
 
-/// Largest `--stim-depth` / `--expect-depth`, words: far inside the testbench's 32-bit
-/// `integer` indices, and 2^26 words are already 0.5 GB of simulator memory.
-pub const MAX_DEPTH: usize = 1 << 26;
+/// Largest `--stim-depth` / `--expect-depth`, words (the generator's limit).
+pub use tooltouch_hdl_gen::MAX_DEPTH;
 
 /// Arguments of `tooltouch hdl`.
 #[derive(clap::Args, Debug)]
@@ -46,12 +48,12 @@ pub struct Args {
     /// the clock rule below).
     #[arg(long)]
     pub clock_hz: Option<u32>,
-    /// Largest stimulus the testbench accepts, in `stim.hex` words (segments + 1); default
-    /// 65536, or with `--vectors` the size of the vectors written.
+    /// Largest stimulus the testbench accepts, in `stim.hex` words (segments + 1),
+    /// 2..=67108864; default 65536, or with `--vectors` the size of the vectors written.
     #[arg(long)]
     pub stim_depth: Option<usize>,
-    /// Largest expected response the testbench accepts, in `expect.hex` words; default
-    /// 65536, or with `--vectors` the size of the vectors written.
+    /// Largest expected response the testbench accepts, in `expect.hex` words,
+    /// 2..=67108864; default 65536, or with `--vectors` the size of the vectors written.
     #[arg(long)]
     pub expect_depth: Option<usize>,
     /// Make the diagnostic counters REVOLUTIONS and PULSES readable through the MCU
@@ -120,13 +122,15 @@ fn vectors_for(
     Ok((v, stimulus.clock_hz, source))
 }
 
-/// A depth: the one given (at least `needed`), else `needed` when vectors are written
-/// (`needed` > 0: the memories then match the files exactly), else [`DEFAULT_DEPTH`].
+/// A depth: the one given (in `2..=`[`MAX_DEPTH`], at least `needed`), else `needed`
+/// when vectors are written (`needed` > 0: the memories then match the files exactly),
+/// else [`DEFAULT_DEPTH`]. Checked here so that no depth reaches the testbench's 32-bit
+/// `integer` parameters wrapped.
 fn depth(given: Option<usize>, needed: usize, flag: &str, file: &str) -> anyhow::Result<usize> {
-    if let Some(d) = given.filter(|&d| d > MAX_DEPTH) {
+    if let Some(d) = given.filter(|d| !(2..=MAX_DEPTH).contains(d)) {
         bail!(
-            "{flag} {d} is out of range: allowed up to {MAX_DEPTH} words (the testbench's memories and \
-             its 32-bit Verilog `integer` indices)"
+            "{flag} {d} is out of range: allowed 2..={MAX_DEPTH} words, header included (the \
+             testbench's memories and its 32-bit Verilog `integer` indices)"
         );
     }
     if needed > MAX_DEPTH {
@@ -208,6 +212,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
         outln!(
             "run: cd {} && iverilog -g2005 -o tb *.v && vvp tb",
+            args.out.display()
+        );
+        println!(
+            " or: cd {} && verilator --binary --top-module {TESTBENCH} -o tb *.v && obj_dir/tb",
             args.out.display()
         );
     }

@@ -85,6 +85,14 @@ pub fn cosim(
         expect_depth: vectors.iter().map(|v| v.expect_words).max().unwrap_or(2),
         mcu_diagnostics: plan.options.mcu_diagnostics,
     };
+    if !spec.depths_fit() {
+        return Err(HdlError::Stimulus(format!(
+            "vectors of {} stim.hex and {} expect.hex words: more than the testbench's {} words",
+            spec.stim_depth,
+            spec.expect_depth,
+            tooltouch_hdl_gen::MAX_DEPTH
+        )));
+    }
     let tb = testbench(config, &spec).ok_or_else(|| {
         HdlError::Stimulus(format!(
             "clock {clock_hz} Hz: the period must be a whole number of ns, at least 2"
