@@ -3,9 +3,9 @@
 //! scenario stays a small file (formats: `tooltouch_hdl_gen::testbench`).
 
 use super::{HdlError, Result};
-use crate::stimulus::Stimulus;
+use crate::stimulus::{Segment, Stimulus};
 use std::fmt::Write as _;
-use tooltouch_hdl_gen::{output_fields, output_values, outputs_width, STIM_WORD_BITS};
+use tooltouch_hdl_gen::{output_fields, output_values, outputs_width, MAX_CYCLES, STIM_WORD_BITS};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 
 /// Testbench memory depth when neither a depth nor `--vectors` is given, words.
@@ -68,26 +68,47 @@ impl BitString {
     }
 }
 
-/// Runs the golden cycle model ([`FrontEnd::clock`] once per clock) over `stimulus` and
-/// writes both vector files.
+/// Output values of every field, in [`output_fields`] order.
+type OutputValues = [u64; 15];
+
+/// The expected response of a run: one `(cycle, outputs)` entry for clock 0 and for every
+/// later clock after which an output changed, and the front end after the last clock.
+type Response = (Vec<(u64, OutputValues)>, FrontEnd);
+
+/// Runs the golden cycle model over `stimulus` and writes both vector files.
 ///
-/// Errors: an empty stimulus, or one longer than 2^31 clocks (the testbench's cycle
-/// field and loop counter are 32-bit signed integers).
+/// The model is clocked only where it can change: within a segment, once the front end
+/// [is settled](FrontEnd::is_settled) (the pins have passed the synchronizers and the
+/// glitch filter) no later clock of the segment changes a register, so the rest of the
+/// segment is skipped; and the outputs are read only after a clock whose edges the kernel
+/// acted on (nothing else changes them). The files are byte for byte those of clocking
+/// every cycle ([`FrontEnd::clock`] once per clock), which the tests keep as reference.
+///
+/// Errors: an empty stimulus, or one longer than [`MAX_CYCLES`] clocks (the testbench's
+/// cycle field and loop counter are 32-bit signed integers).
 pub fn golden_vectors(config: &MeasureConfig, stimulus: &Stimulus) -> Result<Vectors> {
+    golden_vectors_with(config, stimulus, settled_response)
+}
+
+/// [`golden_vectors`] with the expected response computed by `response`.
+fn golden_vectors_with(
+    config: &MeasureConfig,
+    stimulus: &Stimulus,
+    response: fn(&MeasureConfig, &[&Segment]) -> Response,
+) -> Result<Vectors> {
     let cycles = stimulus.total_cycles();
     if cycles == 0 {
         return Err(HdlError::Stimulus(
             "the stimulus has no clock cycles".into(),
         ));
     }
-    if cycles > i32::MAX as u64 {
+    if cycles > MAX_CYCLES {
         return Err(HdlError::Stimulus(format!(
-            "{cycles} clock cycles is more than the testbench's limit of {}",
-            i32::MAX
+            "{cycles} clock cycles is more than the testbench's limit of {MAX_CYCLES}"
         )));
     }
     // Stimulus: one word per segment.
-    let segments: Vec<_> = stimulus.segments.iter().filter(|s| s.cycles > 0).collect();
+    let segments: Vec<&Segment> = stimulus.segments.iter().filter(|s| s.cycles > 0).collect();
     let mut stim_hex = String::with_capacity((segments.len() + 1) * 11);
     let mut word = BitString::with_capacity(STIM_WORD_BITS);
     word.push(0, STIM_WORD_BITS - 32);
@@ -103,21 +124,7 @@ pub fn golden_vectors(config: &MeasureConfig, stimulus: &Stimulus) -> Result<Vec
     // Expected response: one word per clock after which an output changed.
     let fields = output_fields(config);
     let width = outputs_width(config);
-    let mut fe = FrontEnd::new(config);
-    let mut entries: Vec<(u64, [u64; 15])> = Vec::new();
-    let mut last: Option<[u64; 15]> = None;
-    let mut k: u64 = 0;
-    for s in &segments {
-        for _ in 0..s.cycles {
-            fe.clock(s.pins);
-            let values = output_values(config, &fe.outputs());
-            if last != Some(values) {
-                entries.push((k, values));
-                last = Some(values);
-            }
-            k = k.wrapping_add(1);
-        }
-    }
+    let (entries, fe) = response(config, &segments);
     let mut expect_hex = String::with_capacity((entries.len() + 1) * (width as usize / 4 + 10));
     let mut header = BitString::with_capacity(width + 32);
     header.push(entries.len() as u64, 32);
@@ -139,6 +146,33 @@ pub fn golden_vectors(config: &MeasureConfig, stimulus: &Stimulus) -> Result<Vec
         cycles,
         final_outputs: fe.outputs(),
     })
+}
+
+/// The expected response, clocking the model only until it settles in each segment (see
+/// [`golden_vectors`]).
+fn settled_response(config: &MeasureConfig, segments: &[&Segment]) -> Response {
+    let mut fe = FrontEnd::new(config);
+    let mut entries: Vec<(u64, OutputValues)> = Vec::new();
+    // Clock 0 always gives an entry (the outputs after it), settled or not.
+    let mut last: Option<OutputValues> = None;
+    let mut start: u64 = 0; // clock index of the segment's first clock
+    for s in segments {
+        let cycles = u64::from(s.cycles);
+        let mut k = 0;
+        while k < cycles && (last.is_none() || !fe.is_settled(s.pins)) {
+            let edges = fe.clock(s.pins);
+            if last.is_none() || !edges.is_empty() {
+                let values = output_values(config, &fe.outputs());
+                if last != Some(values) {
+                    entries.push((start + k, values));
+                    last = Some(values);
+                }
+            }
+            k += 1;
+        }
+        start += cycles;
+    }
+    (entries, fe)
 }
 
 /// Writes `stim.hex` and `expect.hex` into `dir`.
@@ -211,6 +245,82 @@ mod tests {
             "{moved}"
         );
         assert_eq!(v.final_outputs.position, -1);
+    }
+
+    /// The reference: the model clocked on every cycle, the outputs compared after each.
+    fn per_cycle_response(config: &MeasureConfig, segments: &[&Segment]) -> Response {
+        let mut fe = FrontEnd::new(config);
+        let mut entries = Vec::new();
+        let mut last: Option<OutputValues> = None;
+        let mut k: u64 = 0;
+        for s in segments {
+            for _ in 0..s.cycles {
+                fe.clock(s.pins);
+                let values = output_values(config, &fe.outputs());
+                if last != Some(values) {
+                    entries.push((k, values));
+                    last = Some(values);
+                }
+                k += 1;
+            }
+        }
+        (entries, fe)
+    }
+
+    #[test]
+    fn skipping_settled_clocks_writes_the_per_cycle_files_byte_for_byte() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
+        let mut configs = vec![MeasureConfig::default()];
+        configs.extend((0..4).map(|_| crate::hdl::random::random_config(&mut rng)));
+        for (i, config) in configs.iter().enumerate() {
+            for stretch in [1, 40, 3000] {
+                // Random pins with glitches; then some segments held far longer, so that the
+                // model settles and the rest of those segments is skipped.
+                let short =
+                    crate::hdl::random::random_stimulus(&mut rng, config, 50_000_000, 4_000);
+                let mut s = Stimulus::new(50_000_000);
+                if i % 2 == 1 {
+                    s.push(Pins(pin::ARM | pin::FES), 1); // not settled at clock 0
+                }
+                for seg in &short.segments {
+                    let hold = if rng.gen_bool(0.05) { stretch } else { 1 };
+                    s.push(seg.pins, u64::from(seg.cycles) * hold);
+                }
+                let fast = golden_vectors(config, &s).unwrap();
+                let reference = golden_vectors_with(config, &s, per_cycle_response).unwrap();
+                assert_eq!(
+                    fast, reference,
+                    "configuration {i}, stretch {stretch}: the files differ"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn skipping_settled_clocks_writes_the_per_cycle_files_of_a_lathe_run() {
+        // The closed-loop measurement cycle, fast and coarse (6000 rpm at 1 MHz, one
+        // measurement: 83 701 clocks of long quiet stretches between encoder pulses).
+        let mut scenario = crate::lathe::LatheScenario {
+            clock_hz: 1_000_000,
+            rpm: 6000.0,
+            ..Default::default()
+        };
+        scenario.cycle.repeats = 1;
+        scenario.cycle.clearance_um = 3.0;
+        scenario.cycle.z_dwell_ms = 0.2;
+        scenario.cycle.retract_mm_per_s = 2.0;
+        let config = MeasureConfig::default();
+        let s = crate::measurement_cycle::closed_loop_stimulus(&scenario, &config).unwrap();
+        let fast = golden_vectors(&config, &s).unwrap();
+        assert!(
+            fast.final_outputs.register_now,
+            "no decision in the lathe run"
+        );
+        assert_eq!(
+            fast,
+            golden_vectors_with(&config, &s, per_cycle_response).unwrap()
+        );
     }
 
     #[test]
