@@ -160,7 +160,7 @@ fn check_spoiled_vectors(rtl: &Path, run: &str) {
 }
 
 #[test]
-fn icarus_runs_the_generated_testbench_and_stops_on_bad_vectors() {
+fn hdl_icarus_runs_the_generated_testbench_and_stops_on_bad_vectors() {
     require(&["iverilog", "vvp"]);
     let work = tempfile::tempdir().unwrap();
     let rtl = rtl_with_vectors(work.path());
@@ -177,7 +177,7 @@ fn icarus_runs_the_generated_testbench_and_stops_on_bad_vectors() {
 }
 
 #[test]
-fn verilator_binary_runs_the_generated_testbench_and_stops_on_bad_vectors() {
+fn hdl_verilator_binary_runs_the_generated_testbench_and_stops_on_bad_vectors() {
     require(&["verilator"]);
     let work = tempfile::tempdir().unwrap();
     let rtl = rtl_with_vectors(work.path());
@@ -197,7 +197,7 @@ fn verilator_binary_runs_the_generated_testbench_and_stops_on_bad_vectors() {
 }
 
 #[test]
-fn depths_the_testbench_cannot_hold_are_refused() {
+fn hdl_depths_the_testbench_cannot_hold_are_refused() {
     let work = tempfile::tempdir().unwrap();
     let rtl = work.path().join("rtl");
     for (flag, value) in [
