@@ -145,7 +145,7 @@ pub fn host_tests() -> Result<()> {
 }
 
 /// The host's target triple, as `rustc -vV` reports it.
-fn host_triple() -> Result<String> {
+pub(crate) fn host_triple() -> Result<String> {
     let out = Command::new("rustc")
         .arg("-vV")
         .output()

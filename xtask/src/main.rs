@@ -1,4 +1,4 @@
-//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, bench.
+//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, bench, mutants.
 //!
 //! Each external tool is run with the working directory it needs: cargo reads
 //! `.cargo/config.toml` from the current directory, so firmware commands run inside
@@ -7,6 +7,7 @@
 mod bench;
 mod firmware;
 mod hdl;
+mod mutants;
 mod process;
 mod setup;
 
@@ -30,6 +31,9 @@ verbs:
                generator; review the result with `git diff hdl-gen/snapshots`
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
                (--criterion: also every criterion bench)
+  mutants      mutation testing (cargo-mutants, installed when missing) of the model against
+               its unit tests and of firmware/src/handlers.rs against its host tests; score
+               per file (--file F, repeatable: only these files); not part of `test`
 ";
 
 fn main() -> Result<()> {
@@ -42,6 +46,7 @@ fn main() -> Result<()> {
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "bench" => bench::run(&args[1..]),
+        "mutants" => mutants::run(&args[1..]),
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
             Ok(())

@@ -222,6 +222,9 @@ fn exp_step(distance: u32, shift: u8) -> u32 {
 }
 
 #[cfg(test)]
+mod worked_examples;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::measure::config::MeasureSettings;

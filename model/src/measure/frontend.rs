@@ -222,6 +222,9 @@ impl FrontEnd {
 }
 
 #[cfg(test)]
+mod worked_examples;
+
+#[cfg(test)]
 mod tests {
     extern crate std;
     use super::*;

@@ -229,3 +229,5 @@ impl Measurement {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod worked_examples;

@@ -47,12 +47,24 @@ mod tests {
     #[test]
     fn captures_once_until_cleared() {
         let mut l = PositionLatch::new();
+        assert_eq!((l.valid(), l.position()), (false, 0));
         assert!(l.capture(5));
+        assert!(l.valid());
         assert!(!l.capture(7));
         assert_eq!(l.position(), 5);
         l.clear();
         assert!(!l.valid());
+        assert_eq!(l.position(), 0, "an empty latch reads 0");
         assert!(l.capture(7));
         assert_eq!(l.position(), 7);
+    }
+
+    #[test]
+    fn holds_negative_and_extreme_positions() {
+        for p in [-1, -123_456, i32::MIN, i32::MAX, 2] {
+            let mut l = PositionLatch::new();
+            assert!(l.capture(p));
+            assert_eq!((l.valid(), l.position()), (true, p));
+        }
     }
 }

@@ -140,6 +140,9 @@ impl PulseCounter {
 }
 
 #[cfg(test)]
+mod worked_examples;
+
+#[cfg(test)]
 mod tests {
     use super::*;
     use crate::measure::config::MeasureSettings;

@@ -126,6 +126,44 @@ mod tests {
     }
 
     #[test]
+    fn every_backward_step_counts_minus_one() {
+        let mut q = decoder(24);
+        // 00 → 01 → 11 → 10 → 00: B leads A.
+        let backward = [(false, true), (true, true), (true, false), (false, false)];
+        for (k, (a, b)) in backward.into_iter().enumerate() {
+            q.on_ab(a, b);
+            assert_eq!(q.position(), -(k as i32) - 1);
+        }
+        // A repeated level is no transition.
+        q.on_ab(false, false);
+        assert_eq!((q.position(), q.errors()), (-4, 0));
+    }
+
+    #[test]
+    fn errors_saturate_at_255() {
+        let mut q = decoder(24);
+        for k in 1..=300u32 {
+            // 00 ↔ 11 changes both lines every time.
+            q.on_ab(k % 2 == 1, k % 2 == 1);
+            assert_eq!(u32::from(q.errors()), k.min(255));
+        }
+        assert_eq!(q.position(), 0);
+    }
+
+    #[test]
+    fn a_32_bit_scale_wraps_like_i32() {
+        let mut q = decoder(32);
+        q.on_ab(false, true);
+        assert_eq!((q.position(), q.raw_position()), (-1, u32::MAX));
+        let mut q = decoder(31);
+        q.on_ab(false, true);
+        assert_eq!((q.position(), q.raw_position()), (-1, 0x7fff_ffff));
+        q.on_ab(false, false);
+        q.on_ab(true, false);
+        assert_eq!((q.position(), q.raw_position()), (1, 1));
+    }
+
+    #[test]
     fn position_wraps_at_scale_bits() {
         let mut q = decoder(8);
         q.on_ab(false, true);
