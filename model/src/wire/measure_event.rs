@@ -102,6 +102,52 @@ mod tests {
     }
 
     #[test]
+    fn payloads_are_the_documented_bytes() {
+        let cases: [(MeasureEvent, u8, &[u8]); 8] = [
+            (MeasureEvent::Arm(true), 0x02, &[1]),
+            (MeasureEvent::Arm(false), 0x02, &[0]),
+            (MeasureEvent::Contact(true), 0x03, &[1]),
+            (MeasureEvent::Index, 0x04, &[]),
+            (MeasureEvent::Fes, 0x05, &[]),
+            (MeasureEvent::Scale { a: true, b: false }, 0x06, &[1]),
+            (MeasureEvent::Scale { a: false, b: true }, 0x06, &[2]),
+            (MeasureEvent::PresetPulses(0x0403_0201), 0x07, &[1, 2, 3, 4]),
+        ];
+        for (event, k, payload) in cases {
+            let r = encode_event(9, event);
+            assert_eq!((r.kind, r.time, r.payload()), (k, 9, payload), "{event:?}");
+            assert_eq!(
+                decode_event(&Record::new(k, 0, payload), 0),
+                Ok(Some(event))
+            );
+        }
+    }
+
+    #[test]
+    fn out_of_range_bytes_are_errors() {
+        let bad = |k: u8, payload: &[u8]| {
+            decode_event(&Record::new(k, 0, payload), 11)
+                == Err(WireError::BadLength {
+                    kind: k,
+                    len: payload.len() as u8,
+                    offset: 11,
+                })
+        };
+        assert!(bad(kind::ARM, &[2]), "a level is 0 or 1");
+        assert!(bad(kind::CONTACT, &[0xff]));
+        assert!(bad(kind::ARM, &[]));
+        assert!(bad(kind::SCALE, &[4]), "only bits 0 and 1");
+        assert!(bad(kind::SCALE, &[3, 0]));
+        assert!(bad(kind::INDEX, &[0]));
+        assert!(bad(kind::FES, &[1]));
+        assert!(bad(kind::PRESET_PULSES, &[1, 2, 3]));
+        assert_eq!(
+            decode_event(&Record::new(kind::SCALE, 0, &[3]), 0),
+            Ok(Some(MeasureEvent::Scale { a: true, b: true }))
+        );
+    }
+
+    #[test]
     fn other_kinds_are_not_measurement_events() {
         for k in [
             kind::MEASURE_CONFIG,

@@ -113,6 +113,49 @@ mod tests {
         assert_eq!(decode_outputs(&encode_outputs(&o)), Some(o));
     }
 
+    #[test]
+    fn the_bytes_follow_the_documented_layout() {
+        let o = MeasureOutputs {
+            armed: true,
+            contact: false,
+            register_now: true,
+            decision_position: -2,
+            first_contact: true,
+            first_contact_position: 0x0102_0304,
+            position: 0x1112_1314,
+            scale_errors: 0x55,
+            count: 0x2122_2324,
+            last_window_count: 0x3132_3334,
+            charge: 0x4142_4344,
+            density_armed: false,
+            density_fired: true,
+            revolutions: 0x5152,
+            pulses: 0x6162_6364,
+        };
+        let bytes: [u8; OUTPUTS_LEN] = [
+            0b10_1101, // armed, register_now, first_contact, density_fired
+            0xfe, 0xff, 0xff, 0xff, // -2
+            0x04, 0x03, 0x02, 0x01, //
+            0x14, 0x13, 0x12, 0x11, //
+            0x55, //
+            0x24, 0x23, 0x22, 0x21, //
+            0x34, 0x33, 0x32, 0x31, //
+            0x44, 0x43, 0x42, 0x41, //
+            0x52, 0x51, //
+            0x64, 0x63, 0x62, 0x61,
+        ];
+        assert_eq!(encode_outputs(&o), bytes);
+        assert_eq!(decode_outputs(&bytes), Some(o));
+        // The other flags: contact (bit 1) and density_armed (bit 4).
+        let flags = MeasureOutputs {
+            contact: true,
+            density_armed: true,
+            ..Default::default()
+        };
+        assert_eq!(encode_outputs(&flags)[0], 0b1_0010);
+        assert_eq!(decode_outputs(&[0u8; OUTPUTS_LEN + 1]), None);
+    }
+
     proptest! {
         #[test]
         fn any_outputs_round_trip(

@@ -385,6 +385,9 @@ impl Iterator for Records<'_> {
 }
 
 #[cfg(test)]
+mod worked_examples;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -94,3 +94,6 @@ impl ForceController for Controller {
         }
     }
 }
+
+#[cfg(test)]
+mod worked_examples;
