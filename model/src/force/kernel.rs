@@ -182,3 +182,6 @@ impl ForceKernel {
         &self.controller
     }
 }
+
+#[cfg(test)]
+mod worked_examples;

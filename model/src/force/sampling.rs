@@ -259,6 +259,105 @@ mod tests {
     }
 
     #[test]
+    fn four_samples_by_hand() {
+        // Shift 2: y = 0 (primed), then y += (400·256 − y)/4: 25600, 44800, 59200; mean
+        // (0 + 25600 + 44800 + 59200) / 4 = 32400.
+        let mut s = Sampler::new(2);
+        for speed in [0, 400, 400, 400] {
+            s.on_sample(&AdcCodes {
+                speed,
+                ..AdcCodes::default()
+            });
+        }
+        let a = s.on_tick();
+        assert_eq!((a.speed, a.samples), (32400, 4));
+        // One more sample of 400: 59200 + 10800 = 70000, alone in its period.
+        s.on_sample(&AdcCodes {
+            speed: 400,
+            ..AdcCodes::default()
+        });
+        assert_eq!(s.on_tick().speed, 70000);
+    }
+
+    #[test]
+    fn phase_squares_and_the_third_current() {
+        // v = +100, −50, −50 codes: Σv² = 15000; i_u = 10, i_v = −4, so i_w = −6:
+        // Σi² = 100 + 16 + 36 = 152; codes above 4095 read as 4095.
+        let mut s = Sampler::new(3);
+        s.on_sample(&AdcCodes {
+            speed: 5000,
+            power: 7,
+            force: 2048 - 9,
+            volts: [2148, 1998, 1998],
+            amps: [2058, 2044],
+        });
+        let a = s.on_tick();
+        assert_eq!(
+            (a.speed, a.power, a.force, a.volts_sq, a.amps_sq),
+            (4095 << 8, 7 << 8, -9 << 8, 15000 << 8, 152 << 8)
+        );
+    }
+
+    #[test]
+    fn the_shift_is_clamped_to_1_through_8() {
+        let step = |shift: u8| {
+            let mut s = Sampler::new(shift);
+            s.on_sample(&AdcCodes::default());
+            s.on_tick();
+            s.on_sample(&AdcCodes {
+                speed: 1024,
+                ..AdcCodes::default()
+            });
+            s.on_tick().speed
+        };
+        // One step from 0 toward 1024·256 = 262144: >> 1 = 131072, >> 8 = 1024.
+        assert_eq!(step(0), 131_072);
+        assert_eq!(step(1), 131_072);
+        assert_eq!(step(8), 1024);
+        assert_eq!(step(200), 1024);
+    }
+
+    #[test]
+    fn averages_convert_to_physical_units() {
+        let scales = AdcScales {
+            speed_per_lsb: Fx::lit("0.125"),
+            power_per_lsb: Fx::const_from_int(2),
+            force_per_lsb: Fx::ONE,
+            volts_per_lsb: Fx::lit("0.25"),
+            amps_per_lsb: Fx::lit("0.0625"),
+        };
+        let a = Averages {
+            speed: 400 << 8,
+            power: 1000 << 8,
+            force: -100 << 8,
+            volts_sq: 3 * 100 * 100 << 8,
+            amps_sq: 3 * 16 * 16 << 8,
+            samples: 1,
+        };
+        let d = scales.convert(&a);
+        // 400/8 rad/s, 2000 W, −100 N, √(30000/3)·0.25 = 25 V, √(768/3)/16 = 1 A,
+        // Σi² = 768/256 = 3 A².
+        assert_eq!(
+            (
+                d.omega,
+                d.p_o,
+                d.force_measured,
+                d.v_line,
+                d.i_line,
+                d.amps_sq
+            ),
+            (
+                Fx::const_from_int(50),
+                Fx::const_from_int(2000),
+                Fx::const_from_int(-100),
+                Fx::const_from_int(25),
+                Fx::ONE,
+                Fx::const_from_int(3)
+            )
+        );
+    }
+
+    #[test]
     fn lowpass_follows_a_step() {
         let mut s = Sampler::new(1);
         s.on_sample(&AdcCodes::default());

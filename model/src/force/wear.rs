@@ -258,6 +258,80 @@ mod tests {
         assert!(!m.step(Fx::ZERO).alarm);
     }
 
+    /// η = 1/2 (exact): set 0 allows 200 + 1000/0.5 = 2200 W, set 1 100 + 600/0.5 = 1300 W;
+    /// low-pass 2^−1, debounce 2.
+    fn two_sets(threshold: Threshold) -> WearMonitor {
+        let mut sets = [ConditionSet::default(); MAX_CONDITION_SETS];
+        sets[0] = ConditionSet {
+            mean_power_limit: Fx::const_from_int(1000),
+            idle_power: Fx::const_from_int(200),
+        };
+        sets[1] = ConditionSet {
+            mean_power_limit: Fx::const_from_int(600),
+            idle_power: Fx::const_from_int(100),
+        };
+        WearMonitor::new(&WearSettings {
+            sets,
+            set_count: 2,
+            efficiency: Fx::lit("0.5"),
+            lowpass_shift: 1,
+            debounce_periods: 2,
+            threshold,
+        })
+    }
+
+    fn status(power: i32, allowed: i32, over: bool, alarm: bool) -> WearStatus {
+        WearStatus {
+            power: Fx::from_num(power),
+            allowed: Fx::from_num(allowed),
+            over,
+            alarm,
+        }
+    }
+
+    #[test]
+    fn periods_by_hand() {
+        let mut m = two_sets(Threshold::Updating);
+        assert_eq!(m.status(), status(0, 2200, false, false));
+        let w = Fx::from_num::<i32>;
+        // The first period is taken as is, then p̄ += (P − p̄)/2.
+        assert_eq!(m.step(w(1000)), status(1000, 2200, false, false));
+        assert_eq!(m.step(w(3000)), status(2000, 2200, false, false));
+        assert_eq!(m.step(w(3000)), status(2500, 2200, true, false));
+        assert_eq!(m.step(w(3000)), status(2750, 2200, true, true));
+        // A new tool: the alarm and the count clear; two more periods over raise it again.
+        m.tool_changed();
+        assert_eq!(m.status(), status(2750, 2200, true, false));
+        assert_eq!(m.step(w(2750)), status(2750, 2200, true, false));
+        assert_eq!(m.step(w(2750)), status(2750, 2200, true, true));
+        // Set 1 lowers the threshold; set 2 does not exist and changes nothing.
+        assert!(m.select(1));
+        assert_eq!(m.status().allowed, w(1300));
+        assert!(!m.select(2));
+        assert_eq!(m.status().allowed, w(1300));
+        assert!(m.select(0));
+        assert_eq!(m.status().allowed, w(2200));
+    }
+
+    #[test]
+    fn equal_power_is_over_and_a_dip_restarts_the_debounce() {
+        let mut m = two_sets(Threshold::Updating);
+        let w = Fx::from_num::<i32>;
+        assert!(m.step(w(2200)).over, "p̄ = [P] counts as over");
+        // 2200 → 1100 → back: the count restarts.
+        assert!(!m.step(w(0)).over);
+        assert_eq!(m.step(w(3300)), status(2200, 2200, true, false));
+        assert_eq!(m.step(w(2200)), status(2200, 2200, true, true));
+    }
+
+    #[test]
+    fn a_constant_threshold_ignores_the_conditions() {
+        let mut m = two_sets(Threshold::Constant(Fx::const_from_int(1500)));
+        assert_eq!(m.status().allowed, Fx::const_from_int(1500));
+        assert!(m.select(1));
+        assert_eq!(m.status().allowed, Fx::const_from_int(1500));
+    }
+
     #[test]
     fn zero_efficiency_is_rejected() {
         let s = WearSettings {

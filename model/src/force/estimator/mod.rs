@@ -276,6 +276,9 @@ impl Estimator {
 }
 
 #[cfg(test)]
+mod worked_examples;
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

@@ -1,0 +1,180 @@
+//! Hand-worked periods of the estimator (eq. F2–F9, docs/domain.md §3) with numbers chosen
+//! so every step is exact in I32F32: J = 1/2 kg·m², h = 1/16 s (J/h = 8), r = 1/2 m.
+//! Each expected value is the equation evaluated by hand in the comment above it.
+
+use super::*;
+
+fn fx(x: f64) -> Fx {
+    Fx::from_num(x)
+}
+
+fn settings() -> EstimatorSettings {
+    EstimatorSettings {
+        stator_resistance: fx(0.5),
+        inertia: fx(0.5),
+        viscous_nominal: Fx::ZERO,
+        coulomb_nominal: fx(8.0),
+        friction_f: [Fx::ZERO, Fx::ZERO],
+        friction_g: [Fx::ZERO, Fx::ZERO],
+        min_speed: fx(5.0),
+        switch_threshold: fx(0.25),
+        slip_gain: fx(0.5),
+        slip_hold_periods: 2,
+        workpiece_radius: fx(0.5),
+    }
+}
+
+const H: f64 = 0.0625;
+
+/// Signals at speed `omega` with I = `i` A, V = `v` V, Σi² = `amps_sq` and measured power
+/// `p_o`.
+fn signals(omega: f64, i: f64, v: f64, amps_sq: f64, p_o: f64) -> DriveSignals {
+    DriveSignals {
+        omega: fx(omega),
+        p_o: fx(p_o),
+        force_measured: Fx::ZERO,
+        v_line: fx(v),
+        i_line: fx(i),
+        amps_sq: fx(amps_sq),
+    }
+}
+
+#[test]
+fn one_period_from_powers_to_force() {
+    let mut e = Estimator::new(&settings(), fx(H));
+    // P_i = 1.5·4·100 = 600 W, P_s = 0.5·48 = 24 W, P_g = 576 W = P_o: the measured power.
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 576.0));
+    assert_eq!(
+        (est.p_i, est.p_g, est.p_used),
+        (fx(600.0), fx(576.0), fx(576.0))
+    );
+    assert!(!est.fast);
+    // T_e = 576 / 8 = 72; first period: Δω = 0, B = 0: T_t = 72; c = 72 − 8 = 64, f = g = 0:
+    // T_c = 2·64 / (1 + 1) = 64; F = 64 / 0.5 = 128 N.
+    assert_eq!(
+        (est.t_e, est.t_t, est.t_c, est.force),
+        (fx(72.0), fx(72.0), fx(64.0), fx(128.0))
+    );
+    // Next period 4 rad/s faster: T_t = T_e − (J/h)·4 = 576/12 − 32 = 16; c = 8, T_c = 8.
+    let est = e.step(&signals(12.0, 4.0, 100.0, 48.0, 576.0));
+    assert_eq!(
+        (est.t_e, est.t_t, est.t_c, est.force),
+        (fx(48.0), fx(16.0), fx(8.0), fx(16.0))
+    );
+    // Below the speed floor of 5 rad/s the torque is 0.
+    let est = e.step(&signals(4.0, 4.0, 100.0, 48.0, 576.0));
+    assert_eq!(est.t_e, Fx::ZERO);
+}
+
+#[test]
+fn the_switch_selects_the_fast_estimate_and_holds_it() {
+    let mut e = Estimator::new(&settings(), fx(H));
+    // |P_g − P_o| = |576 − 400| = 176 > 0.25·400: fast, P = 0.5·576 = 288, T_e = 36.
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 400.0));
+    assert!(est.fast);
+    assert_eq!((est.p_used, est.t_e), (fx(288.0), fx(36.0)));
+    // P_o = 500: |76| ≤ 125, but the hold of 2 periods keeps the fast estimate once more.
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 500.0));
+    assert!(est.fast);
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 500.0));
+    assert!(!est.fast);
+    assert_eq!((est.p_used, est.t_e), (fx(500.0), fx(62.5)));
+    // P_o = 512: |64| ≤ 128, slow; a negative P_o counts by its magnitude:
+    // |576 + 256| = 832 > 0.25·256: fast.
+    assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 512.0)).fast);
+    assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, -256.0)).fast);
+    // Exactly at the threshold, |576 − 768| = 192 = 0.25·768: not above it, slow.
+    let mut e = Estimator::new(&settings(), fx(H));
+    assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 768.0)).fast);
+}
+
+#[test]
+fn viscous_friction_and_the_load_dependent_terms() {
+    // B = 1/4: T_t = T_e − B·ω = 72 − 2 = 70; c = 62, T_c = 62.
+    let mut s = settings();
+    s.viscous_nominal = fx(0.25);
+    let mut e = Estimator::new(&s, fx(H));
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 576.0));
+    assert_eq!((est.t_t, est.t_c), (fx(70.0), fx(62.0)));
+    // f = 15/16 + (1/128)·8 = 1: (1 + f)·T_c = c = 64 → T_c = 32.
+    let mut s = settings();
+    s.friction_f = [fx(0.9375), fx(1.0 / 128.0)];
+    let mut e = Estimator::new(&s, fx(H));
+    assert_eq!(e.step(&signals(8.0, 4.0, 100.0, 48.0, 576.0)).t_c, fx(32.0));
+    // g = 1/64 + (1/512)·8 = 1/32: g·T_c² + T_c = 64 → T_c = 32 (√(1 + 4·64/32) = 3).
+    let mut s = settings();
+    s.friction_g = [fx(1.0 / 64.0), fx(1.0 / 512.0)];
+    let mut e = Estimator::new(&s, fx(H));
+    assert_eq!(e.step(&signals(8.0, 4.0, 100.0, 48.0, 576.0)).t_c, fx(32.0));
+    // 1 + f is kept at least 1/2: f = −0.5 − 0.01·8 acts as −0.5, so
+    // T_c = 2·64 / (0.5 + √0.25) = 128.
+    let mut s = settings();
+    s.friction_f = [fx(-0.5), fx(-0.01)];
+    let mut e = Estimator::new(&s, fx(H));
+    assert_eq!(
+        e.step(&signals(8.0, 4.0, 100.0, 48.0, 576.0)).t_c,
+        fx(128.0)
+    );
+}
+
+/// A no-load period at speed `omega` whose identification torque
+/// `y = P_g/ω − (J/h)·Δω` is `y` (slip gain 1, R_s = 0, I = 1 A, P_g = 1.5·V).
+fn no_load(e: &mut Estimator, omega: f64, d_omega: f64, y: f64) {
+    let p_g = omega * (y + 8.0 * d_omega);
+    e.step(&signals(omega, 1.0, p_g / 1.5, 0.0, p_g));
+}
+
+fn no_load_settings(viscous: f64) -> EstimatorSettings {
+    EstimatorSettings {
+        stator_resistance: Fx::ZERO,
+        slip_gain: Fx::ONE,
+        viscous_nominal: fx(viscous),
+        ..settings()
+    }
+}
+
+#[test]
+fn identification_solves_b_and_coulomb_from_three_periods() {
+    // y = ω/4 + 1 at ω = 8, 16, 24: least squares gives B = 96/384 = 1/4, T_fco = 1.
+    let mut e = Estimator::new(&no_load_settings(0.0), fx(H));
+    assert!(!e.identifying());
+    e.start_identification();
+    assert!(e.identifying());
+    no_load(&mut e, 8.0, 0.0, 3.0);
+    no_load(&mut e, 16.0, 8.0, 5.0);
+    no_load(&mut e, 24.0, 8.0, 7.0);
+    e.finish_identification();
+    assert!(!e.identifying());
+    assert!(e.identified());
+    assert_eq!((e.viscous(), e.coulomb()), (fx(0.25), fx(1.0)));
+}
+
+#[test]
+fn identification_at_constant_speed_keeps_b() {
+    // ω = 8 throughout, no variance: B stays 1/4, T_fco = mean(y) − B·8 = 3 − 2 = 1.
+    let mut e = Estimator::new(&no_load_settings(0.25), fx(H));
+    e.start_identification();
+    for _ in 0..3 {
+        no_load(&mut e, 8.0, 0.0, 3.0);
+    }
+    e.finish_identification();
+    assert_eq!((e.viscous(), e.coulomb()), (fx(0.25), fx(1.0)));
+    assert!(e.identified());
+}
+
+#[test]
+fn identification_without_periods_or_start_changes_nothing() {
+    let mut e = Estimator::new(&no_load_settings(0.25), fx(H));
+    e.finish_identification();
+    assert!(!e.identified());
+    e.start_identification();
+    e.finish_identification();
+    assert!(!e.identified());
+    assert_eq!((e.viscous(), e.coulomb()), (fx(0.25), fx(8.0)));
+    // Periods outside an identification are not collected.
+    no_load(&mut e, 8.0, 0.0, 100.0);
+    e.start_identification();
+    no_load(&mut e, 8.0, 0.0, 3.0);
+    e.finish_identification();
+    assert_eq!(e.coulomb(), fx(1.0), "3 − 0.25·8");
+}
