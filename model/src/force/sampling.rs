@@ -330,8 +330,8 @@ mod tests {
             speed: 400 << 8,
             power: 1000 << 8,
             force: -100 << 8,
-            volts_sq: 3 * 100 * 100 << 8,
-            amps_sq: 3 * 16 * 16 << 8,
+            volts_sq: (3 * 100 * 100) << 8,
+            amps_sq: (3 * 16 * 16) << 8,
             samples: 1,
         };
         let d = scales.convert(&a);
