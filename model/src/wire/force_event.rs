@@ -137,6 +137,67 @@ mod tests {
         assert!(decode_force_event(&bad, 5).is_err());
     }
 
+    #[test]
+    fn payloads_are_the_documented_bytes() {
+        let sample = ForceEvent::Sample(AdcCodes {
+            speed: 0x0102,
+            power: 0x0304,
+            force: 0x0506,
+            volts: [0x0708, 0x090a, 0x0b0c],
+            amps: [0x0d0e, 0x0f10],
+        });
+        let r = encode_force_event(3, &sample);
+        assert_eq!((r.kind, r.time), (0x20, 3));
+        assert_eq!(
+            r.payload(),
+            &[2, 1, 4, 3, 6, 5, 8, 7, 0x0a, 9, 0x0c, 0x0b, 0x0e, 0x0d, 0x10, 0x0f]
+        );
+        let cases: [(ForceEvent, u8, &[u8]); 6] = [
+            (ForceEvent::Tick, 0x21, &[]),
+            (ForceEvent::Identify(true), 0x22, &[1]),
+            (ForceEvent::Identify(false), 0x22, &[0]),
+            (ForceEvent::Control(true), 0x23, &[1]),
+            (ForceEvent::Conditions(200), 0x24, &[200]),
+            (ForceEvent::ToolChanged, 0x25, &[]),
+        ];
+        for (event, k, payload) in cases {
+            let r = encode_force_event(0, &event);
+            assert_eq!((r.kind, r.payload()), (k, payload), "{event:?}");
+            assert_eq!(event.kind(), k);
+            assert_eq!(decode_force_event(&r, 0), Ok(Some(event)));
+        }
+        assert_eq!(sample.kind(), 0x20);
+    }
+
+    #[test]
+    fn malformed_payloads_are_errors_and_other_kinds_are_none() {
+        let bad = |k: u8, payload: &[u8]| {
+            decode_force_event(&Record::new(k, 0, payload), 21)
+                == Err(WireError::BadLength {
+                    kind: k,
+                    len: payload.len() as u8,
+                    offset: 21,
+                })
+        };
+        assert!(bad(kind::SAMPLE, &[0; 15]));
+        assert!(bad(kind::SAMPLE, &[0; 17]));
+        assert!(bad(kind::TICK, &[0]));
+        assert!(bad(kind::TOOL_CHANGED, &[1]));
+        assert!(bad(kind::IDENTIFY, &[2]));
+        assert!(bad(kind::IDENTIFY, &[]));
+        assert!(bad(kind::CONTROL, &[0, 0]));
+        assert!(bad(kind::CONDITIONS, &[]));
+        assert!(bad(kind::CONDITIONS, &[1, 2]));
+        for k in [
+            kind::ARM,
+            kind::FORCE_CONFIG_CHUNK,
+            kind::FORCE_OUTPUTS,
+            kind::END,
+        ] {
+            assert_eq!(decode_force_event(&Record::new(k, 0, &[]), 0), Ok(None));
+        }
+    }
+
     fn any_event() -> impl Strategy<Value = ForceEvent> {
         prop_oneof![
             (any::<[u16; 3]>(), any::<[u16; 3]>(), any::<[u16; 2]>()).prop_map(

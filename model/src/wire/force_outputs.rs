@@ -121,6 +121,51 @@ mod tests {
         assert_eq!(decode_force_outputs(&encode_force_outputs(&o)), Some(o));
     }
 
+    #[test]
+    fn the_bytes_follow_the_documented_layout() {
+        let o = ForceOutputs {
+            override_pct: 0x83,
+            saturated: false,
+            fast_estimate: true,
+            control_enabled: true,
+            identifying: false,
+            identified: true,
+            wear_over: false,
+            wear_alarm: true,
+            bad_events: 0x07,
+            force_estimate: Fx::lit("1.5"),
+            force_measured: Fx::from_bits(-1),
+            wear_power: Fx::from_bits(0x0102_0304_0506_0708),
+            wear_allowed: Fx::ZERO,
+            coulomb: Fx::DELTA,
+        };
+        let mut bytes = [0u8; FORCE_OUTPUTS_LEN];
+        bytes[..3].copy_from_slice(&[0x83, 0b101_0110, 0x07]);
+        // 1.5 = 0x1_8000_0000 in I32F32.
+        bytes[3..11].copy_from_slice(&[0, 0, 0, 0x80, 1, 0, 0, 0]);
+        bytes[11..19].copy_from_slice(&[0xff; 8]);
+        bytes[19..27].copy_from_slice(&[8, 7, 6, 5, 4, 3, 2, 1]);
+        bytes[35] = 1;
+        assert_eq!(encode_force_outputs(&o), bytes);
+        assert_eq!(decode_force_outputs(&bytes), Some(o));
+        // The other flags: saturated (bit 0), identifying (3), wear_over (5).
+        let other = ForceOutputs {
+            saturated: true,
+            identifying: true,
+            wear_over: true,
+            ..ForceOutputs::default()
+        };
+        assert_eq!(encode_force_outputs(&other)[1], 0b10_1001);
+        // Bit 7 is no output; wrong lengths are no record.
+        let mut b = bytes;
+        b[1] |= 0x80;
+        assert_eq!(decode_force_outputs(&b), None);
+        assert_eq!(decode_force_outputs(&bytes[..42]), None);
+        let mut long = [0u8; 44];
+        long[..43].copy_from_slice(&bytes);
+        assert_eq!(decode_force_outputs(&long), None);
+    }
+
     proptest! {
         #[test]
         fn any_outputs_round_trip(bytes in any::<[u8; 3]>(), flags in 0u8..0x80, values in any::<[i64; 5]>(), time in any::<u64>()) {

@@ -201,6 +201,73 @@ mod tests {
         );
     }
 
+    #[test]
+    fn the_default_hash_is_fnv1a_of_those_bytes() {
+        // FNV-1a 64 of the 31 bytes above, evaluated outside this crate.
+        assert_eq!(MeasureConfig::default().hash(), 0x966a_77eb_462a_a54b);
+    }
+
+    /// Sampled contact, an 8-bit exponential capacitor, density method.
+    fn exponential() -> MeasureSettings {
+        MeasureSettings {
+            pulses_per_rev: 16,
+            i_def: 7,
+            window_revs: 2,
+            contact_rule: ContactRule::Sampled,
+            charge_bits: 8,
+            charge_law: ChargeLaw::Exponential {
+                charge_shift: 3,
+                discharge_shift: 5,
+            },
+            fire_threshold: 200,
+            rearm_threshold: 10,
+            glitch_cycles: 0,
+            scale_bits: 32,
+            method: DecisionMethod::Density,
+        }
+    }
+
+    const EXPONENTIAL_BYTES: [u8; CANONICAL_CONFIG_LEN] = [
+        1, 0, 16, 0, 7, 0, 0, 0, 2, 0, 8, 1, 3, 5, 0, 0, 0, 0, 0, 0, 200, 0, 0, 0, 10, 0, 0, 0, 0,
+        32, 2,
+    ];
+
+    #[test]
+    fn an_exponential_encoding_by_hand() {
+        let c = exponential().validate().unwrap();
+        let (bytes, n) = c.canonical_bytes();
+        assert_eq!(bytes[..n], EXPONENTIAL_BYTES);
+        assert_eq!(decode_config(&EXPONENTIAL_BYTES), Ok(c));
+        let r = encode_config(&c);
+        assert_eq!(
+            (r.kind, r.time, r.payload()),
+            (0x01, 0, &EXPONENTIAL_BYTES[..])
+        );
+    }
+
+    #[test]
+    fn unknown_tags_and_invalid_fields_are_rejected() {
+        for (at, value) in [(9, 2u8), (11, 2), (30, 3), (1, 1)] {
+            let mut b = EXPONENTIAL_BYTES;
+            b[at] = value;
+            assert_eq!(
+                decode_config(&b),
+                Err(WireError::BadConfigEncoding),
+                "byte {at}"
+            );
+        }
+        // i_def = 32 is not below the 32-pulse window.
+        let mut b = EXPONENTIAL_BYTES;
+        b[4] = 32;
+        assert!(matches!(
+            decode_config(&b),
+            Err(WireError::Config(e)) if e.field == "i_def"
+        ));
+        let mut long = [0u8; 32];
+        long[..31].copy_from_slice(&EXPONENTIAL_BYTES);
+        assert_eq!(decode_config(&long), Err(WireError::BadConfigEncoding));
+    }
+
     /// Any valid settings (the test kit's full profile: every field across its valid range).
     fn any_settings() -> impl Strategy<Value = MeasureSettings> {
         crate::testing::measure_settings(&crate::testing::MeasureProfile::FULL)

@@ -209,3 +209,80 @@ proptest! {
         prop_assert!(reassemble(&chunks, c.hash()).is_err());
     }
 }
+
+#[test]
+fn error_messages_name_what_is_wrong() {
+    use std::string::ToString;
+    let cases = [
+        (
+            ForceChunkError::BadLength { len: 3 },
+            "force configuration chunk of 3 bytes: needs a 4-byte header and 1..=44 data bytes",
+        ),
+        (
+            ForceChunkError::Oversized { total: 600 },
+            "force configuration of 600 bytes: allowed 1..=512",
+        ),
+        (
+            ForceChunkError::TotalChanged {
+                first: 200,
+                this: 201,
+            },
+            "force configuration chunk announces 201 bytes in all, the first said 200",
+        ),
+        (
+            ForceChunkError::OutOfOrder {
+                expected: 44,
+                offset: 88,
+            },
+            "force configuration chunk at offset 88, expected offset 44 (chunks must come in \
+             order without gaps or overlaps)",
+        ),
+        (
+            ForceChunkError::PastEnd {
+                end: 210,
+                total: 200,
+            },
+            "force configuration chunk ends at byte 210, past the announced 200 bytes",
+        ),
+        (
+            ForceChunkError::AfterComplete,
+            "force configuration chunk after the configuration was complete",
+        ),
+        (
+            ForceChunkError::Incomplete {
+                received: 88,
+                total: 200,
+            },
+            "force configuration incomplete: 88 of 200 bytes received",
+        ),
+        (
+            ForceChunkError::BadEncoding { at: 7 },
+            "force configuration does not decode at byte 7 of its encoding",
+        ),
+        (
+            ForceChunkError::HashMismatch {
+                header: 1,
+                decoded: 0xabc,
+            },
+            "force configuration hash 0x0000000000000abc differs from the header's force_hash \
+             0x0000000000000001",
+        ),
+    ];
+    for (e, text) in cases {
+        assert_eq!(e.to_string(), text);
+    }
+    let invalid = ForceChunkError::from(crate::validation::ForceConfigError {
+        field: "pi.kp",
+        value: crate::units::Fx::ZERO,
+        min: crate::units::Fx::ONE,
+        max: crate::units::Fx::const_from_int(2),
+    });
+    assert_eq!(
+        invalid.to_string(),
+        "force configuration field `pi.kp` = 0 is out of range: allowed 1..=2"
+    );
+    assert_eq!(
+        ForceChunkError::from(crate::wire::force_config::ForceEncodingError { at: 9 }),
+        ForceChunkError::BadEncoding { at: 9 }
+    );
+}
