@@ -61,9 +61,11 @@ fn one_period_from_powers_to_force() {
         (est.t_e, est.t_t, est.t_c, est.force),
         (fx(48.0), fx(16.0), fx(8.0), fx(16.0))
     );
-    // Below the speed floor of 5 rad/s the torque is 0.
+    // Below the speed floor of 5 rad/s the torque is 0; at the floor it is P / 5.
     let est = e.step(&signals(4.0, 4.0, 100.0, 48.0, 576.0));
     assert_eq!(est.t_e, Fx::ZERO);
+    let est = e.step(&signals(5.0, 4.0, 100.0, 48.0, 500.0));
+    assert_eq!(est.t_e, fx(100.0), "P_o = 500 W (within the switch threshold of P_g)");
 }
 
 #[test]

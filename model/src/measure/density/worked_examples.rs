@@ -205,3 +205,15 @@ fn pulses_to_fire_exponential() {
     d.on_pulses(true, true, 10);
     assert_eq!(d.pulses_to_fire(true, false, 100), Some(1), "185 → 193");
 }
+
+#[test]
+fn an_exponential_run_stops_stepping_once_settled() {
+    // 2^32 − 1 pulses: the charge reaches full scale within a few dozen steps, after which
+    // every pulse is a fixed point, so the run returns at once (stepping all of them would
+    // take minutes).
+    let mut d = detector(EXPONENTIAL);
+    assert!(d.on_pulses(true, true, u32::MAX));
+    assert_eq!(state(&d), (255, false, true));
+    assert!(!d.on_pulses(false, false, u32::MAX));
+    assert_eq!(state(&d), (0, true, true));
+}
