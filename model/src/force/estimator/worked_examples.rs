@@ -65,7 +65,11 @@ fn one_period_from_powers_to_force() {
     let est = e.step(&signals(4.0, 4.0, 100.0, 48.0, 576.0));
     assert_eq!(est.t_e, Fx::ZERO);
     let est = e.step(&signals(5.0, 4.0, 100.0, 48.0, 500.0));
-    assert_eq!(est.t_e, fx(100.0), "P_o = 500 W (within the switch threshold of P_g)");
+    assert_eq!(
+        est.t_e,
+        fx(100.0),
+        "P_o = 500 W (within the switch threshold of P_g)"
+    );
 }
 
 #[test]
