@@ -182,3 +182,34 @@ fn row(file: &str, s: &Score) -> String {
         s.caught, s.timeout, s.missed, s.unviable
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outcomes_are_tallied_per_file() {
+        let dir = std::env::temp_dir().join(format!("xtask-mutants-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+        write(
+            "caught.txt",
+            "src/a.rs:1:1: replace f with ()\nsrc/a.rs:2:1: replace g with ()\nsrc/b.rs:3:1: x\n",
+        );
+        write("timeout.txt", "src/b.rs:4:1: replace h -> u32 with 1\n");
+        write("missed.txt", "src/a.rs:5:9: replace < with <= in f\n");
+        write("unviable.txt", "\n");
+        let mut scores = BTreeMap::new();
+        tally(&dir, "firmware/", &mut scores).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let a = &scores["firmware/src/a.rs"];
+        assert_eq!((a.caught, a.timeout, a.missed, a.unviable), (2, 0, 1, 0));
+        assert_eq!(row("a", a), "| a | 2 | 0 | 1 | 0 | 66.7 % |");
+        let b = &scores["firmware/src/b.rs"];
+        assert_eq!(row("b", b), "| b | 1 | 1 | 0 | 0 | 100.0 % |");
+        assert_eq!(
+            row("none", &Score::default()),
+            "| none | 0 | 0 | 0 | 0 | – |"
+        );
+    }
+}
