@@ -161,6 +161,74 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_field_is_checked_against_its_range() {
+        let h = Fx::lit("0.0625");
+        assert_eq!(DEFAULT_ADAPTIVE.validate(h), Ok(()));
+        let field = |s: AdaptiveSettings| s.validate(h).map_err(|e| e.field);
+        let d = DEFAULT_ADAPTIVE;
+        // K·h ≤ 1: at most 16 /s at h = 1/16 s.
+        let at_limit = AdaptiveSettings {
+            open_loop_gain: Fx::const_from_int(16),
+            ..d
+        };
+        assert_eq!(field(at_limit), Ok(()));
+        let cases = [
+            (
+                AdaptiveSettings {
+                    open_loop_gain: Fx::const_from_int(16) + Fx::DELTA,
+                    ..d
+                },
+                "adaptive.open_loop_gain",
+            ),
+            (
+                AdaptiveSettings {
+                    gain_min: Fx::ZERO,
+                    ..d
+                },
+                "adaptive.gain_min",
+            ),
+            (
+                AdaptiveSettings {
+                    gain_max: Fx::lit("0.25"),
+                    ..d
+                },
+                "adaptive.gain_max",
+            ),
+            (
+                AdaptiveSettings {
+                    initial_gain: Fx::const_from_int(101),
+                    ..d
+                },
+                "adaptive.initial_gain",
+            ),
+            (
+                AdaptiveSettings {
+                    gain_filter_shift: 9,
+                    ..d
+                },
+                "adaptive.gain_filter_shift",
+            ),
+            (
+                AdaptiveSettings {
+                    min_override: Fx::ZERO,
+                    ..d
+                },
+                "adaptive.min_override",
+            ),
+            (
+                AdaptiveSettings {
+                    min_force: Fx::const_from_int(100_001),
+                    ..d
+                },
+                "adaptive.min_force",
+            ),
+        ];
+        for (s, name) in cases {
+            assert_eq!(field(s), Err(name));
+        }
+    }
+
+    #[test]
     fn gain_tracks_a_static_process() {
         let s = AdaptiveSettings {
             open_loop_gain: Fx::const_from_int(4),
