@@ -418,6 +418,15 @@ pub struct VcdReader<R> {
     late_comments: Vec<String>,
 }
 
+/// A time for messages: whole nanoseconds as `… ns`, else femtoseconds.
+fn time_text(fs: u64) -> String {
+    if fs % 1_000_000 == 0 {
+        format!("{} ns", fs / 1_000_000)
+    } else {
+        format!("{fs} fs")
+    }
+}
+
 /// A `$comment` text as a list of words joined by single spaces (the form the golden
 /// stamp and end comments are matched in).
 fn comment_words(text: &str) -> String {
@@ -612,11 +621,11 @@ impl<R: std::io::BufRead> VcdReader<R> {
                     if digits.len() as u64 > u64::from(width) {
                         let s = self.declarations.signal_of(index);
                         return Err(self.error(format!(
-                            "a value of {} bits for `{}`, declared {width} bits wide (line {}), at time {} fs",
+                            "a value of {} bits for `{}`, declared {width} bits wide (line {}), at time {}",
                             digits.len(),
                             s.scope.iter().chain([&s.name]).cloned().collect::<Vec<_>>().join("."),
                             s.line,
-                            self.time_fs
+                            time_text(self.time_fs)
                         )));
                     }
                     return Ok(Some(Item::Change(index, vector_value(&digits, width))));
@@ -829,7 +838,7 @@ mod tests {
             e.contains("w.vcd: line 8:")
                 && e.contains("5 bits for `top.q`")
                 && e.contains("4 bits wide")
-                && e.contains("time 7000000 fs"),
+                && e.contains("time 7 ns"),
             "{e}"
         );
     }
