@@ -420,7 +420,7 @@ pub struct VcdReader<R> {
 
 /// A time for messages: whole nanoseconds as `… ns`, else femtoseconds.
 fn time_text(fs: u64) -> String {
-    if fs % 1_000_000 == 0 {
+    if fs.is_multiple_of(1_000_000) {
         format!("{} ns", fs / 1_000_000)
     } else {
         format!("{fs} fs")
