@@ -410,7 +410,9 @@ pub enum Item {
 /// digits than its signal's width. Scopes, `$timescale`, reals and strings (skipped) of
 /// any tool's dump are accepted; errors name the file and line.
 pub struct VcdReader<R> {
-    parser: vcd::Parser<R>,
+    /// The file, and one newline after its end: the crate needs whitespace after the last
+    /// token, which a dump whose last line has no newline lacks.
+    parser: vcd::Parser<std::io::Chain<R, &'static [u8]>>,
     file: String,
     line: usize,
     declarations: Declarations,
@@ -438,7 +440,7 @@ impl<R: std::io::BufRead> VcdReader<R> {
     /// errors.
     pub fn new(src: R, file: &str) -> Result<Self, VcdError> {
         let mut r = VcdReader {
-            parser: vcd::Parser::new(src),
+            parser: vcd::Parser::new(src.chain(&b"\n"[..])),
             file: file.to_string(),
             line: 0,
             declarations: Declarations {
@@ -841,6 +843,14 @@ mod tests {
                 && e.contains("time 7 ns"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_last_line_without_a_newline_is_read() {
+        let text = "$var wire 1 ! a $end\n$enddefinitions $end\n#0\n1!\n#5";
+        let mut r = VcdReader::new(text.as_bytes(), "n.vcd").unwrap();
+        while r.next_item().unwrap().is_some() {}
+        assert_eq!(r.time_fs(), 5_000_000);
     }
 
     #[test]
