@@ -8,7 +8,7 @@
 //! mismatch, missing or zero-width signal).
 
 pub use crate::vectors::check::{compare_binary, compare_vcd, BadInput, Verdict};
-use crate::vectors::check::{compare_vcd_sides, VcdSide};
+use crate::vectors::check::{compare_output_sources, compare_vcd_sides, VcdSide};
 use crate::vectors::vcd::VcdReader;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -40,26 +40,81 @@ fn open(path: &Path) -> Result<BufReader<std::fs::File>, BadInput> {
         .map_err(|e| BadInput(format!("{}: {e}", path.display())))
 }
 
-/// Whether the file starts with the binary vector magic (peeked, not consumed).
-fn is_binary(r: &mut BufReader<std::fs::File>, path: &Path) -> Result<bool, BadInput> {
+/// What a file given to `check` holds, told from its first bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// A binary vector stream (magic `TTVX`).
+    Binary,
+    /// A VCD (its first non-blank byte is `$`).
+    Vcd,
+    /// Nothing at all.
+    Empty,
+    /// Anything else.
+    Unknown,
+}
+
+impl Kind {
+    fn describe(self) -> &'static str {
+        match self {
+            Kind::Binary => "a binary vector file (TTVX)",
+            Kind::Vcd => "a VCD",
+            Kind::Empty => "empty (0 bytes)",
+            Kind::Unknown => "neither",
+        }
+    }
+}
+
+/// The kind of the file behind `r` (peeked, not consumed).
+fn kind_of(r: &mut BufReader<std::fs::File>, path: &Path) -> Result<Kind, BadInput> {
     let head = r
         .fill_buf()
         .map_err(|e| BadInput(format!("{}: {e}", path.display())))?;
-    Ok(head.starts_with(&tooltouch_model::wire::MAGIC))
+    Ok(if head.is_empty() {
+        Kind::Empty
+    } else if head.starts_with(&tooltouch_model::wire::MAGIC) {
+        Kind::Binary
+    } else if head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'$') {
+        Kind::Vcd
+    } else {
+        Kind::Unknown
+    })
 }
 
-fn read(path: &Path) -> Result<Vec<u8>, BadInput> {
-    std::fs::read(path).map_err(|e| BadInput(format!("{}: {e}", path.display())))
+/// Why a file of kind `kind` cannot be compared, naming it and its role.
+fn unusable(kind: Kind, name: &str, role: &str, head: &[u8]) -> BadInput {
+    match kind {
+        Kind::Empty => BadInput(format!(
+            "{name} (the {role} trace): empty file (0 bytes): expected a VCD or a binary vector file"
+        )),
+        _ => {
+            let shown: Vec<String> = head.iter().take(8).map(|b| format!("{b:02x}")).collect();
+            BadInput(format!(
+                "{name} (the {role} trace): byte 0: neither a binary vector file (it would start \
+                 with \"TTVX\") nor a VCD (it would start with a `$` command); it starts with {}",
+                shown.join(" ")
+            ))
+        }
+    }
 }
 
-/// Compares two files (VCD or binary, the same kind both); VCDs are streamed.
+/// Compares two files (VCD or binary, the same kind both), both read as streams.
 pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
     let (en, dn) = (expected.display().to_string(), dut.display().to_string());
     let mut e = open(expected)?;
     let mut d = open(dut)?;
-    match (is_binary(&mut e, expected)?, is_binary(&mut d, dut)?) {
-        (true, true) => compare_binary(&read(expected)?, &en, &read(dut)?, &dn),
-        (false, false) => {
+    let (ek, dk) = (kind_of(&mut e, expected)?, kind_of(&mut d, dut)?);
+    for (kind, name, role, r) in [(ek, &en, "golden", &mut e), (dk, &dn, "DUT", &mut d)] {
+        if matches!(kind, Kind::Empty | Kind::Unknown) {
+            let head = r.fill_buf().unwrap_or(&[]).to_vec();
+            return Err(unusable(kind, name, role, &head));
+        }
+    }
+    match (ek, dk) {
+        (Kind::Binary, Kind::Binary) => {
+            drop((e, d));
+            compare_output_sources(&|| open(expected), &en, &|| open(dut), &dn)
+        }
+        (Kind::Vcd, Kind::Vcd) => {
             let mut e = VcdReader::new(e, &en)?;
             let mut d = VcdReader::new(d, &dn)?;
             let ed = e.declarations().clone();
@@ -84,7 +139,9 @@ pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
             Ok(verdict)
         }
         _ => Err(BadInput(format!(
-            "{en} and {dn}: one is a binary vector file and the other is not; compare like with like"
+            "{en} (the golden trace) is {} and {dn} (the DUT trace) is {}: compare like with like",
+            ek.describe(),
+            dk.describe()
         ))),
     }
 }

@@ -11,6 +11,7 @@
 //! its profile and status records; [`decode_event_stream`] reads every input stream —
 //! measurement events, force events with their configuration chunks, or both.
 
+use std::io::Read;
 use std::path::Path;
 use tooltouch_model::force::config::ForceConfig;
 use tooltouch_model::force::events::ForceEvent;
@@ -391,11 +392,18 @@ impl InputStream {
 /// 0 (reassembled, validated, hash checked), then an optional `FIRMWARE_OBSERVE`, the
 /// events and END, and nothing after it.
 pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, BinaryError> {
+    read_event_stream(bytes, file)
+}
+
+/// [`decode_event_stream`] reading `src` record by record (a `BufReader` over the file:
+/// the events are kept, the file is not).
+pub fn read_event_stream<R: Read>(src: R, file: &str) -> Result<InputStream, BinaryError> {
     let wire_err = |problem| BinaryError::Wire {
         file: file.to_string(),
         problem,
     };
-    let (header, records) = Records::new(bytes).map_err(wire_err)?;
+    let mut records = RecordReader::new(src, file)?;
+    let header = records.header();
     expect_stream(file, header, StreamKind::Events, None)?;
     let mut stream = InputStream {
         header,
@@ -408,9 +416,8 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
     };
     let mut assembler = (header.force_hash != 0).then(ForceConfigAssembler::new);
     let mut ended = false;
-    let mut offset = wire::HEADER_LEN;
-    for (index, r) in records.enumerate() {
-        let r = r.map_err(wire_err)?;
+    let mut index = 0;
+    while let Some((r, offset)) = records.next_record()? {
         let bad = |message: String| BinaryError::BadRecord {
             file: file.to_string(),
             index,
@@ -491,7 +498,7 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
             stream.events.push((r.time, input));
             stream.offsets.push(offset);
         }
-        offset += r.encoded_len();
+        index += 1;
     }
     if let Some(a) = &assembler {
         let problem = a
@@ -509,7 +516,7 @@ pub fn decode_event_stream(bytes: &[u8], file: &str) -> Result<InputStream, Bina
             file: file.to_string(),
         });
     }
-    nothing_after_end(bytes, offset, file)?;
+    records.nothing_after_end()?;
     if header.measure_hash == 0 && header.force_hash == 0 {
         return Err(BinaryError::BadRecord {
             file: file.to_string(),
@@ -618,83 +625,290 @@ fn u32_le(p: &[u8], i: usize) -> u32 {
         .map_or(0, u32::from_le_bytes)
 }
 
+/// One output record of a device's Outputs stream.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OutputRecord {
+    /// Measurement outputs and their time.
+    Measure(u64, MeasureOutputs),
+    /// Force outputs and their time.
+    Force(u64, ForceOutputs),
+}
+
+/// Reads an Outputs stream of any device record by record ([`RecordReader`]): the
+/// records [`decode_output_stream`] keeps, one per [`OutputReader::next_output`], the
+/// firmware's status kept aside, and every error of [`decode_output_stream`] at the same
+/// place (a missing END and bytes after it when the records are exhausted).
+pub struct OutputReader<R> {
+    records: RecordReader<R>,
+    file: String,
+    index: usize,
+    status: Option<FirmwareStatus>,
+    ended: bool,
+    finished: bool,
+}
+
+impl<R: Read> OutputReader<R> {
+    /// Reads the header of `src` (an Outputs stream); `file` names it in errors.
+    pub fn new(src: R, file: &str) -> Result<Self, BinaryError> {
+        let records = RecordReader::new(src, file)?;
+        expect_stream(file, records.header(), StreamKind::Outputs, None)?;
+        Ok(OutputReader {
+            records,
+            file: file.to_string(),
+            index: 0,
+            status: None,
+            ended: false,
+            finished: false,
+        })
+    }
+
+    /// The stream's header.
+    pub fn header(&self) -> Header {
+        self.records.header()
+    }
+
+    /// The firmware's status record, once read.
+    pub fn status(&self) -> Option<FirmwareStatus> {
+        self.status
+    }
+
+    /// The next output record; `None` once the stream is read to its END and nothing
+    /// follows it.
+    pub fn next_output(&mut self) -> Result<Option<OutputRecord>, BinaryError> {
+        loop {
+            if self.finished {
+                return Ok(None);
+            }
+            let Some((r, _)) = self.records.next_record()? else {
+                self.finished = true;
+                if !self.ended {
+                    return Err(BinaryError::NoEnd {
+                        file: self.file.clone(),
+                    });
+                }
+                self.records.nothing_after_end()?;
+                return Ok(None);
+            };
+            let index = self.index;
+            self.index += 1;
+            let p = r.payload();
+            let bad = |message: String| BinaryError::BadRecord {
+                file: self.file.clone(),
+                index,
+                kind: r.kind,
+                message,
+            };
+            match r.kind {
+                wire::kind::END => self.ended = true,
+                wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(p) {
+                    Some(o) => return Ok(Some(OutputRecord::Measure(r.time, o))),
+                    None => {
+                        return Err(bad(format!(
+                            "payload of {} bytes, expected {}",
+                            p.len(),
+                            wire::measure_outputs::OUTPUTS_LEN
+                        )))
+                    }
+                },
+                tooltouch_model::wire::kind::FORCE_OUTPUTS => match decode_force_outputs(p) {
+                    Some(o) => return Ok(Some(OutputRecord::Force(r.time, o))),
+                    None => {
+                        return Err(bad(format!(
+                            "force outputs payload of {} bytes, expected {}",
+                            p.len(),
+                            tooltouch_model::wire::force_outputs::FORCE_OUTPUTS_LEN
+                        )))
+                    }
+                },
+                kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {}
+                kind::FIRMWARE_STATUS => {
+                    if p.len() < 12 {
+                        return Err(bad(format!("status payload of {} bytes", p.len())));
+                    }
+                    self.status = Some(FirmwareStatus {
+                        events: u32_le(p, 0),
+                        lost: u32_le(p, 4),
+                        overflowed: u32_le(p, 8),
+                    });
+                }
+                kind::FIRMWARE_ERROR => {
+                    return Err(BinaryError::Firmware {
+                        file: self.file.clone(),
+                        what: crate::cosim::trace::describe_firmware_error(p),
+                    })
+                }
+                _ => return Err(bad("not an output record".into())),
+            }
+        }
+    }
+}
+
 /// Decodes an Outputs stream of any device: `MEASURE_OUTPUTS` and force `OUTPUTS`
 /// records, the firmware's profile records (skipped) and status record (kept), END, and
-/// nothing after it. A firmware error record is [`BinaryError::Firmware`].
+/// nothing after it. A firmware error record is [`BinaryError::Firmware`]. Holds every
+/// record: `tooltouch check` streams with [`OutputReader`] instead.
 pub fn decode_output_stream(bytes: &[u8], file: &str) -> Result<OutputStream, BinaryError> {
-    let wire_err = |problem| BinaryError::Wire {
-        file: file.to_string(),
-        problem,
-    };
-    let (header, records) = Records::new(bytes).map_err(wire_err)?;
-    expect_stream(file, header, StreamKind::Outputs, None)?;
+    let mut reader = OutputReader::new(bytes, file)?;
     let mut s = OutputStream {
-        header,
+        header: reader.header(),
         measure: Vec::new(),
         force: Vec::new(),
         status: None,
     };
-    let mut ended = false;
-    let mut offset = wire::HEADER_LEN;
-    for (index, r) in records.enumerate() {
-        let r = r.map_err(wire_err)?;
-        offset += r.encoded_len();
-        let p = r.payload();
-        let bad = |message: String| BinaryError::BadRecord {
-            file: file.to_string(),
-            index,
-            kind: r.kind,
-            message,
-        };
-        match r.kind {
-            wire::kind::END => ended = true,
-            wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(p) {
-                Some(o) => s.measure.push((r.time, o)),
-                None => {
-                    return Err(bad(format!(
-                        "payload of {} bytes, expected {}",
-                        p.len(),
-                        wire::measure_outputs::OUTPUTS_LEN
-                    )))
-                }
-            },
-            tooltouch_model::wire::kind::FORCE_OUTPUTS => match decode_force_outputs(p) {
-                Some(o) => s.force.push((r.time, o)),
-                None => {
-                    return Err(bad(format!(
-                        "force outputs payload of {} bytes, expected {}",
-                        p.len(),
-                        tooltouch_model::wire::force_outputs::FORCE_OUTPUTS_LEN
-                    )))
-                }
-            },
-            kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {}
-            kind::FIRMWARE_STATUS => {
-                if p.len() < 12 {
-                    return Err(bad(format!("status payload of {} bytes", p.len())));
-                }
-                s.status = Some(FirmwareStatus {
-                    events: u32_le(p, 0),
-                    lost: u32_le(p, 4),
-                    overflowed: u32_le(p, 8),
-                });
-            }
-            kind::FIRMWARE_ERROR => {
-                return Err(BinaryError::Firmware {
-                    file: file.to_string(),
-                    what: crate::cosim::trace::describe_firmware_error(p),
-                })
-            }
-            _ => return Err(bad("not an output record".into())),
+    while let Some(r) = reader.next_output()? {
+        match r {
+            OutputRecord::Measure(t, o) => s.measure.push((t, o)),
+            OutputRecord::Force(t, o) => s.force.push((t, o)),
         }
     }
-    if !ended {
-        return Err(BinaryError::NoEnd {
-            file: file.to_string(),
-        });
-    }
-    nothing_after_end(bytes, offset, file)?;
+    s.status = reader.status();
     Ok(s)
+}
+
+/// Reads as many bytes as `buf` holds, fewer only at the end of `src`; returns the count.
+fn fill<R: Read>(src: &mut R, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut n = 0;
+    while n < buf.len() {
+        match src.read(&mut buf[n..]) {
+            Ok(0) => break,
+            Ok(k) => n += k,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(n)
+}
+
+/// Reads a stream record by record from any [`Read`] (a `BufReader` over the file), so
+/// that a file of any length is read in constant memory: the header first
+/// ([`RecordReader::new`]), then one record per [`RecordReader::next_record`], with the
+/// same checks and messages as [`Records`] over the whole file in memory (truncation, bad
+/// payload lengths, time going backwards, each at its byte offset).
+pub struct RecordReader<R> {
+    src: R,
+    file: String,
+    header: Header,
+    /// Byte offset of the next record.
+    offset: usize,
+    previous: u64,
+    /// After an END record or an error.
+    done: bool,
+}
+
+impl<R: Read> RecordReader<R> {
+    /// Reads the header of `src`; `file` names it in errors.
+    pub fn new(mut src: R, file: &str) -> Result<Self, BinaryError> {
+        let mut h = [0u8; wire::HEADER_LEN];
+        let n = fill(&mut src, &mut h).map_err(|source| BinaryError::Io {
+            file: file.to_string(),
+            source,
+        })?;
+        let header = Header::decode(&h[..n]).map_err(|problem| BinaryError::Wire {
+            file: file.to_string(),
+            problem,
+        })?;
+        Ok(RecordReader {
+            src,
+            file: file.to_string(),
+            header,
+            offset: wire::HEADER_LEN,
+            previous: 0,
+            done: false,
+        })
+    }
+
+    /// The stream's header.
+    pub fn header(&self) -> Header {
+        self.header
+    }
+
+    /// The byte offset of the next record (just past the END record once it was read).
+    pub fn offset(&self) -> usize {
+        self.offset
+    }
+
+    fn wire_error(&mut self, problem: WireError) -> BinaryError {
+        self.done = true;
+        BinaryError::Wire {
+            file: self.file.clone(),
+            problem,
+        }
+    }
+
+    fn io_error(&mut self, source: std::io::Error) -> BinaryError {
+        self.done = true;
+        BinaryError::Io {
+            file: self.file.clone(),
+            source,
+        }
+    }
+
+    /// The next record and its byte offset; `None` at the end of the file and after the
+    /// END record.
+    pub fn next_record(&mut self) -> Result<Option<(Record, usize)>, BinaryError> {
+        if self.done {
+            return Ok(None);
+        }
+        let offset = self.offset;
+        let mut buf = [0u8; wire::RECORD_HEADER_LEN + wire::MAX_PAYLOAD];
+        let n = fill(&mut self.src, &mut buf[..wire::RECORD_HEADER_LEN])
+            .map_err(|e| self.io_error(e))?;
+        if n == 0 {
+            self.done = true;
+            return Ok(None);
+        }
+        if n == wire::RECORD_HEADER_LEN {
+            let len = usize::from(buf[1]).min(wire::MAX_PAYLOAD);
+            let end = wire::RECORD_HEADER_LEN + len;
+            let got = fill(&mut self.src, &mut buf[wire::RECORD_HEADER_LEN..end])
+                .map_err(|e| self.io_error(e))?;
+            let total = wire::RECORD_HEADER_LEN + got;
+            let decoded = Record::decode(&buf[..total], offset);
+            return match decoded {
+                Err(problem) => Err(self.wire_error(problem)),
+                Ok((record, size)) => {
+                    if record.time < self.previous {
+                        let problem = WireError::NonMonotonicTime {
+                            offset,
+                            previous: self.previous,
+                            time: record.time,
+                        };
+                        return Err(self.wire_error(problem));
+                    }
+                    self.previous = record.time;
+                    self.offset += size;
+                    self.done = record.kind == kind::END;
+                    Ok(Some((record, offset)))
+                }
+            };
+        }
+        Err(self.wire_error(WireError::Truncated {
+            offset,
+            needed: wire::RECORD_HEADER_LEN,
+        }))
+    }
+
+    /// After the END record: fails when bytes follow it (one stream per file), naming a
+    /// second stream or counting the bytes.
+    pub fn nothing_after_end(&mut self) -> Result<(), BinaryError> {
+        let mut head = [0u8; 4];
+        let n = fill(&mut self.src, &mut head).map_err(|e| self.io_error(e))?;
+        if n == 0 {
+            return Ok(());
+        }
+        let what = if head[..n].starts_with(&wire::MAGIC) {
+            "a second stream (magic \"TTVX\")".to_string()
+        } else {
+            let more =
+                std::io::copy(&mut self.src, &mut std::io::sink()).map_err(|e| self.io_error(e))?;
+            format!("{} more bytes", n as u64 + more)
+        };
+        Err(BinaryError::AfterEnd {
+            file: self.file.clone(),
+            offset: self.offset,
+            what,
+        })
+    }
 }
 
 /// Reads a whole file, naming it in the error.

@@ -10,12 +10,14 @@
 //! `tooltouch end cycles=<n>` comment, its last time at clock `n − 1`); a DUT trace that ends
 //! at another clock than the golden one is a mismatch that names both ends.
 //!
-//! **Binary** (`.ttv`): one Outputs stream per file ([`binary::decode_output_stream`]):
+//! **Binary** (`.ttv`): one Outputs stream per file, read record by record
+//! ([`binary::OutputReader`], memory flat in the file size; [`compare_output_sources`]):
 //! measurement outputs and force outputs record by record, the firmware's status (a lost or
 //! overflowed event is a mismatch), record counts, the headers' hashes and tick rates.
 
-use super::binary::{self, OutputStream};
+use super::binary::{self, OutputReader, OutputRecord};
 use super::vcd::{golden_end, Changes, Declarations, Signal, Value, VcdError};
+use std::io::Read;
 
 /// The result of a comparison.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -47,8 +49,14 @@ fn hex(v: Option<Value>) -> String {
     match v {
         Some(Value {
             unknown: false,
+            wide: false,
             bits,
         }) => format!("0x{bits:x}"),
+        Some(Value {
+            unknown: false,
+            wide: true,
+            bits,
+        }) => format!("a value wider than 64 bits (low 64 bits 0x{bits:016x})"),
         Some(_) => "x".to_string(),
         None => "x (no value yet)".to_string(),
     }
@@ -65,10 +73,9 @@ pub struct VcdSide<'a> {
     pub changes: &'a mut dyn Changes,
 }
 
-/// A compared output: the golden signal, the DUT signal matched to it, its mask.
+/// A compared output: the golden signal.
 struct Compared<'a> {
     golden: &'a Signal,
-    mask: u64,
 }
 
 /// Lookahead over one side's changes.
@@ -86,15 +93,14 @@ impl Cursor<'_, '_> {
     }
 }
 
-/// Reads every change of `cursor` at time `t`, storing the compared ones (masked) in
-/// `values` and their slots in `touched` when `values` is given.
+/// Reads every change of `cursor` at time `t`, storing the compared ones in `values` and
+/// their slots in `touched` when `values` is given.
 fn apply_at(
     cursor: &mut Cursor,
     t: u64,
     mut values: Option<&mut Vec<Option<Value>>>,
     touched: &mut Vec<usize>,
     slots: &[Vec<usize>],
-    outputs: &[Compared],
 ) -> Result<(), BadInput> {
     while let Some((time, code, value)) = cursor.next {
         if time != t {
@@ -102,10 +108,7 @@ fn apply_at(
         }
         if let Some(values) = values.as_deref_mut() {
             for &slot in &slots[code] {
-                values[slot] = Some(Value {
-                    bits: value.bits & outputs[slot].mask,
-                    ..value
-                });
+                values[slot] = Some(value);
                 touched.push(slot);
             }
         }
@@ -154,12 +157,7 @@ pub fn compare_vcd_sides(
                     s.line, s.name, s.width
                 )));
             }
-            let mask = if s.width == 64 {
-                u64::MAX
-            } else {
-                (1u64 << s.width) - 1
-            };
-            Ok(Compared { golden: s, mask })
+            Ok(Compared { golden: s })
         })
         .collect::<Result<_, _>>()?;
     if outputs.is_empty() {
@@ -241,7 +239,6 @@ pub fn compare_vcd_sides(
             record.then_some(&mut ev),
             &mut touched,
             &e_slots,
-            &outputs,
         )?;
         apply_at(
             &mut dc,
@@ -249,11 +246,12 @@ pub fn compare_vcd_sides(
             record.then_some(&mut dv),
             &mut touched,
             &d_slots,
-            &outputs,
         )?;
         if first.is_none() {
             for &slot in &touched {
-                let same = matches!((ev[slot], dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a.bits == b.bits);
+                // Exact: a DUT value with a 1 above the golden width (or above bit 63)
+                // differs (the reader refuses a value wider than its own signal).
+                let same = matches!((ev[slot], dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a == b);
                 if differs[slot] == same {
                     differs[slot] = !same;
                     if same {
@@ -335,28 +333,171 @@ pub fn compare_vcd(
     )
 }
 
-fn last_time<T>(records: &[(u64, T)]) -> String {
-    records
-        .last()
-        .map_or_else(|| "none".to_string(), |r| format!("time {}", r.0))
+fn last_time(last: Option<u64>) -> String {
+    last.map_or_else(|| "none".to_string(), |t| format!("time {t}"))
+}
+
+/// One side of a binary comparison: its reader, what was counted, the error that stopped it.
+struct OutputSide<R> {
+    reader: Option<OutputReader<R>>,
+    header: Option<tooltouch_model::wire::Header>,
+    status: Option<binary::FirmwareStatus>,
+    error: Option<binary::BinaryError>,
+    measure: usize,
+    force: usize,
+    last_measure: Option<u64>,
+    last_force: Option<u64>,
+}
+
+impl<R: Read> OutputSide<R> {
+    fn open(src: R, file: &str) -> Self {
+        let (reader, error) = match OutputReader::new(src, file) {
+            Ok(r) => (Some(r), None),
+            Err(e) => (None, Some(e)),
+        };
+        OutputSide {
+            header: reader.as_ref().map(|r| r.header()),
+            status: None,
+            reader,
+            error,
+            measure: 0,
+            force: 0,
+            last_measure: None,
+            last_force: None,
+        }
+    }
+
+    /// The next record of one path (`force` or measurement), counting every record read;
+    /// `None` at the end or after an error (kept).
+    fn next_of(&mut self, force: bool) -> Option<OutputRecord> {
+        loop {
+            let r = self.reader.as_mut()?.next_output();
+            match r {
+                Ok(None) => {
+                    self.status = self.reader.take().and_then(|r| r.status());
+                    return None;
+                }
+                Err(e) => {
+                    self.reader = None;
+                    self.error = Some(e);
+                    return None;
+                }
+                Ok(Some(r @ OutputRecord::Measure(t, _))) => {
+                    self.measure += 1;
+                    self.last_measure = Some(t);
+                    if !force {
+                        return Some(r);
+                    }
+                }
+                Ok(Some(r @ OutputRecord::Force(t, _))) => {
+                    self.force += 1;
+                    self.last_force = Some(t);
+                    if force {
+                        return Some(r);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The first difference of one path's records compared in step (`force`: the force
+/// records, else the measurement ones), as `(time, line)`; both sides are read to their
+/// end.
+fn first_difference<E: Read, D: Read>(
+    e: &mut OutputSide<E>,
+    d: &mut OutputSide<D>,
+    force: bool,
+) -> Option<(u64, String)> {
+    let mut first = None;
+    let mut i = 0usize;
+    loop {
+        let (a, b) = (e.next_of(force), d.next_of(force));
+        let (Some(a), Some(b)) = (a, b) else {
+            if a.is_none() && b.is_none() {
+                return first;
+            }
+            continue;
+        };
+        if first.is_none() {
+            first = match (a, b) {
+                (OutputRecord::Measure(ta, _), OutputRecord::Measure(tb, _)) if ta != tb => Some((
+                    ta.min(tb),
+                    format!("record {i}: time expected {ta} got {tb}"),
+                )),
+                (OutputRecord::Measure(t, a), OutputRecord::Measure(_, b)) => {
+                    binary::output_fields(&a)
+                        .into_iter()
+                        .zip(binary::output_fields(&b))
+                        .find(|(x, y)| x.1 != y.1)
+                        .map(|((name, x), (_, y))| {
+                            (
+                                t,
+                                format!(
+                                    "record {i} (time {t}): field {name} expected 0x{x:x} got 0x{y:x}"
+                                ),
+                            )
+                        })
+                }
+                (OutputRecord::Force(ta, _), OutputRecord::Force(tb, _)) if ta != tb => Some((
+                    ta.min(tb),
+                    format!("force record {i}: time expected {ta} got {tb}"),
+                )),
+                (OutputRecord::Force(t, a), OutputRecord::Force(_, b)) => {
+                    crate::cosim::force_signals(&a)
+                        .into_iter()
+                        .zip(crate::cosim::force_signals(&b))
+                        .find(|(x, y)| x.1 != y.1)
+                        .map(|((name, x), (_, y))| {
+                            (
+                                t,
+                                format!(
+                                    "force record {i} (time {t}): field {name} expected {x} got {y}"
+                                ),
+                            )
+                        })
+                }
+                _ => None,
+            };
+        }
+        i += 1;
+    }
 }
 
 /// Compares two Outputs streams of any device record by record (see the module
 /// documentation).
 pub fn compare_binary(e: &[u8], en: &str, d: &[u8], dn: &str) -> Result<Verdict, BadInput> {
-    let es = binary::decode_output_stream(e, en)?;
-    let ds = binary::decode_output_stream(d, dn)?;
-    compare_output_streams(&es, en, &ds, dn)
+    compare_output_sources(&|| Ok(e), en, &|| Ok(d), dn)
 }
 
-/// Compares two decoded Outputs streams (see [`compare_binary`]).
-pub fn compare_output_streams(
-    es: &OutputStream,
+/// Compares two Outputs streams read record by record, memory flat in their length:
+/// `open_e` and `open_d` give a fresh reader of each (a `BufReader` over the file). The
+/// measurement records are compared in one pass over both files, which also reads every
+/// record to the end (a malformed record or bytes after END anywhere is bad input, the
+/// golden file's first); the force records, when there are any, in a second pass, so that
+/// neither side's interleaving of the two paths has to be held. The verdict is
+/// the one the whole decoded streams would give.
+pub fn compare_output_sources<E: Read, D: Read>(
+    open_e: &dyn Fn() -> Result<E, BadInput>,
     en: &str,
-    ds: &OutputStream,
+    open_d: &dyn Fn() -> Result<D, BadInput>,
     dn: &str,
 ) -> Result<Verdict, BadInput> {
-    let (eh, dh) = (es.header, ds.header);
+    let (e_src, d_src) = (open_e()?, open_d()?);
+    let mut es = OutputSide::open(e_src, en);
+    if let Some(e) = es.error.take() {
+        return Err(e.into());
+    }
+    let mut ds = OutputSide::open(d_src, dn);
+    let measure_first = first_difference(&mut es, &mut ds, false);
+    if let Some(e) = es.error.take().or_else(|| ds.error.take()) {
+        return Err(e.into());
+    }
+    let (Some(eh), Some(dh)) = (es.header, ds.header) else {
+        return Err(BadInput(format!(
+            "{en} and {dn}: a stream without a header"
+        )));
+    };
     for (what, want, got) in [
         ("configuration hash", eh.measure_hash, dh.measure_hash),
         ("force configuration hash", eh.force_hash, dh.force_hash),
@@ -385,76 +526,42 @@ pub fn compare_output_streams(
             s.lost, s.overflowed, s.events
         )));
     }
-    // The first difference of each path; the earlier one is reported.
-    let mut first: Option<(u64, String)> = None;
-    let mut note = |time: u64, line: String| {
-        if first.as_ref().is_none_or(|f| time < f.0) {
-            first = Some((time, line));
+    // The first difference of each path; the earlier one is reported (the measurement
+    // one at equal times).
+    let force_first = if es.force > 0 || ds.force > 0 {
+        let (e_src, d_src) = (open_e()?, open_d()?);
+        let mut e2 = OutputSide::open(e_src, en);
+        let mut d2 = OutputSide::open(d_src, dn);
+        let first = first_difference(&mut e2, &mut d2, true);
+        if let Some(e) = e2.error.or(d2.error) {
+            return Err(e.into());
         }
+        first
+    } else {
+        None
     };
-    for (i, (a, b)) in es.measure.iter().zip(&ds.measure).enumerate() {
-        if a.0 != b.0 {
-            note(
-                a.0.min(b.0),
-                format!("record {i}: time expected {} got {}", a.0, b.0),
-            );
-            break;
-        }
-        let diff = binary::output_fields(&a.1)
-            .into_iter()
-            .zip(binary::output_fields(&b.1))
-            .find(|(x, y)| x.1 != y.1);
-        if let Some(((name, x), (_, y))) = diff {
-            note(
-                a.0,
-                format!(
-                    "record {i} (time {}): field {name} expected 0x{x:x} got 0x{y:x}",
-                    a.0
-                ),
-            );
-            break;
-        }
-    }
-    for (i, (a, b)) in es.force.iter().zip(&ds.force).enumerate() {
-        if a.0 != b.0 {
-            note(
-                a.0.min(b.0),
-                format!("force record {i}: time expected {} got {}", a.0, b.0),
-            );
-            break;
-        }
-        let diff = crate::cosim::force_signals(&a.1)
-            .into_iter()
-            .zip(crate::cosim::force_signals(&b.1))
-            .find(|(x, y)| x.1 != y.1);
-        if let Some(((name, x), (_, y))) = diff {
-            note(
-                a.0,
-                format!(
-                    "force record {i} (time {}): field {name} expected {x} got {y}",
-                    a.0
-                ),
-            );
-            break;
-        }
-    }
+    let first = match (measure_first, force_first) {
+        (Some(m), Some(f)) if f.0 < m.0 => Some(f),
+        (Some(m), _) => Some(m),
+        (None, f) => f,
+    };
     if let Some((_, line)) = first {
         return Ok(Verdict::Mismatch(line));
     }
     for (what, e_len, d_len, e_last, d_last) in [
         (
             "measurement-outputs",
-            es.measure.len(),
-            ds.measure.len(),
-            last_time(&es.measure),
-            last_time(&ds.measure),
+            es.measure,
+            ds.measure,
+            last_time(es.last_measure),
+            last_time(ds.last_measure),
         ),
         (
             "force-outputs",
-            es.force.len(),
-            ds.force.len(),
-            last_time(&es.force),
-            last_time(&ds.force),
+            es.force,
+            ds.force,
+            last_time(es.last_force),
+            last_time(ds.last_force),
         ),
     ] {
         if e_len != d_len {
@@ -464,12 +571,12 @@ pub fn compare_output_streams(
             )));
         }
     }
-    let mut summary = format!("OK: {} records × 15 fields", es.measure.len());
-    if !es.force.is_empty() {
-        summary = if es.measure.is_empty() {
-            format!("OK: {} force records × 14 fields", es.force.len())
+    let mut summary = format!("OK: {} records × 15 fields", es.measure);
+    if es.force > 0 {
+        summary = if es.measure == 0 {
+            format!("OK: {} force records × 14 fields", es.force)
         } else {
-            format!("{summary} and {} force records × 14 fields", es.force.len())
+            format!("{summary} and {} force records × 14 fields", es.force)
         };
     }
     if let Some(s) = ds.status {

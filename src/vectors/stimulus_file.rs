@@ -8,7 +8,7 @@
 //!   `dut.vcd`), else `p` outside a scope named `outputs` (the shallowest). Clock `k`
 //!   takes the pins' values at time `k·P` (the last change at or before it, the golden
 //!   VCD's convention); the clocks run from 0 to the file's last time.
-//! - **Events** (magic `TTVX`): an input stream ([`binary::decode_event_stream`]): the
+//! - **Events** (magic `TTVX`): an input stream ([`binary::read_event_stream`], record by record): the
 //!   measurement events, the force events, or both. Measurement events are turned back
 //!   into pins ([`pins_from_events`]) so the cycle-level files can be written too.
 //! - **Run-length pins** (`stim.hex`, hex words): the testbench's stimulus format
@@ -89,14 +89,22 @@ pub fn settle_clock(
 pub fn read(path: &Path, stated: Option<&StatedClock>) -> Result<StimulusFile, StimulusError> {
     let file = path.display().to_string();
     let f = std::fs::File::open(path).map_err(|e| StimulusError(format!("{file}: {e}")))?;
-    let mut r = BufReader::with_capacity(1 << 20, f);
+    read_from(BufReader::with_capacity(1 << 20, f), &file, stated)
+}
+
+/// Reads a stimulus from `r` (see the module documentation); `file` names it in errors.
+pub fn read_from<R: BufRead>(
+    mut r: R,
+    file: &str,
+    stated: Option<&StatedClock>,
+) -> Result<StimulusFile, StimulusError> {
+    let file = file.to_string();
     let head = r
         .fill_buf()
         .map_err(|e| StimulusError(format!("{file}: {e}")))?;
     if head.starts_with(&tooltouch_model::wire::MAGIC) {
-        let bytes = std::fs::read(path).map_err(|e| StimulusError(format!("{file}: {e}")))?;
         let stream =
-            binary::decode_event_stream(&bytes, &file).map_err(|e| StimulusError(e.to_string()))?;
+            binary::read_event_stream(r, &file).map_err(|e| StimulusError(e.to_string()))?;
         settle_clock(
             stated,
             Some((stream.header.tick_hz, "its header's tick rate")),

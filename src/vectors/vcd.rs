@@ -8,6 +8,7 @@
 use super::clock_through;
 use crate::stimulus::Stimulus;
 use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
 use std::io::{self, Write};
 use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
@@ -180,13 +181,27 @@ pub fn write_golden<W: Write>(
 /// can tell a whole golden file from one cut short.
 pub const END_COMMENT: &str = "tooltouch end";
 
-/// A value in a dump: bits, and whether any bit was x or z.
+/// A value in a dump: its bits exactly (the low 64, and whether any bit above them is 1),
+/// and whether any bit was x or z.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Value {
     /// The bits (x/z read as 0), low 64 bits of the vector.
     pub bits: u64,
     /// Some bit was x or z.
     pub unknown: bool,
+    /// Some bit above bit 63 is 1 (a signal wider than 64 bits): the value is not `bits`.
+    pub wide: bool,
+}
+
+impl Value {
+    /// A known value that fits 64 bits.
+    pub fn known(bits: u64) -> Value {
+        Value {
+            bits,
+            unknown: false,
+            wide: false,
+        }
+    }
 }
 
 /// One variable of a dump.
@@ -218,28 +233,31 @@ pub struct VcdError {
 
 #[cfg(test)]
 fn parse_value(text: &str, width: u32) -> Value {
-    let (bits, unknown, pad) = parse_bits(text.as_bytes());
-    Value {
-        bits,
-        unknown: unknown || (pad && (text.len() as u32) < width),
-    }
+    let digits: Vec<vcd::Value> = text
+        .chars()
+        .map(|c| c.to_string().parse().unwrap_or(vcd::Value::X))
+        .collect();
+    vector_value(&digits, width)
 }
 
-/// Bits of a binary value text, whether some digit was x/z, and whether it left-extends
-/// with x/z (its first digit is x or z).
-fn parse_bits(text: &[u8]) -> (u64, bool, bool) {
-    let mut bits = 0u64;
-    let mut unknown = false;
-    for &c in text {
-        bits = bits.wrapping_shl(1);
-        match c {
-            b'1' => bits |= 1,
-            b'0' => {}
-            _ => unknown = true,
+/// The value of a vector change's digits (most significant first) for a signal `width`
+/// bits wide: fewer digits than the width extend to the left with 0, or with x when the
+/// first digit is x or z (the VCD rule).
+fn vector_value(digits: &[vcd::Value], width: u32) -> Value {
+    let mut v = Value::known(0);
+    let n = digits.len();
+    for (i, d) in digits.iter().enumerate() {
+        let position = n - 1 - i;
+        match d {
+            vcd::Value::V1 if position < 64 => v.bits |= 1 << position,
+            vcd::Value::V1 => v.wide = true,
+            vcd::Value::V0 => {}
+            _ => v.unknown = true,
         }
     }
-    let pad = matches!(text.first(), Some(b'x' | b'X' | b'z' | b'Z'));
-    (bits, unknown, pad)
+    let pads_unknown = matches!(digits.first(), Some(vcd::Value::X | vcd::Value::Z));
+    v.unknown |= pads_unknown && (n as u64) < u64::from(width);
+    v
 }
 
 /// The declarations of a dump: timescale, variables, the comments before
@@ -255,74 +273,56 @@ pub struct Declarations {
     pub comments: Vec<String>,
     codes: Vec<String>,
     widths: Vec<u32>,
-    index: HashMap<String, usize>,
-    /// Dense index + 1 of the one- and two-character codes (the common ones), by
-    /// [`short_code_slot`]; 0 = none. Spares the body's hot loop a string hash.
-    short: Vec<u32>,
+    /// The first signal of each code, index into `signals` (named in messages).
+    first_signal: Vec<usize>,
+    index: HashMap<vcd::IdCode, usize, BuildHasherDefault<IdCodeHasher>>,
 }
 
-/// A decimal number of ASCII digits (no sign, at least one digit), or `None`.
-fn parse_decimal(digits: &[u8]) -> Option<u64> {
-    if digits.is_empty() {
-        return None;
+/// Hashes an [`vcd::IdCode`] as the number it is (a code is a base-94 number: hashing it
+/// again would only cost time in the body's hot loop).
+#[derive(Default)]
+struct IdCodeHasher(u64);
+
+impl std::hash::Hasher for IdCodeHasher {
+    fn finish(&self) -> u64 {
+        self.0
     }
-    digits.iter().try_fold(0u64, |n, &d| {
-        d.is_ascii_digit()
-            .then(|| n.checked_mul(10)?.checked_add(u64::from(d - b'0')))
-            .flatten()
-    })
-}
-
-/// Printable code characters `'!'..='~'`.
-const CODE_CHARS: usize = 94;
-
-/// The slot of a one- or two-character code in [`Declarations::short`].
-fn short_code_slot(id: &[u8]) -> Option<usize> {
-    let c = |b: u8| (33..=126).contains(&b).then(|| usize::from(b - 33));
-    match *id {
-        [a] => c(a),
-        [a, b] => Some(CODE_CHARS + c(a)? * CODE_CHARS + c(b)?),
-        _ => None,
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = self.0.rotate_left(8) ^ u64::from(b);
+        }
+    }
+    fn write_u64(&mut self, n: u64) {
+        self.0 = n;
     }
 }
 
 impl Declarations {
     fn add(&mut self, signal: Signal) {
-        if !self.index.contains_key(&signal.id) {
-            if let Some(slot) = short_code_slot(signal.id.as_bytes()) {
-                if self.short.is_empty() {
-                    self.short = vec![0; CODE_CHARS + CODE_CHARS * CODE_CHARS];
-                }
-                self.short[slot] = self.codes.len() as u32 + 1;
+        if let Ok(code) = signal.id.parse::<vcd::IdCode>() {
+            if !self.index.contains_key(&code) {
+                self.index.insert(code, self.codes.len());
+                self.codes.push(signal.id.clone());
+                self.widths.push(signal.width);
+                self.first_signal.push(self.signals.len());
             }
-            self.index.insert(signal.id.clone(), self.codes.len());
-            self.codes.push(signal.id.clone());
-            self.widths.push(signal.width);
         }
         self.signals.push(signal);
     }
 
     /// The dense index of identifier code `id`.
     pub fn code_index(&self, id: &str) -> Option<usize> {
-        self.code_index_bytes(id.as_bytes())
-    }
-
-    /// [`Declarations::code_index`] of a code given as bytes.
-    fn code_index_bytes(&self, id: &[u8]) -> Option<usize> {
-        match short_code_slot(id) {
-            Some(slot) => match self.short.get(slot) {
-                Some(&n) if n > 0 => Some(n as usize - 1),
-                _ => None,
-            },
-            None => std::str::from_utf8(id)
-                .ok()
-                .and_then(|id| self.index.get(id).copied()),
-        }
+        self.index.get(&id.parse().ok()?).copied()
     }
 
     /// Identifier codes by dense index.
     pub fn codes(&self) -> &[String] {
         &self.codes
+    }
+
+    /// The first signal declared with the code of dense index `index`.
+    fn signal_of(&self, index: usize) -> &Signal {
+        &self.signals[self.first_signal[index]]
     }
 
     /// The signal named `name` in the scope path ending with `scope_suffix`.
@@ -403,18 +403,36 @@ pub enum Item {
 }
 
 /// Reads a dump as a stream: the declarations first ([`VcdReader::new`]), then the body
-/// item by item, so that a file of any length is read in constant memory. Any tool's
-/// dump is accepted (scopes, `$timescale`, several codes per line, reals and strings
-/// skipped); errors name the file and line.
+/// item by item, so that a file of any length is read in constant memory. The tokens are
+/// the `vcd` crate's ([`vcd::Parser`], which reads command by command from a `BufRead`);
+/// this layer resolves identifier codes, scales times to femtoseconds and checks what the
+/// crate leaves to its user: times that go backwards, unknown codes, a value with more
+/// digits than its signal's width. Scopes, `$timescale`, reals and strings (skipped) of
+/// any tool's dump are accepted; errors name the file and line.
 pub struct VcdReader<R> {
-    src: R,
+    /// The file, and one newline after its end: the crate needs whitespace after the last
+    /// token, which a dump whose last line has no newline lacks.
+    parser: vcd::Parser<std::io::Chain<R, &'static [u8]>>,
     file: String,
-    buf: Vec<u8>,
-    pos: usize,
     line: usize,
     declarations: Declarations,
     time_fs: u64,
     late_comments: Vec<String>,
+}
+
+/// A time for messages: whole nanoseconds as `… ns`, else femtoseconds.
+fn time_text(fs: u64) -> String {
+    if fs.is_multiple_of(1_000_000) {
+        format!("{} ns", fs / 1_000_000)
+    } else {
+        format!("{fs} fs")
+    }
+}
+
+/// A `$comment` text as a list of words joined by single spaces (the form the golden
+/// stamp and end comments are matched in).
+fn comment_words(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 impl<R: std::io::BufRead> VcdReader<R> {
@@ -422,10 +440,8 @@ impl<R: std::io::BufRead> VcdReader<R> {
     /// errors.
     pub fn new(src: R, file: &str) -> Result<Self, VcdError> {
         let mut r = VcdReader {
-            src,
+            parser: vcd::Parser::new(src.chain(&b"\n"[..])),
             file: file.to_string(),
-            buf: Vec::with_capacity(256),
-            pos: 0,
             line: 0,
             declarations: Declarations {
                 timescale_fs: 1_000_000,
@@ -473,208 +489,151 @@ impl<R: std::io::BufRead> VcdReader<R> {
         }
     }
 
-    /// The byte range of the next whitespace-separated token in `self.buf`, reading lines
-    /// as needed; `None` at the end of the file.
-    fn next_token(&mut self) -> Result<Option<(usize, usize)>, VcdError> {
-        loop {
-            let b = &self.buf;
-            let mut i = self.pos;
-            while i < b.len() && b[i].is_ascii_whitespace() {
-                i += 1;
+    /// The next command, `None` at the end of the file; a parse error names its line.
+    fn command(&mut self) -> Result<Option<vcd::Command>, VcdError> {
+        let next = self.parser.next();
+        self.line = usize::try_from(self.parser.line()).unwrap_or(usize::MAX);
+        match next {
+            None => Ok(None),
+            Some(Ok(c)) => Ok(Some(c)),
+            Some(Err(e)) => {
+                let parse = e
+                    .get_ref()
+                    .and_then(|i| i.downcast_ref::<vcd::ParseError>());
+                Err(match parse {
+                    Some(p) => VcdError {
+                        file: self.file.clone(),
+                        line: usize::try_from(p.line()).unwrap_or(usize::MAX),
+                        message: p.kind().to_string(),
+                    },
+                    None if e.kind() == std::io::ErrorKind::UnexpectedEof => {
+                        self.error("ends inside a command (cut short?)".into())
+                    }
+                    None => self.error(format!("cannot read: {e}")),
+                })
             }
-            if i < b.len() {
-                let start = i;
-                while i < b.len() && !b[i].is_ascii_whitespace() {
-                    i += 1;
-                }
-                self.pos = i;
-                return Ok(Some((start, i)));
-            }
-            self.buf.clear();
-            self.pos = 0;
-            let n = self
-                .src
-                .read_until(b'\n', &mut self.buf)
-                .map_err(|e| self.error(format!("cannot read: {e}")))?;
-            if n == 0 {
-                return Ok(None);
-            }
-            self.line += 1;
         }
-    }
-
-    fn token_text(&self, (a, b): (usize, usize)) -> String {
-        String::from_utf8_lossy(&self.buf[a..b]).into_owned()
-    }
-
-    /// The tokens up to `$end` (not included); `what` names the command in the error.
-    fn until_end(&mut self, what: &str) -> Result<Vec<String>, VcdError> {
-        let start = self.line;
-        let mut v = Vec::new();
-        while let Some(t) = self.next_token()? {
-            if &self.buf[t.0..t.1] == b"$end" {
-                return Ok(v);
-            }
-            v.push(self.token_text(t));
-        }
-        Err(VcdError {
-            file: self.file.clone(),
-            line: start,
-            message: format!("{what} without $end"),
-        })
     }
 
     fn read_declarations(&mut self) -> Result<(), VcdError> {
+        use vcd::Command as C;
         let mut scope: Vec<String> = Vec::new();
+        let mut any = false;
         loop {
-            let Some(t) = self.next_token()? else {
-                return Err(self.error("no $enddefinitions".into()));
+            let Some(command) = self.command()? else {
+                return Err(if any {
+                    self.error("ends before $enddefinitions (cut short?)".into())
+                } else {
+                    VcdError {
+                        file: self.file.clone(),
+                        line: 0,
+                        message: "empty: no VCD declarations ($var … $enddefinitions)".into(),
+                    }
+                });
             };
-            let tok = self.token_text(t);
-            let line = self.line;
-            match tok.as_str() {
-                "$scope" => {
-                    let v = self.until_end("$scope")?;
-                    scope.push(v.get(1).cloned().unwrap_or_default());
-                }
-                "$upscope" => {
-                    self.until_end("$upscope")?;
+            any = true;
+            match command {
+                C::ScopeDef(_, name) => scope.push(name),
+                C::Upscope => {
                     scope.pop();
                 }
-                "$var" => {
-                    let v = self.until_end("$var")?;
-                    if v.len() < 4 {
-                        return Err(VcdError {
-                            file: self.file.clone(),
-                            line,
-                            message: format!("malformed $var: {}", v.join(" ")),
-                        });
-                    }
-                    let width: u32 = v[1].parse().map_err(|_| VcdError {
-                        file: self.file.clone(),
-                        line,
-                        message: format!("bad $var width `{}`", v[1]),
-                    })?;
-                    let name = v[3].split('[').next().unwrap_or("").to_string();
+                C::VarDef(_, width, code, reference, _) => {
+                    let name = reference.split('[').next().unwrap_or("").to_string();
+                    let line = self.line;
                     self.declarations.add(Signal {
                         scope: scope.clone(),
                         name,
                         width,
-                        id: v[2].clone(),
+                        id: code.to_string(),
                         line,
                     });
                 }
-                "$timescale" => {
-                    let v = self.until_end("$timescale")?.concat();
-                    let digits: String = v.chars().take_while(|c| c.is_ascii_digit()).collect();
-                    let unit = &v[digits.len()..];
-                    let bad = |message: String| VcdError {
-                        file: self.file.clone(),
-                        line,
-                        message,
-                    };
-                    let n: u64 = digits
-                        .parse()
-                        .map_err(|_| bad(format!("bad $timescale `{v}`")))?;
+                C::Timescale(n, unit) => {
                     let per: u64 = match unit {
-                        "s" => 1_000_000_000_000_000,
-                        "ms" => 1_000_000_000_000,
-                        "us" => 1_000_000_000,
-                        "ns" => 1_000_000,
-                        "ps" => 1_000,
-                        "fs" => 1,
-                        _ => return Err(bad(format!("bad $timescale unit `{unit}`"))),
+                        vcd::TimescaleUnit::S => 1_000_000_000_000_000,
+                        vcd::TimescaleUnit::MS => 1_000_000_000_000,
+                        vcd::TimescaleUnit::US => 1_000_000_000,
+                        vcd::TimescaleUnit::NS => 1_000_000,
+                        vcd::TimescaleUnit::PS => 1_000,
+                        vcd::TimescaleUnit::FS => 1,
                     };
-                    self.declarations.timescale_fs = n * per;
+                    self.declarations.timescale_fs = u64::from(n)
+                        .checked_mul(per)
+                        .filter(|&fs| fs > 0)
+                        .ok_or_else(|| self.error(format!("bad $timescale `{n}{unit}`")))?;
                 }
-                "$comment" => {
-                    let v = self.until_end("$comment")?;
-                    self.declarations.comments.push(v.join(" "));
+                C::Comment(text) => self.declarations.comments.push(comment_words(&text)),
+                C::Enddefinitions => return Ok(()),
+                C::Timestamp(t) => {
+                    return Err(self.error(format!("unexpected `#{t}` before $enddefinitions")))
                 }
-                "$enddefinitions" => {
-                    self.until_end("$enddefinitions")?;
-                    return Ok(());
+                C::ChangeScalar(..)
+                | C::ChangeVector(..)
+                | C::ChangeReal(..)
+                | C::ChangeString(..) => {
+                    return Err(self.error("a value change before $enddefinitions".into()))
                 }
-                "$dumpvars" | "$dumpall" | "$dumpon" | "$dumpoff" | "$end" => {}
-                t if t.starts_with('$') => {
-                    self.until_end(t)?;
-                }
-                t => {
-                    return Err(self.error(format!("unexpected `{t}` before $enddefinitions")));
-                }
+                _ => {}
             }
         }
     }
 
+    /// The dense index of `code`, or an error naming it.
+    fn index_of(&self, code: vcd::IdCode) -> Result<usize, VcdError> {
+        self.declarations
+            .index
+            .get(&code)
+            .copied()
+            .ok_or_else(|| self.error(format!("unknown identifier `{code}`")))
+    }
+
     /// The next time or value change of the body; `None` at the end of the file.
-    /// Comments are kept ([`VcdReader::late_comments`]); times must not go backwards.
+    /// Comments are kept ([`VcdReader::late_comments`]); times must not go backwards; a
+    /// vector value must not have more digits than its signal is wide.
     pub fn next_item(&mut self) -> Result<Option<Item>, VcdError> {
+        use vcd::Command as C;
         loop {
-            let Some((a, b)) = self.next_token()? else {
+            let Some(command) = self.command()? else {
                 return Ok(None);
             };
-            match self.buf[a] {
-                b'#' => {
-                    let n = parse_decimal(&self.buf[a + 1..b]).ok_or_else(|| {
-                        self.error(format!("bad time `{}`", self.token_text((a, b))))
-                    })?;
+            match command {
+                C::Timestamp(n) => {
                     let fs = n
                         .checked_mul(self.declarations.timescale_fs)
-                        .ok_or_else(|| {
-                            self.error(format!("time `{}` overflows", self.token_text((a, b))))
-                        })?;
+                        .ok_or_else(|| self.error(format!("time `#{n}` overflows")))?;
                     if fs < self.time_fs {
-                        return Err(
-                            self.error(format!("time goes backwards: {}", self.token_text((a, b))))
-                        );
+                        return Err(self.error(format!("time goes backwards: #{n}")));
                     }
                     self.time_fs = fs;
                     return Ok(Some(Item::Time(fs)));
                 }
-                b'0' | b'1' | b'x' | b'X' | b'z' | b'Z' if b - a > 1 => {
-                    let (bits, unknown, _) = parse_bits(&self.buf[a..a + 1]);
-                    let Some(index) = self.declarations.code_index_bytes(&self.buf[a + 1..b])
-                    else {
-                        let id = self.token_text((a + 1, b));
-                        return Err(self.error(format!("unknown identifier `{id}`")));
+                C::ChangeScalar(code, v) => {
+                    let index = self.index_of(code)?;
+                    let value = Value {
+                        bits: u64::from(v == vcd::Value::V1),
+                        unknown: matches!(v, vcd::Value::X | vcd::Value::Z),
+                        wide: false,
                     };
-                    return Ok(Some(Item::Change(index, Value { bits, unknown })));
+                    return Ok(Some(Item::Change(index, value)));
                 }
-                b'b' | b'B' => {
-                    let (bits, unknown, pad) = parse_bits(&self.buf[a + 1..b]);
-                    let digits = (b - a - 1) as u32;
-                    let Some(t) = self.next_token()? else {
-                        return Err(self.error("vector value without identifier".into()));
-                    };
-                    let Some(index) = self.declarations.code_index_bytes(&self.buf[t.0..t.1])
-                    else {
-                        let id = self.token_text(t);
-                        return Err(self.error(format!("unknown identifier `{id}`")));
-                    };
+                C::ChangeVector(code, digits) => {
+                    let index = self.index_of(code)?;
                     let width = self.declarations.widths[index];
-                    let unknown = unknown || (pad && digits < width);
-                    return Ok(Some(Item::Change(index, Value { bits, unknown })));
-                }
-                b'r' | b'R' | b's' | b'S' => {
-                    // Real and string values: not compared; skip the identifier.
-                    self.next_token()?;
-                }
-                b'$' => {
-                    let tok = self.token_text((a, b));
-                    match tok.as_str() {
-                        "$comment" => {
-                            let v = self.until_end("$comment")?;
-                            self.late_comments.push(v.join(" "));
-                        }
-                        "$dumpvars" | "$dumpall" | "$dumpon" | "$dumpoff" | "$end" => {}
-                        t => {
-                            self.until_end(t)?;
-                        }
+                    let digits: Vec<vcd::Value> = digits.into();
+                    if digits.len() as u64 > u64::from(width) {
+                        let s = self.declarations.signal_of(index);
+                        return Err(self.error(format!(
+                            "a value of {} bits for `{}`, declared {width} bits wide (line {}), at time {}",
+                            digits.len(),
+                            s.scope.iter().chain([&s.name]).cloned().collect::<Vec<_>>().join("."),
+                            s.line,
+                            time_text(self.time_fs)
+                        )));
                     }
+                    return Ok(Some(Item::Change(index, vector_value(&digits, width))));
                 }
-                _ => {
-                    return Err(self.error(format!("unexpected `{}`", self.token_text((a, b)))));
-                }
+                C::Comment(text) => self.late_comments.push(comment_words(&text)),
+                _ => {}
             }
         }
     }
@@ -849,14 +808,54 @@ mod tests {
 
     #[test]
     fn values_parse_with_extension() {
-        assert_eq!(
-            parse_value("101", 8),
-            Value {
-                bits: 5,
-                unknown: false
-            }
-        );
+        assert_eq!(parse_value("101", 8), Value::known(5));
         assert!(parse_value("x", 8).unknown);
         assert!(parse_value("1z", 2).unknown);
+    }
+
+    #[test]
+    fn values_wider_than_64_bits_are_kept_exactly() {
+        let low = format!("1{}", "0".repeat(63));
+        assert_eq!(parse_value(&low, 100), Value::known(1 << 63));
+        let above = format!("1{}", "0".repeat(64));
+        let v = parse_value(&above, 100);
+        assert!(v.wide && v.bits == 0 && !v.unknown, "{v:?}");
+        let zeros = format!("{}101", "0".repeat(90));
+        assert_eq!(parse_value(&zeros, 100), Value::known(5));
+    }
+
+    #[test]
+    fn a_value_wider_than_its_signal_names_signal_line_and_time() {
+        let text = "$scope module top $end\n$var wire 4 ! q [3:0] $end\n$upscope $end\n\
+                    $enddefinitions $end\n#0\nb101 !\n#7\nb10101 !\n";
+        let mut r = VcdReader::new(text.as_bytes(), "w.vcd").unwrap();
+        let e = loop {
+            match r.next_item() {
+                Ok(Some(_)) => {}
+                Ok(None) => panic!("read without error"),
+                Err(e) => break e.to_string(),
+            }
+        };
+        assert!(
+            e.contains("w.vcd: line 8:")
+                && e.contains("5 bits for `top.q`")
+                && e.contains("4 bits wide")
+                && e.contains("time 7 ns"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_last_line_without_a_newline_is_read() {
+        let text = "$var wire 1 ! a $end\n$enddefinitions $end\n#0\n1!\n#5";
+        let mut r = VcdReader::new(text.as_bytes(), "n.vcd").unwrap();
+        while r.next_item().unwrap().is_some() {}
+        assert_eq!(r.time_fs(), 5_000_000);
+    }
+
+    #[test]
+    fn an_empty_file_is_named_empty() {
+        let e = VcdReader::new(&b""[..], "e.vcd").err().unwrap().to_string();
+        assert!(e.contains("e.vcd") && e.contains("empty"), "{e}");
     }
 }

@@ -1,4 +1,4 @@
-//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, bench, mutants.
+//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, fuzz, bench, mutants.
 //!
 //! Each external tool is run with the working directory it needs: cargo reads
 //! `.cargo/config.toml` from the current directory, so firmware commands run inside
@@ -6,6 +6,7 @@
 
 mod bench;
 mod firmware;
+mod fuzz;
 mod hdl;
 mod mutants;
 mod process;
@@ -21,14 +22,17 @@ usage: cargo xtask <verb>
 
 verbs:
   setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
-               iverilog, yosys, nextpnr-ice40) that are missing
+               iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
-               host tests too), lockfile check
+               host tests too), lockfile check, a short fuzz pass
   firmware     build the firmware for both boards
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
                refit the tuning cost model (src/tune/cost_model.json)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
                generator; review the result with `git diff hdl-gen/snapshots`
+  fuzz         coverage-guided fuzzing of every decoder and parser (fuzz/): each target
+               for --seconds N (60) or only --target T; a failing input fails the verb;
+               --plain: the uninstrumented short pass that `test` runs
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
                (--criterion: also every criterion bench)
   mutants      mutation testing (cargo-mutants, installed when missing) of the model against
@@ -46,6 +50,7 @@ fn main() -> Result<()> {
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "bench" => bench::run(&args[1..]),
+        "fuzz" => fuzz::run(&args[1..]),
         "mutants" => mutants::run(&args[1..]),
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
@@ -99,6 +104,9 @@ fn test() -> Result<()> {
     step("firmware handlers on the host", firmware::host_tests)?;
     step("host tests", || {
         run(&root, "cargo", &["test", "--workspace", "--release"])
+    })?;
+    step("fuzz (short pass)", || {
+        fuzz::fuzz(&fuzz::TARGETS, fuzz::CI_SECONDS, fuzz::Build::Plain)
     })?;
     step("benches build", || {
         run(&root, "cargo", &["bench", "--workspace", "--no-run"])

@@ -17,6 +17,8 @@ const TOOLS: &[(&str, &str)] = &[
     ("icepack", "fpga-icestorm"),
     // The hostile-input test table runs the CLI under `prlimit --as`.
     ("prlimit", "util-linux"),
+    // libFuzzer's C++ sources, built by `libfuzzer-sys` for `cargo xtask fuzz`.
+    ("c++", "g++"),
 ];
 
 fn on_path(program: &str) -> bool {

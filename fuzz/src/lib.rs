@@ -1,0 +1,186 @@
+//! The entry functions of the fuzz targets: one per decoder or parser that reads what a
+//! user or a device hands tooltouch. Each takes arbitrary bytes and must return without
+//! a panic, a hang or unbounded memory, whatever the bytes; errors are the expected
+//! outcome for most inputs and are dropped.
+//!
+//! The functions live in this library, not in the target binaries, so that two drivers
+//! share them: the libFuzzer binaries of `fuzz_targets/` (built by `cargo xtask fuzz` with
+//! coverage instrumentation, feature `libfuzzer`), and the plain test
+//! `tests/regressions.rs`, which replays the committed seed corpus and every input that
+//! once failed (`fuzz/corpus/<target>/`, `fuzz/regressions/<target>/`) on the stable
+//! toolchain with no special flag.
+
+use std::io::Read;
+use tooltouch::vectors::{binary, check, stimulus_file, vcd};
+use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
+use tooltouch_model::MeasureConfig;
+
+/// A target's entry function: any bytes in, nothing out, never a panic.
+pub type Entry = fn(&[u8]);
+
+/// Every target, by name: the binary of `fuzz_targets/`, the folders of its corpus and
+/// regressions, and its entry function.
+pub const TARGETS: &[(&str, Entry)] = &[
+    ("ttv_outputs", ttv_outputs),
+    ("ttv_events", ttv_events),
+    ("force_chunks", force_chunks),
+    ("vcd", vcd),
+    ("stimulus", stimulus),
+    ("settings", settings),
+    ("tune_spec", tune_spec),
+    ("tune_merge", tune_merge),
+];
+
+/// A reader that hands out at most `step` bytes per `read` call, so the streaming
+/// readers meet records split across reads as they do at a buffer's edge.
+struct Trickle<'a> {
+    bytes: &'a [u8],
+    step: usize,
+}
+
+impl Read for Trickle<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.step).min(self.bytes.len());
+        buf[..n].copy_from_slice(&self.bytes[..n]);
+        self.bytes = &self.bytes[n..];
+        Ok(n)
+    }
+}
+
+/// Outputs streams (`expected_outputs.ttv`, a firmware trace): the whole-file decoder,
+/// the record-by-record reader fed in odd-sized pieces (it must give the same result),
+/// and `check`'s streaming comparison of the stream with itself.
+pub fn ttv_outputs(data: &[u8]) {
+    let whole = binary::decode_output_stream(data, "fuzz.ttv");
+    let streamed = (|| {
+        let step = usize::from(data.first().copied().unwrap_or(1) % 7) + 1;
+        let mut r = binary::OutputReader::new(Trickle { bytes: data, step }, "fuzz.ttv")?;
+        let mut n = 0usize;
+        while r.next_output()?.is_some() {
+            n += 1;
+        }
+        Ok::<_, binary::BinaryError>(n)
+    })();
+    match (&whole, &streamed) {
+        (Ok(s), Ok(n)) => assert_eq!(s.measure.len() + s.force.len(), *n),
+        (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+        _ => panic!("whole-file and streamed decoding disagree: {whole:?} vs {streamed:?}"),
+    }
+    if whole.is_ok() {
+        let v = check::compare_binary(data, "e.ttv", data, "d.ttv");
+        assert!(
+            matches!(v, Ok(check::Verdict::Match(_))) || v.is_err(),
+            "a stream must match itself: {v:?}"
+        );
+    }
+}
+
+/// Input streams (`events.ttv`, force event files): measurement events, force events and
+/// the force configuration chunks, through both decoders of input streams.
+pub fn ttv_events(data: &[u8]) {
+    let _ = binary::decode_event_stream(data, "fuzz.ttv");
+    let _ = binary::decode_events(data, "fuzz.ttv", None);
+    let _ = binary::decode_outputs(data, "fuzz.ttv", None);
+    if let Ok(stream) = binary::decode_event_stream(data, "fuzz.ttv") {
+        // What decodes re-encodes to a stream that decodes to the same thing.
+        let again = binary::encode_event_stream(&stream);
+        let back = binary::decode_event_stream(&again, "again.ttv");
+        assert_eq!(
+            back.ok().as_ref(),
+            Some(&stream),
+            "re-encoded stream differs"
+        );
+    }
+}
+
+/// Force configuration chunks on their own: the first 8 bytes are the header's
+/// `force_hash`, then each chunk is a length byte and that many payload bytes; and the
+/// same bytes as one canonical force configuration.
+pub fn force_chunks(data: &[u8]) {
+    let (hash, mut rest) = match data.split_first_chunk::<8>() {
+        Some((h, rest)) => (u64::from_le_bytes(*h), rest),
+        None => (0, data),
+    };
+    let mut a = ForceConfigAssembler::new();
+    while let Some((&len, tail)) = rest.split_first() {
+        let n = usize::from(len).min(tail.len());
+        let _ = a.push(&tail[..n]);
+        rest = &tail[n..];
+    }
+    let _ = a.finish(hash);
+    if let Ok(settings) = tooltouch_model::wire::force_config::decode_force_settings(data) {
+        let _ = settings.validate();
+    }
+}
+
+/// VCD: the streaming reader over every item, and when the bytes are a golden file,
+/// `check`'s comparison of the file with itself.
+pub fn vcd(data: &[u8]) {
+    let Ok(mut r) = vcd::VcdReader::new(data, "fuzz.vcd") else {
+        return;
+    };
+    let mut items = 0u64;
+    while let Ok(Some(_)) = r.next_item() {
+        items += 1;
+    }
+    let _ = items;
+    let (Ok(mut e), Ok(mut d)) = (
+        vcd::VcdReader::new(data, "e.vcd"),
+        vcd::VcdReader::new(data, "d.vcd"),
+    ) else {
+        return;
+    };
+    let (ed, dd) = (e.declarations().clone(), d.declarations().clone());
+    let _ = check::compare_vcd_sides(
+        &mut check::VcdSide {
+            name: "e.vcd",
+            declarations: &ed,
+            changes: &mut e,
+        },
+        &mut check::VcdSide {
+            name: "d.vcd",
+            declarations: &dd,
+            changes: &mut d,
+        },
+        &Vec::new,
+    );
+}
+
+/// A user's stimulus for `tooltouch vectors` and `hdl --vectors`: the dispatcher over
+/// VCD pins, input event streams and run-length pins (`stim.hex`, the testbench's
+/// `$readmemh` words), and one word of an `expect.hex` explained.
+pub fn stimulus(data: &[u8]) {
+    let _ = stimulus_file::read_from(data, "fuzz.stim", None);
+    if let Ok(word) = std::str::from_utf8(data) {
+        let _ = tooltouch::hdl::hex::describe_word(&MeasureConfig::default(), word.trim());
+    }
+}
+
+/// A settings file (`[measure]` and `[lathe]`), parsed and validated.
+pub fn settings(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    if let Ok(s) = tooltouch::settings::Settings::parse(text, "fuzz.toml") {
+        let _ = s.resolve();
+    }
+}
+
+/// A tune sweep spec (`--spec` TOML), parsed and counted (its points listed, not run).
+pub fn tune_spec(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    if let Ok(spec) = tooltouch::tune::SweepSpec::from_toml(text) {
+        let _ = tooltouch::tune::points_in(&spec, None);
+    }
+}
+
+/// A shard's `results.json`, read and merged with itself and alone.
+pub fn tune_merge(data: &[u8]) {
+    let Ok(r) = serde_json::from_slice::<tooltouch::tune::Results>(data) else {
+        return;
+    };
+    let _ = tooltouch::tune::merge(std::slice::from_ref(&r));
+    let _ = tooltouch::tune::merge(&[r.clone(), r]);
+}
