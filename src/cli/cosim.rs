@@ -147,8 +147,11 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         ));
     }
     let image = match &a.image {
-        Some(p) if p.is_file() => p.clone(),
-        Some(p) => return Outcome::BadInput(format!("{}: no such image", p.display())),
+        Some(p) => match std::fs::read(p) {
+            Ok(bytes) if bytes.starts_with(b"\x7fELF") => p.clone(),
+            Ok(_) => return Outcome::BadInput(format!("{}: not an ELF image", p.display())),
+            Err(e) => return Outcome::BadInput(format!("{}: {e}", p.display())),
+        },
         None => {
             // Without settings, the image gets the stream's own configuration.
             let config = match &a.config {
