@@ -60,6 +60,14 @@ impl Default for ForceDesign {
 }
 
 impl ForceDesign {
+    /// Reads a `[force]` table and checks it: the design and its force settings.
+    pub fn from_table(table: &toml::Value) -> anyhow::Result<(ForceDesign, ForceSettings)> {
+        let design: ForceDesign = table.clone().try_into()?;
+        let settings = design.settings()?;
+        settings.validate().map_err(|e| anyhow::anyhow!("{e}"))?;
+        Ok((design, settings))
+    }
+
     /// The force settings of this design, built as the tune sweep builds its points.
     pub fn settings(&self) -> anyhow::Result<ForceSettings> {
         let spec = ForceSpec {
@@ -114,12 +122,7 @@ impl FirmwareConfig {
         let table: toml::Table =
             toml::from_str(&text).with_context(|| format!("{}: not valid TOML", path.display()))?;
         if let Some(force) = table.get("force") {
-            let design: ForceDesign = force
-                .clone()
-                .try_into()
-                .with_context(|| format!("{}: [force]", path.display()))?;
-            let settings = design
-                .settings()
+            let (_, settings) = ForceDesign::from_table(force)
                 .with_context(|| format!("{}: [force]", path.display()))?;
             config.force = settings
                 .validate()
