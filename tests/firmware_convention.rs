@@ -2,8 +2,8 @@
 //! the bundled demo stream (`firmware/tooltouch-events.bin`, which `tooltouch measure`
 //! remakes from `firmware/demo-lathe.toml`) and its trace passes `tooltouch check`; a
 //! missing or malformed events file is reported on QEMU's console with its own exit status
-//! (docs/firmware.md); `tooltouch cosim firmware` runs an image on a stream and checks it
-//! (exit 0 on a match, 2 on bad input).
+//! (docs/firmware.md); `tooltouch cosim firmware` runs an image on a stream — a measurement
+//! stream or a force-only one — and checks it (exit 0 on a match, 2 on bad input).
 //!
 //! Needs qemu-system-arm and the thumbv7m-none-eabi target: without them the test fails
 //! with a message naming `cargo xtask setup`.
@@ -142,6 +142,21 @@ fn cosim_firmware_checks_an_image_on_a_stream() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(text(&o).contains("none lost or overflowed"), "{}", text(&o));
     assert!(trace.is_file());
+
+    // A force-only stream (`tooltouch control`'s) runs too: the firmware gets the default
+    // measurement configuration before it.
+    let o = tooltouch(&["control", "--out", s(&w.path().join("ctl"))]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = tooltouch(&[
+        "cosim",
+        "firmware",
+        "--stimulus",
+        s(&w.path().join("ctl/pi_estimated.events.bin")),
+        "--image",
+        s(&image),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(text(&o).contains("force records"), "{}", text(&o));
 
     // Bad input: a stimulus that is not one, an image that is not one or does not exist,
     // settings whose configuration is not the stream's.

@@ -133,10 +133,16 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         Ok(c) => c,
         Err(e) => return bad(e),
     };
-    let (set, _) = match golden_set_of(&a.stimulus, &settings, a.config.is_some()) {
+    let (mut set, _) = match golden_set_of(&a.stimulus, &settings, a.config.is_some()) {
         Ok(s) => s,
         Err(e) => return bad(e),
     };
+    // The firmware configures itself from a measurement configuration record first: a
+    // force-only stream gets the settings' (or the default) one, which changes no output.
+    if set.inputs.measure.is_none() {
+        set.inputs.measure = Some(wanted.measure);
+        set.inputs.header.measure_hash = wanted.measure.hash();
+    }
     let stream = set.inputs.header;
     if a.config.is_some() && stream.force_hash != 0 && stream.force_hash != wanted.force.hash() {
         return Outcome::BadInput(format!(
