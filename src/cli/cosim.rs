@@ -81,7 +81,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 fn config(a: &ConfigArgs) -> anyhow::Result<ExitCode> {
     let config = FirmwareConfig::load(a.config.as_deref())?;
     write_whole(&a.out, &config.baked_bytes())?;
-    println!(
+    outln!(
         "{}: wrote {} (build with {CONFIG_VAR}={})",
         config.hashes(),
         a.out.display(),
@@ -118,7 +118,7 @@ fn firmware(a: &FirmwareArgs) -> ExitCode {
     if code == 2 {
         eprintln!("{line}");
     } else {
-        println!("{line}");
+        outln!("{line}");
     }
     ExitCode::from(code)
 }
@@ -191,7 +191,7 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         .ok()
         .and_then(|streams| streams.first().and_then(|s| s.profile.image_hashes));
     if let Some((m, f)) = image_hashes {
-        println!(
+        outln!(
             "image {}: configuration measure_hash={m:016x} force_hash={f:016x}",
             image.display()
         );

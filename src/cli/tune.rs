@@ -368,7 +368,7 @@ fn point(results: &std::path::Path, index: usize, out: &std::path::Path) -> Resu
     tmp.push(".partial");
     std::fs::write(&tmp, &text).with_context(|| format!("writing {}", out.display()))?;
     std::fs::rename(&tmp, out).with_context(|| format!("writing {}", out.display()))?;
-    println!(
+    outln!(
         "{} → {}",
         text.lines().next().unwrap_or("").trim_start_matches("# "),
         out.display()
