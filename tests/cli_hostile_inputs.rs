@@ -346,6 +346,16 @@ fn subcommands() -> Vec<(String, clap::Command)> {
         }
     }
     walk("", &tooltouch::cli::Cli::definition(), &mut out);
+    // Their own tests cover these (tests/firmware_convention.rs, tests/firmware_configured.rs):
+    // `cosim firmware` builds and boots a QEMU image, and `cosim config` and `tune point`
+    // write one file, not an output folder, so the folder and input-file classes here do
+    // not describe them.
+    out.retain(|(name, _)| {
+        !matches!(
+            name.as_str(),
+            "cosim firmware" | "cosim config" | "tune point"
+        )
+    });
     out
 }
 

@@ -14,7 +14,8 @@
 //! [`kind::FIRMWARE_OBSERVE`] record says so) and one force `OUTPUTS` record after every force event
 //! except a sample (model::force's convention), each at its event's time; then
 //! [`kind::FIRMWARE_PROFILE`], [`kind::FIRMWARE_FORCE_PROFILE`] and
-//! [`kind::FIRMWARE_STATUS`] records and `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
+//! [`kind::FIRMWARE_STATUS`] records (the status ends with the hashes of the configuration
+//! baked into the image, [`crate::baked`]) and `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
 //! `END`, and [`run`] returns the error.
 //!
 //! Board-independent: the board supplies the file [`Port`] and the [`Target`] that
@@ -512,7 +513,7 @@ fn replay<P: Port, T: Target>(
     }
     let counters = target.counters();
     let (cal_instructions, cal_ticks) = target.calibration();
-    let mut status = [0u8; 24];
+    let mut status = [0u8; 40];
     put_u32s(
         &mut status,
         &[
@@ -524,6 +525,16 @@ fn replay<P: Port, T: Target>(
             cal_ticks,
         ],
     );
+    // The image's own configuration (the one it was built with), so a trace tells which
+    // image made it.
+    for (d, s) in status.iter_mut().skip(24).zip(
+        crate::baked::MEASURE_HASH
+            .to_le_bytes()
+            .iter()
+            .chain(&crate::baked::FORCE_HASH.to_le_bytes()),
+    ) {
+        *d = *s;
+    }
     let (p, n) = profile.encode(0, 5);
     writer.record(
         port,

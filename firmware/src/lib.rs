@@ -1,7 +1,7 @@
 //! tooltouch-firmware: the golden model's measurement kernels on Cortex-M interrupts.
 //!
 //! The library is the board-independent part: the interrupt handlers' bodies
-//! ([`handlers`]), the co-simulation driver that replays a binary event stream
+//! ([`handlers`]), the configuration baked into the image ([`baked`]), the co-simulation driver that replays a binary event stream
 //! ([`cosim`]), the measurement tasks' IRQ numbers per board ([`interrupts`]) and the
 //! stack watermark (`stack`, on the boards). The two RTIC applications, one folder per
 //! board in `src/bin/` (QEMU's lm3s6965evb and a Nucleo-F446RE: the board's setup and
@@ -18,6 +18,7 @@
 #![no_std]
 #![deny(missing_docs)]
 
+pub mod baked;
 pub mod board;
 pub mod cosim;
 pub mod handlers;

@@ -46,6 +46,7 @@ macro_rules! out {
 
 pub mod check;
 pub mod control;
+pub mod cosim;
 pub mod hdl;
 pub mod measure;
 pub mod tune;
@@ -93,6 +94,9 @@ enum Command {
     Hdl(hdl::Args),
     /// Fixed-point tuning sweeps.
     Tune(tune::Args),
+    /// Run the QEMU firmware image on a stimulus and check its trace; write the
+    /// configuration file a firmware build bakes in.
+    Cosim(cosim::Args),
 }
 
 /// Lets a value that starts with `-` reach the flag's own parser (`--rpm -inf`, `--seed
@@ -140,6 +144,7 @@ pub fn main() -> ExitCode {
         Command::Wear(args) => wear::run(args),
         Command::Hdl(args) => hdl::run(args),
         Command::Tune(args) => tune::run(args),
+        Command::Cosim(args) => cosim::run(args),
     };
     match result {
         Ok(code) => code,

@@ -38,6 +38,17 @@ enum Command {
         #[arg(long, default_value = "out/tune")]
         out: PathBuf,
     },
+    /// Write one swept point as a settings file for `hdl --config`, `vectors --config`,
+    /// `cosim firmware --config` and `cargo xtask firmware --config` (docs/tune.md).
+    Point {
+        /// The sweep's directory (or its results.json).
+        results: PathBuf,
+        /// The point's index (the `index` column of results.csv / force.csv).
+        index: usize,
+        /// The settings file to write.
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 /// The sweep's flags. Value lists: `8,12,16`, `16`, `8..=16` or `8..=16:4`.
@@ -153,6 +164,11 @@ impl SweepArgs {
 pub fn run(args: Args) -> Result<ExitCode> {
     match args.command {
         Some(Command::Merge { dirs, out }) => merge(&dirs, &out),
+        Some(Command::Point {
+            results,
+            index,
+            out,
+        }) => point(&results, index, &out),
         None => sweep(&args.sweep),
     }
 }
@@ -342,5 +358,20 @@ fn merge(dirs: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
         out.display()
     );
     summary(&merged);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn point(results: &std::path::Path, index: usize, out: &std::path::Path) -> Result<ExitCode> {
+    let r = output::read(results)?;
+    let text = tune::point_settings::settings_toml(&r, index)?;
+    let mut tmp = out.as_os_str().to_owned();
+    tmp.push(".partial");
+    std::fs::write(&tmp, &text).with_context(|| format!("writing {}", out.display()))?;
+    std::fs::rename(&tmp, out).with_context(|| format!("writing {}", out.display()))?;
+    outln!(
+        "{} → {}",
+        text.lines().next().unwrap_or("").trim_start_matches("# "),
+        out.display()
+    );
     Ok(ExitCode::SUCCESS)
 }

@@ -60,8 +60,10 @@ pub struct LoadedSettings {
 }
 
 /// Reads the settings file `path`: the `[measure]` table (or, when the file has neither a
-/// `[measure]` nor a `[lathe]` table, the measurement fields at top level), the `[lathe]`
-/// table; any other table or key is an error. `clock_flag` is `--clock-hz`, which wins over the
+/// `[measure]` nor a `[lathe]` nor a `[force]` table, the measurement fields at top level),
+/// the `[lathe]` table, and the firmware's `[force]` design (checked here, used by the
+/// firmware's configuration, [`crate::cosim::firmware_config`]); any other table or key is
+/// an error. `clock_flag` is `--clock-hz`, which wins over the
 /// file's `[lathe] clock_hz`.
 pub fn load_settings(
     path: Option<&Path>,
@@ -87,18 +89,22 @@ pub fn load_settings(
             crate::settings::toml_error(&text, &e)
         )
     })?;
-    if table.contains_key("measure") || table.contains_key("lathe") {
-        if let Some(unknown) = table
-            .keys()
-            .find(|k| !matches!(k.as_str(), "measure" | "lathe"))
-        {
+    let tables = ["measure", "lathe", "force"];
+    if tables.iter().any(|t| table.contains_key(*t)) {
+        if let Some(unknown) = table.keys().find(|k| !tables.contains(&k.as_str())) {
             anyhow::bail!(
-                "settings file {}: unknown table or key `{unknown}`: allowed `[measure]` and `[lathe]`",
+                "settings file {}: unknown table or key `{unknown}`: allowed `[measure]`, `[lathe]` and `[force]`",
                 path.display()
             );
         }
     }
-    let settings: MeasureSettings = match (table.get("measure"), table.get("lathe")) {
+    if let Some(force) = table.get("force") {
+        crate::cosim::firmware_config::ForceDesign::from_table(force)
+            .map_err(|e| anyhow::anyhow!("settings file {}: [force] {e:#}", path.display()))?;
+    }
+    // A `[force]` table alone marks a file of tables too.
+    let other_tables = table.get("lathe").or_else(|| table.get("force"));
+    let settings: MeasureSettings = match (table.get("measure"), other_tables) {
         (Some(measure), _) => measure
             .clone()
             .try_into()

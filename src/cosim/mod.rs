@@ -10,6 +10,7 @@
 //! case, event index, time, signal and both values.
 
 pub mod error;
+pub mod firmware_config;
 pub mod force_scenario;
 pub mod qemu;
 pub mod scenario;

@@ -1,6 +1,8 @@
-//! Building the QEMU firmware image and booting it on the co-simulation board.
+//! Building the QEMU firmware image (with its default configuration, or with one baked
+//! in) and booting it on the co-simulation board.
 
 use super::error::CosimError;
+use super::firmware_config::{FirmwareConfig, CONFIG_VAR};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -30,6 +32,23 @@ pub const QEMU_ARGS: [&str; 13] = [
     "-icount",
     "shift=0",
 ];
+/// QEMU's exit status at the end of a firmware run (firmware/src/semihosting.rs; the
+/// table is in docs/firmware.md).
+pub mod exit_code {
+    /// Every stream replayed, the whole trace written.
+    pub const OK: i32 = 0;
+    /// The firmware panicked (a bug: the release image links no panic path).
+    pub const FAILURE: i32 = 1;
+    /// The events file could not be opened.
+    pub const NO_EVENTS_FILE: i32 = 2;
+    /// The events file is malformed (the trace ends with an error record).
+    pub const MALFORMED_EVENTS: i32 = 3;
+    /// Reading the events or writing the trace failed.
+    pub const FILE_IO: i32 = 4;
+    /// The baked configuration did not decode (never: the build checks it).
+    pub const BAD_BAKED_CONFIG: i32 = 5;
+}
+
 /// A QEMU run that takes longer is killed (a hung firmware), not a speed assertion.
 pub const WATCHDOG: Duration = Duration::from_secs(900);
 
@@ -88,12 +107,61 @@ pub fn check_tools() -> Result<(), CosimError> {
     Ok(())
 }
 
-/// Builds the QEMU firmware (release, from inside firmware/ so its .cargo/config.toml
-/// applies) and returns the image's path.
+/// Builds the QEMU firmware with its default configuration (release, from inside
+/// firmware/ so its .cargo/config.toml applies) and returns the image's path (see
+/// [`build_configured_firmware`]).
 pub fn build_firmware() -> Result<PathBuf, CosimError> {
+    build_image(None)
+}
+
+/// Builds the QEMU firmware with `config` baked in and returns the image's path.
+///
+/// Every image this module builds is copied out of cargo's release folder to
+/// `firmware/target/images/qemu-<measure hash>-<force hash>` (written to a temporary name
+/// and renamed, under a file lock held for the build and the copy), so a build with
+/// another configuration never changes an image another run is booting, and all builds
+/// share one target folder (switching configurations rebuilds only the firmware crate).
+pub fn build_configured_firmware(config: &FirmwareConfig) -> Result<PathBuf, CosimError> {
+    build_image(Some(config))
+}
+
+fn build_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
     check_tools()?;
+    // The defaults are what a build without a configuration file bakes in: build that
+    // way, so the default image is not rebuilt for an unchanged configuration.
+    let config = config.filter(|c| **c != FirmwareConfig::default());
     let dir = firmware_dir();
-    let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+    let images = dir.join("target").join("images");
+    let io = |what: &str, path: &Path, e: std::io::Error| {
+        CosimError::Io(format!("{what} {}: {e}", path.display()))
+    };
+    std::fs::create_dir_all(&images).map_err(|e| io("creating", &images, e))?;
+    let lock_path = images.join("build.lock");
+    let lock = std::fs::File::create(&lock_path).map_err(|e| io("creating", &lock_path, e))?;
+    lock.lock().map_err(|e| io("locking", &lock_path, e))?;
+    let name = config.copied().unwrap_or_default();
+    let name = format!("{:016x}-{:016x}", name.measure.hash(), name.force.hash());
+    let baked = match config {
+        Some(c) => {
+            let path = images.join(format!("config-{name}.bin"));
+            std::fs::write(&path, c.baked_bytes()).map_err(|e| io("writing", &path, e))?;
+            Some(path)
+        }
+        None => None,
+    };
+    let built = cargo_build_qemu(&dir, baked.as_deref())?;
+    let image = images.join(format!("qemu-{name}"));
+    let partial = images.join(format!("qemu-{name}.partial"));
+    std::fs::copy(&built, &partial).map_err(|e| io("copying the image to", &partial, e))?;
+    std::fs::rename(&partial, &image).map_err(|e| io("renaming", &partial, e))?;
+    Ok(image)
+}
+
+/// `cargo build --release --bin qemu` in `dir` with `TOOLTOUCH_FIRMWARE_CONFIG` set to
+/// `baked` (removed for `None`: the defaults); returns the executable cargo reports.
+fn cargo_build_qemu(dir: &Path, baked: Option<&Path>) -> Result<PathBuf, CosimError> {
+    let mut cargo = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
+    cargo
         .args([
             "build",
             "--release",
@@ -101,13 +169,18 @@ pub fn build_firmware() -> Result<PathBuf, CosimError> {
             "qemu",
             "--message-format=json-render-diagnostics",
         ])
-        .current_dir(&dir)
+        .current_dir(dir)
         // The root package's test environment must not leak into the firmware build.
         .env_remove("CARGO_TARGET_DIR")
         .env_remove("RUSTFLAGS")
         .env_remove("CARGO_ENCODED_RUSTFLAGS")
         .env_remove("CARGO_BUILD_TARGET")
-        .stderr(Stdio::inherit())
+        .env_remove(CONFIG_VAR)
+        .stderr(Stdio::inherit());
+    if let Some(baked) = baked {
+        cargo.env(CONFIG_VAR, baked);
+    }
+    let out = cargo
         .output()
         .map_err(|e| CosimError::Build(format!("cannot start cargo in {}: {e}", dir.display())))?;
     if !out.status.success() {

@@ -46,6 +46,9 @@ pub struct Profile {
     pub calibration_instructions: u32,
     /// SysTick ticks of the calibration loop.
     pub calibration_ticks: u32,
+    /// The hashes of the configuration baked into the image (measurement, force), from
+    /// the end of its status record; `None` for an image that does not report them.
+    pub image_hashes: Option<(u64, u64)>,
 }
 
 impl Profile {
@@ -209,6 +212,7 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<StreamTrace>, CosimError> {
                     pr.stack_bytes = u32_at(p, 12);
                     pr.calibration_instructions = u32_at(p, 16);
                     pr.calibration_ticks = u32_at(p, 20);
+                    pr.image_hashes = (p.len() >= 40).then(|| (u64_at(p, 24), u64_at(p, 32)));
                 }
                 kind::FIRMWARE_ERROR => {
                     return Err(CosimError::Firmware(describe_firmware_error(p)));

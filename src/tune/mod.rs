@@ -13,6 +13,7 @@ pub mod cost;
 pub mod evaluate;
 pub mod force;
 pub mod output;
+pub mod point_settings;
 pub mod reference;
 pub mod scenario;
 pub mod spec;

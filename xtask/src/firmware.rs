@@ -41,16 +41,79 @@ fn firmware_dir() -> Result<std::path::PathBuf> {
     Ok(dir)
 }
 
-/// Builds the firmware for every board and prints the image sizes.
-pub fn build_all() -> Result<()> {
+/// The variable firmware/build.rs reads: the configuration file to bake in.
+const CONFIG_VAR: &str = "TOOLTOUCH_FIRMWARE_CONFIG";
+
+/// `cargo xtask firmware [--config SETTINGS]`: builds both boards' images, with the
+/// settings file's configuration baked in (validated by `tooltouch cosim config`, which
+/// writes the canonical bytes build.rs reads), or the defaults without one.
+pub fn build_command(args: &[String]) -> Result<()> {
+    let config = match args {
+        [] => None,
+        [flag, path] if flag == "--config" => Some(Path::new(path)),
+        _ => bail!("usage: cargo xtask firmware [--config settings.toml]"),
+    };
+    let baked = match config {
+        Some(settings) => {
+            let root = crate::process::root();
+            let settings = std::path::absolute(settings)
+                .with_context(|| format!("{}: not a usable path", settings.display()))?;
+            let baked = root.join("target").join("firmware-config.bin");
+            std::fs::create_dir_all(root.join("target")).context("creating target/")?;
+            let settings = settings.to_string_lossy().into_owned();
+            let out = baked.to_string_lossy().into_owned();
+            crate::process::run(
+                &root,
+                "cargo",
+                &[
+                    "run",
+                    "--release",
+                    "--quiet",
+                    "--bin",
+                    "tooltouch",
+                    "--",
+                    "cosim",
+                    "config",
+                    "--config",
+                    &settings,
+                    "--out",
+                    &out,
+                ],
+            )?;
+            Some(baked)
+        }
+        None => None,
+    };
+    build_all(baked.as_deref())
+}
+
+/// Builds the firmware for every board (with the configuration file `baked` baked in, or
+/// the defaults) and prints the image sizes.
+pub fn build_all(baked: Option<&Path>) -> Result<()> {
     let dir = firmware_dir()?;
     for board in &BOARDS {
-        crate::process::run(
-            &dir,
-            "cargo",
-            &cargo_args("build", board, &["--bin", board.name]),
-        )?;
+        let args = cargo_args("build", board, &["--bin", board.name]);
+        println!(
+            "$ (cd {}) {}cargo {}",
+            dir.display(),
+            baked.map_or_else(String::new, |b| format!("{CONFIG_VAR}={} ", b.display())),
+            args.join(" ")
+        );
+        let mut cargo = Command::new("cargo");
+        cargo.args(&args).current_dir(&dir).env_remove(CONFIG_VAR);
+        if let Some(b) = baked {
+            cargo.env(CONFIG_VAR, b);
+        }
+        let status = cargo.status().context("could not start `cargo`")?;
+        if !status.success() {
+            bail!("`cargo {}` failed ({status})", args.join(" "));
+        }
         print_size(&dir, board)?;
+        println!(
+            "board {}: {}",
+            board.name,
+            image_path(&dir, board).display()
+        );
     }
     Ok(())
 }
@@ -114,7 +177,7 @@ pub fn check_all() -> Result<()> {
     clippy.extend_from_slice(&["--", "-D", "warnings"]);
     crate::process::run(&dir, "cargo", &clippy)?;
     // The check builds share the release folder: build the shipped images last.
-    build_all()
+    build_all(None)
 }
 
 /// The handlers' host tests (firmware/tests/handlers: event streams in each board's
@@ -163,11 +226,7 @@ pub(crate) fn host_triple() -> Result<String> {
 /// Prints text/data/bss of a board's release image with llvm-size (or
 /// arm-none-eabi-size), if one is installed.
 fn print_size(dir: &Path, board: &Board) -> Result<()> {
-    let image = dir
-        .join("target")
-        .join(board.target)
-        .join("release")
-        .join(board.name);
+    let image = image_path(dir, board);
     for tool in ["llvm-size", "arm-none-eabi-size"] {
         if let Ok(out) = Command::new(tool).arg(&image).output() {
             if out.status.success() {
@@ -181,4 +240,12 @@ fn print_size(dir: &Path, board: &Board) -> Result<()> {
         image.display()
     );
     Ok(())
+}
+
+/// A board's release image.
+fn image_path(dir: &Path, board: &Board) -> std::path::PathBuf {
+    dir.join("target")
+        .join(board.target)
+        .join("release")
+        .join(board.name)
 }

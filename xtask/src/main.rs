@@ -25,7 +25,8 @@ verbs:
                iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
                host tests too), lockfile check, a short fuzz pass
-  firmware     build the firmware for both boards
+  firmware     build the firmware for both boards (--config settings.toml: with that
+               configuration baked in; default: the defaults)
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
                refit the tuning cost model (src/tune/cost_model.json)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
@@ -46,7 +47,7 @@ fn main() -> Result<()> {
     match verb {
         "setup" => setup::run(),
         "test" | "ci" => test(),
-        "firmware" => firmware::build_all(),
+        "firmware" => firmware::build_command(&args[1..]),
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "bench" => bench::run(&args[1..]),

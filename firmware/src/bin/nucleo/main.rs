@@ -153,13 +153,13 @@ const _: () = {
 mod app {
     use crate::board::Nucleo;
     use crate::{adc, clocks, configure_clocks, pac, pins, timers};
+    use tooltouch_firmware::baked;
     use tooltouch_firmware::board::Board;
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
-    use tooltouch_firmware::model::force::config::ForceSettings;
     use tooltouch_firmware::model::force::kernel::ForceKernel;
-    use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
+    use tooltouch_firmware::model::{MeasureOutputs, Measurement};
 
     /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).
     const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
@@ -210,20 +210,26 @@ mod app {
             timers::FEED_PWM_HZ
         );
         let (samples_in, samples_out) = cx.local.queue.split();
-        // The default force configuration is valid (model::force tests it); should it
-        // ever not be, the board halts here with a log line rather than run unconfigured.
-        let force = match ForceSettings::default().validate() {
-            Ok(c) => ForceKernel::new(&c),
-            Err(_) => {
-                defmt::error!("the default force configuration does not validate");
+        // The configuration baked into the image (`cargo xtask firmware --config`, else
+        // the defaults). build.rs validated it, so the error arm never runs; should it,
+        // the board halts here with a log line rather than run unconfigured.
+        let (measure, force) = match (baked::measure(), baked::force()) {
+            (Ok(m), Ok(f)) => (m, ForceKernel::new(&f)),
+            _ => {
+                defmt::error!("the baked configuration does not decode");
                 loop {
                     cortex_m::asm::wfi();
                 }
             }
         };
+        defmt::info!(
+            "configuration measure_hash={=u64:016x} force_hash={=u64:016x}",
+            baked::MEASURE_HASH,
+            baked::FORCE_HASH
+        );
         Nucleo::set_feed_override(force.outputs().override_pct);
         // TIM2 is counting: the domain starts at its count and sets the first compare.
-        let meas = MeasureDomain::start::<Nucleo>(Measurement::new(&MeasureConfig::default()));
+        let meas = MeasureDomain::start::<Nucleo>(Measurement::new(&measure));
         (
             Shared {
                 meas,

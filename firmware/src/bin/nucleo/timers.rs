@@ -17,12 +17,18 @@
 use crate::clocks::{ClockTree, PLL_168_MHZ, RESET_CLOCKS};
 use stm32f4::stm32f446 as pac;
 
-/// The 1 kHz ADC sample tick (Hz), TIM6: the model's sample rate.
-pub const SAMPLE_HZ: u32 = 1_000;
+/// The ADC sample tick (Hz), TIM6: the baked force configuration's sample rate (1 kHz by
+/// default).
+pub const SAMPLE_HZ: u32 = tooltouch_firmware::baked::SAMPLE_HZ as u32;
 /// TIM6's count rate (Hz): 1 µs per count (TIM6 is 16-bit).
 const TIM6_COUNT_HZ: u32 = 1_000_000;
-/// The 20 Hz control period (Hz), TIM3: 50 samples per period.
-pub const CONTROL_HZ: u32 = 20;
+/// The control period (Hz), TIM3: the baked configuration's samples per period (20 Hz,
+/// 50 samples, by default). A configuration whose rates these timers cannot divide
+/// exactly fails the build ([`exact_div`]).
+pub const CONTROL_HZ: u32 = exact_div(
+    SAMPLE_HZ,
+    tooltouch_firmware::baked::SAMPLES_PER_PERIOD as u32,
+);
 /// TIM3's count rate (Hz): 100 µs per count (TIM3 is 16-bit).
 const TIM3_COUNT_HZ: u32 = 10_000;
 /// Duty steps of the feed-override PWM: TIM4 ARR = 255, duty = CCR1 / 256 (CCR1 = %).

@@ -25,6 +25,7 @@ mod driver;
 use lm3s6965::Interrupt;
 use tooltouch_firmware::interrupts;
 use tooltouch_firmware::model::MeasureEvent;
+use tooltouch_firmware::semihosting::{self, exit_code, print};
 
 /// The IRQ number the driver pends for `event`.
 const fn pended(event: &MeasureEvent) -> u16 {
@@ -60,15 +61,14 @@ mod app {
     use crate::driver::{self, Driver, Resets, Snapshots, MAILBOX};
     use core::sync::atomic::Ordering;
     use cortex_m::peripheral::syst::SystClkSource;
-    use cortex_m_semihosting::debug;
     use heapless::spsc::{Consumer, Producer};
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
-    use tooltouch_firmware::model::force::config::ForceSettings;
     use tooltouch_firmware::model::force::kernel::ForceKernel;
-    use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs, Measurement};
-    use tooltouch_firmware::{cosim, semihosting, stack};
+    use tooltouch_firmware::model::{MeasureOutputs, Measurement};
+    use tooltouch_firmware::semihosting::{self, exit_code, print, OpenError};
+    use tooltouch_firmware::{baked, cosim, stack};
 
     #[shared]
     struct Shared {
@@ -118,17 +118,19 @@ mod app {
         let (samples_in, samples_out) = cx.local.queue.split();
         let (resets_in, resets_out) = cx.local.resets.split();
         let (snapshots_in, snapshots_out) = cx.local.snapshots.split();
-        // The default force configuration is valid (model::force tests it); a failure
-        // would only leave the force kernel at the smallest valid state.
-        let force = match ForceSettings::default().validate() {
-            Ok(c) => ForceKernel::new(&c),
-            Err(_) => loop {
-                debug::exit(debug::EXIT_FAILURE);
-            },
+        // The image boots with its baked configuration (each replayed stream then sets
+        // its own); build.rs validated it, so the error arm never runs.
+        let (measure, force) = match (baked::measure(), baked::force()) {
+            (Ok(m), Ok(f)) => (m, ForceKernel::new(&f)),
+            _ => {
+                print(b"tooltouch firmware: the baked configuration does not decode\n");
+                semihosting::exit(exit_code::BAD_BAKED_CONFIG)
+            }
         };
+        print(&baked::boot_line());
         (
             Shared {
-                meas: MeasureDomain::start::<Qemu>(Measurement::new(&MeasureConfig::default())),
+                meas: MeasureDomain::start::<Qemu>(Measurement::new(&measure)),
                 force,
                 counters: Counters::default(),
             },
@@ -155,22 +157,26 @@ mod app {
             cx.shared.counters,
             *cx.local.calibration,
         );
-        let ok = match semihosting::Files::open() {
-            Some(mut files) => {
-                let ran = cosim::run(&mut files, &mut driver).is_ok();
-                files.close() && ran
+        let code = match semihosting::Files::open() {
+            Ok(mut files) => {
+                let ran = cosim::run(&mut files, &mut driver);
+                let closed = files.close();
+                crate::report(ran, closed)
             }
-            None => false,
+            Err(OpenError::Events) => {
+                print(
+                    b"tooltouch firmware: cannot open tooltouch-events.bin in QEMU's working \
+                      directory: put an event stream there (tooltouch vectors writes events.ttv)\n",
+                );
+                exit_code::NO_EVENTS_FILE
+            }
+            Err(OpenError::Outputs) => {
+                print(b"tooltouch firmware: cannot create tooltouch-outputs.bin\n");
+                exit_code::FILE_IO
+            }
         };
         // Every output was written (synchronous semihosting calls) before the exit.
-        debug::exit(if ok {
-            debug::EXIT_SUCCESS
-        } else {
-            debug::EXIT_FAILURE
-        });
-        loop {
-            cortex_m::asm::wfi();
-        }
+        semihosting::exit(code)
     }
 
     // The measurement tasks: one priority (7, the highest), IRQ numbers in the model's
@@ -251,5 +257,39 @@ mod app {
         cx.shared
             .force
             .lock(|k| handlers::control_period::<Qemu>(k, queue));
+    }
+}
+
+/// Says how the run ended and returns QEMU's exit status for it.
+fn report(ran: Result<u32, tooltouch_firmware::cosim::Error>, closed: bool) -> u8 {
+    match ran {
+        Ok(streams) if closed => {
+            let (digits, n) = semihosting::decimal(u64::from(streams));
+            print(b"tooltouch firmware: replayed ");
+            print(digits.get(..n).unwrap_or(&[]));
+            print(b" stream(s); trace in tooltouch-outputs.bin\n");
+            exit_code::OK
+        }
+        Ok(_) | Err(tooltouch_firmware::cosim::Error::Io) => {
+            print(
+                b"tooltouch firmware: reading tooltouch-events.bin or writing \
+                  tooltouch-outputs.bin failed\n",
+            );
+            exit_code::FILE_IO
+        }
+        Err(e) => {
+            let (code, _, offset, _) = e.code();
+            let (at, n) = semihosting::decimal(offset);
+            let (what, k) = semihosting::decimal(u64::from(code));
+            print(b"tooltouch firmware: tooltouch-events.bin is malformed at byte ");
+            print(at.get(..n).unwrap_or(&[]));
+            print(b" (error ");
+            print(what.get(..k).unwrap_or(&[]));
+            print(
+                b"); the trace ends with an error record: \
+                  `tooltouch check` or `tooltouch cosim firmware` explains it\n",
+            );
+            exit_code::MALFORMED_EVENTS
+        }
     }
 }
