@@ -6,7 +6,7 @@
 //! every [`CALIBRATION_POINTS`] configuration and the coefficients fitted to them, and
 //! [`CostModel::fitted`] reads the coefficients from it (compiled in with `include_str!`).
 //! `cargo xtask hdl-report` refits it: it synthesizes every calibration point again
-//! ([`synthesis`]) and rewrites the file (by running `tests/tune_cost_model.rs` with
+//! ([`synthesis`]) and rewrites the file (by running `tests/tune/cost_model.rs` with
 //! `TOOLTOUCH_BLESS=1`). That test, run by `cargo test`, fails when a committed
 //! measurement is more than 2 % off a fresh synthesis, so a generator change that moves
 //! the cost cannot go unnoticed; this module's unit tests check that the committed

@@ -8,7 +8,7 @@
 //! canonical order. [`outputs_after_each_event`] replays such a list at event level
 //! ([`Measurement::apply`]) and records every output after each event: the firmware must
 //! reproduce exactly these, and after the last event of clock `k` they equal the cycle
-//! level's outputs registered after clock `k` (`tests/levels_agree.rs`).
+//! level's outputs registered after clock `k` (`tests/measure/levels_agree.rs`).
 
 pub mod binary;
 pub mod check;

@@ -9,7 +9,7 @@
 //! It then refits the tuning cost model (`src/tune/cost.rs`): its calibration points are
 //! synthesized again and `src/tune/cost_model.json` rewritten with the fresh
 //! measurements and their least-squares fit, by running the model's check
-//! (`tests/tune_cost_model.rs`) with `TOOLTOUCH_BLESS=1`. Unchanged synthesis, unchanged
+//! (`tests/tune/cost_model.rs`) with `TOOLTOUCH_BLESS=1`. Unchanged synthesis, unchanged
 //! file; otherwise `git diff` shows which points moved.
 //!
 //! `cargo xtask bless-hdl`: rewrites the Verilog snapshots under `hdl-gen/snapshots/` by
@@ -155,7 +155,8 @@ fn refit_cost_model() -> Result<()> {
         "test",
         "--release",
         "--test",
-        "tune_cost_model",
+        "tune",
+        "cost_model::",
         "--",
         "--nocapture",
     ])?;

@@ -3,7 +3,7 @@
 //! order (`interrupts::QEMU`, `interrupts::NUCLEO`), checked after every burst of events
 //! against the golden model's event level stepped one event at a time.
 //!
-//! The QEMU co-simulation (the root's `tests/firmware_cosim.rs`) runs the same handlers
+//! The QEMU co-simulation (the root's `tests/firmware/cosim.rs`) runs the same handlers
 //! on an emulated Cortex-M3, one event at a time and in QEMU's interrupt order only; here
 //! events also arrive together, so the order in which the NVIC takes them matters, and
 //! the Nucleo's order is tested too. Random streams are drawn by proptest from a fixed

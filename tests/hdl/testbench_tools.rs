@@ -16,7 +16,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-mod common;
+use crate::common;
 use common::{s, text, tooltouch};
 
 /// The fast lathe of the README's verification quick start.

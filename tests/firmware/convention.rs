@@ -12,7 +12,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 use tooltouch::cosim::qemu::{self, exit_code};
 
-mod common;
+use crate::common;
 use common::{s, text, tooltouch};
 
 /// Boots `image` in QEMU inside `dir` (which may or may not hold an events file).

@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::Output;
 use tooltouch::cosim::{self, Fault};
 
-mod common;
+use crate::common;
 use common::{s, text, tooltouch};
 
 const FAST: &str = "\

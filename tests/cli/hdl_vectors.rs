@@ -9,7 +9,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod common;
+use crate::common;
 use common::{s, text, tooltouch};
 
 /// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.

@@ -12,7 +12,7 @@
 use std::path::Path;
 use tooltouch_model::wire::{kind, Record, MAX_PAYLOAD, RECORD_HEADER_LEN};
 
-mod common;
+use crate::common;
 use common::{text, tooltouch};
 
 fn check(expected: &Path, dut: &Path) -> (Option<i32>, String) {

@@ -4,7 +4,7 @@
 //! signal and time), and a DUT value with a 1 above the golden width (a mismatch, not cut
 //! off).
 
-mod common;
+use crate::common;
 
 use common::{s, text, tooltouch};
 use std::path::{Path, PathBuf};

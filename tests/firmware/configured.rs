@@ -13,7 +13,7 @@
 use std::path::Path;
 use std::process::Command;
 
-mod common;
+use crate::common;
 use common::{s, text, tooltouch};
 
 /// The lathe run (one fast measurement) appended to the tuned point's settings.

@@ -20,7 +20,7 @@
 //! Running as root, permission bits do not stop reads or writes: the read-only folders are
 //! then made immutable (`chattr +i`, which stops root too, where the file system has it),
 //! and the unreadable-file rows (nothing stops root from reading) are skipped, each skip
-//! printed with its reason beside the counts. Run `cargo test --test cli_hostile_inputs -- --nocapture` to see the counts.
+//! printed with its reason beside the counts. Run `cargo test --release --test cli hostile_inputs:: -- --nocapture` to see the counts.
 
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -346,7 +346,7 @@ fn subcommands() -> Vec<(String, clap::Command)> {
         }
     }
     walk("", &tooltouch::cli::Cli::definition(), &mut out);
-    // Their own tests cover these (tests/firmware_convention.rs, tests/firmware_configured.rs):
+    // Their own tests cover these (tests/firmware/convention.rs, tests/firmware/configured.rs):
     // `cosim firmware` builds and boots a QEMU image, and `cosim config` and `tune point`
     // write one file, not an output folder, so the folder and input-file classes here do
     // not describe them.

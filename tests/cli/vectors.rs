@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::Output;
 
-mod common;
+use crate::common;
 use common::{s, text, tooltouch};
 
 fn read(p: &Path) -> Vec<u8> {

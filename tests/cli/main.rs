@@ -1,0 +1,16 @@
+//! Integration tests of the `tooltouch` command line as a user runs it: check, vectors, measure, hdl --vectors, output folders, hostile inputs.
+//!
+//! One test binary per area (`cargo test --release --test cli`); one module per topic
+//! (`cargo test --release --test cli <topic>::`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod check_firmware;
+mod check_inputs;
+mod check_truncated;
+mod hdl_vectors;
+mod hostile_inputs;
+mod measure_check;
+mod output_folders;
+mod vectors;

@@ -1,0 +1,11 @@
+//! Integration tests of the firmware under QEMU against the model: co-simulation, a baked configuration, `cargo run` by convention.
+//!
+//! One test binary per area (`cargo test --release --test firmware`); one module per topic
+//! (`cargo test --release --test firmware <topic>::`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod configured;
+mod convention;
+mod cosim;

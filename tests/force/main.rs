@@ -1,0 +1,10 @@
+//! Integration tests of the force path: configuration, fixed point against float, plant scenarios, vectors, wear.
+//!
+//! One test binary per area (`cargo test --release --test force`); one module per topic
+//! (`cargo test --release --test force <topic>::`).
+
+mod config;
+mod properties;
+mod scenario;
+mod vectors;
+mod wear_scenario;

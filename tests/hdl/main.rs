@@ -1,0 +1,13 @@
+//! Integration tests of the generated Verilog against the model: co-simulation, faults, the lathe run, lint, the testbench under both simulators.
+//!
+//! One test binary per area (`cargo test --release --test hdl`); one module per topic
+//! (`cargo test --release --test hdl <topic>::`).
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod cosim;
+mod faults;
+mod lathe;
+mod lint;
+mod testbench_tools;

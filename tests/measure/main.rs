@@ -1,0 +1,9 @@
+//! Integration tests of the measurement path: the papers' physics, cycle level against event level, speed models, vector files.
+//!
+//! One test binary per area (`cargo test --release --test measure`); one module per topic
+//! (`cargo test --release --test measure <topic>::`).
+
+mod levels_agree;
+mod physics;
+mod speed_models_agree;
+mod vectors_files;

@@ -1,0 +1,8 @@
+//! Integration tests of tuning sweeps: the cost model against yosys, sharding and merge, the float reference.
+//!
+//! One test binary per area (`cargo test --release --test tune`); one module per topic
+//! (`cargo test --release --test tune <topic>::`).
+
+mod cost_model;
+mod merge;
+mod reference;
