@@ -13,4 +13,5 @@ mod hdl_vectors;
 mod hostile_inputs;
 mod measure_check;
 mod output_folders;
+mod readme_recipes;
 mod vectors;

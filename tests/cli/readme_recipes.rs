@@ -1,0 +1,154 @@
+//! The README's "Use tooltouch in your CI" recipes, run as written.
+//!
+//! Each recipe is the fenced block after a `<!-- recipe: NAME -->` marker. The RTL and
+//! firmware recipes run under `bash -eu` in a fresh folder holding the settings recipe, with
+//! the built `tooltouch` first on `PATH` and the generated RTL (without its testbench) in
+//! `rtl/` standing in for the user's design. The CI job's `run: |` steps must be those two
+//! recipes, line for line, so the job file cannot drift either.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn readme() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The body of the fenced block that follows `<!-- recipe: name -->`.
+fn recipe(readme: &str, name: &str) -> String {
+    let marker = format!("<!-- recipe: {name} -->");
+    let after = readme
+        .split_once(&marker)
+        .unwrap_or_else(|| panic!("README.md has no `{marker}`"))
+        .1;
+    let mut lines = after.lines().skip_while(|l| l.trim().is_empty());
+    let fence = lines.next().unwrap_or_default();
+    assert!(
+        fence.starts_with("```"),
+        "`{marker}` is not followed by a fenced block"
+    );
+    let body: Vec<&str> = lines.take_while(|l| !l.starts_with("```")).collect();
+    body.join("\n") + "\n"
+}
+
+/// The `run: |` block of job `job` in the CI job recipe, dedented.
+fn job_script(yaml: &str, job: &str) -> String {
+    let mut in_job = false;
+    let mut in_run = false;
+    let mut indent = 0;
+    let mut out = Vec::new();
+    for line in yaml.lines() {
+        let trimmed = line.trim_start();
+        let depth = line.len() - trimmed.len();
+        if depth == 2 && trimmed.ends_with(':') {
+            in_job = trimmed == format!("{job}:");
+            in_run = false;
+            continue;
+        }
+        if !in_job {
+            continue;
+        }
+        if in_run {
+            if !trimmed.is_empty() && depth < indent {
+                in_run = false;
+            } else {
+                if indent == 0 {
+                    indent = depth;
+                }
+                out.push(line.get(indent..).unwrap_or(""));
+                continue;
+            }
+        }
+        if trimmed == "- run: |" {
+            in_run = true;
+            indent = 0;
+            out.clear();
+        }
+    }
+    assert!(
+        !out.is_empty(),
+        "the CI job recipe has no `run: |` step in job `{job}`"
+    );
+    out.join("\n") + "\n"
+}
+
+/// A fresh folder with the settings recipe and the generated RTL (no testbench) in `rtl/`.
+fn workspace(readme: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("settings.toml"), recipe(readme, "settings")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_tooltouch"))
+        .args(["hdl", "--config", "settings.toml", "--out", "rtl"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "hdl: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_file(dir.path().join("rtl/tt_testbench.v")).unwrap();
+    dir
+}
+
+/// Runs `script` under `bash -eu` in `dir` with the built `tooltouch` first on PATH.
+fn run_recipe(name: &str, script: &str, dir: &Path) -> String {
+    let bin: PathBuf = Path::new(env!("CARGO_BIN_EXE_tooltouch"))
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let out = Command::new("bash")
+        .args(["-euo", "pipefail", "-c", script])
+        .env("PATH", path)
+        .current_dir(dir)
+        .output()
+        .expect("bash");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.status.success(),
+        "README recipe `{name}` failed ({}; missing tools come from `cargo xtask setup`):\n{text}",
+        out.status
+    );
+    text
+}
+
+#[test]
+fn rtl_recipe_runs_as_written() {
+    let readme = readme();
+    let dir = workspace(&readme);
+    let text = run_recipe("rtl", &recipe(&readme, "rtl"), dir.path());
+    assert!(text.contains("TESTBENCH OK "), "{text}");
+    assert!(text.contains("OK: ") && text.contains("cycles"), "{text}");
+}
+
+#[test]
+fn firmware_recipe_runs_as_written() {
+    let readme = readme();
+    let dir = workspace(&readme);
+    let text = run_recipe("firmware", &recipe(&readme, "firmware"), dir.path());
+    assert!(
+        text.contains("none lost or overflowed"),
+        "the firmware recipe did not check a trace:\n{text}"
+    );
+}
+
+#[test]
+fn ci_job_steps_are_the_recipes() {
+    let readme = readme();
+    let yaml = recipe(&readme, "ci-job");
+    for job in ["rtl", "firmware"] {
+        assert_eq!(
+            job_script(&yaml, job),
+            recipe(&readme, job),
+            "the CI job `{job}` in README.md runs other commands than the `{job}` recipe"
+        );
+    }
+}
