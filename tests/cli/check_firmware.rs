@@ -14,16 +14,7 @@ use tooltouch::cosim::{self, Fault};
 use crate::common;
 use common::{s, text, tooltouch};
 
-const FAST: &str = "\
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE as FAST;
 
 /// Boots the image on `events` and writes its trace to `trace`.
 fn run_firmware(image: &Path, events: &Path, trace: &Path) {

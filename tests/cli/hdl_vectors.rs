@@ -42,16 +42,7 @@ fn icarus(dir: &Path, plusargs: &[&str]) -> String {
     text(&o)
 }
 
-const FAST: &str = "\
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE as FAST;
 
 #[test]
 fn the_generated_testbench_passes_with_the_vectors_hdl_writes() {

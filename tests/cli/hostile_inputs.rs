@@ -204,17 +204,7 @@ fn judge(c: &Case, o: &Outcome) -> Verdict {
     Ok(())
 }
 
-/// A fast lathe: one measurement in about 84 000 clocks.
-const FAST: &str = "\
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE as FAST;
 
 /// Valid files of every kind the commands read, made by the binary itself.
 struct Fixtures {

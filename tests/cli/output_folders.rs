@@ -20,16 +20,7 @@ fn names(dir: &Path) -> Vec<String> {
     v
 }
 
-const FAST: &str = "\
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE as FAST;
 
 fn measure(toml: &Path, out: &Path, extra: &[&str]) -> Output {
     let mut args = vec![

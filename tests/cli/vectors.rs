@@ -14,17 +14,7 @@ fn read(p: &Path) -> Vec<u8> {
     std::fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
-/// A fast lathe (6000 rpm at a 1 MHz clock) and one measurement: 83 701 clocks.
-const FAST: &str = "\
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE as FAST;
 
 /// A `measure` run of the fast lathe with its whole VCD, in `dir/m`; returns the settings
 /// file and the run's folder.

@@ -16,17 +16,7 @@ use std::process::Command;
 use crate::common;
 use common::{s, text, tooltouch};
 
-/// The lathe run (one fast measurement) appended to the tuned point's settings.
-const FAST_LATHE: &str = "
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE;
 
 /// `iverilog -g2005 -o tb *.v && vvp tb` in `dir`; returns vvp's output.
 fn icarus(dir: &Path) -> String {
@@ -137,7 +127,7 @@ fn a_tuned_point_runs_in_the_model_the_rtl_and_the_firmware() {
     );
 
     let settings = p("settings.toml");
-    std::fs::write(&settings, format!("{point}{FAST_LATHE}")).unwrap();
+    std::fs::write(&settings, format!("{point}\n{FAST_LATHE}")).unwrap();
     let config = tooltouch::cosim::firmware_config::FirmwareConfig::load(Some(&settings)).unwrap();
     assert_ne!(
         config.measure.hash(),

@@ -19,17 +19,7 @@ use std::process::{Command, Output};
 use crate::common;
 use common::{s, text, tooltouch};
 
-/// The fast lathe of the README's verification quick start.
-const FAST: &str = "\
-[lathe]
-clock_hz = 1000000
-rpm = 6000.0
-[lathe.cycle]
-repeats = 1
-clearance_um = 3.0
-z_dwell_ms = 0.2
-retract_mm_per_s = 2.0
-";
+use crate::common::FAST_LATHE as FAST;
 
 /// Clocks of the fast lathe's first measurement.
 const CYCLES: &str = "83701";
