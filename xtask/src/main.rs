@@ -10,6 +10,7 @@ mod fuzz;
 mod hdl;
 mod mutants;
 mod process;
+mod python;
 mod setup;
 
 use anyhow::{bail, Context, Result};
@@ -22,9 +23,12 @@ usage: cargo xtask <verb>
 
 verbs:
   setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
-               iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing
+               iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing; the
+               Python venv (target/py-venv, pinned by python/requirements-dev.txt) with
+               the wheel
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
-               host tests too), lockfile check, a short fuzz pass
+               host tests too), lockfile check, a short fuzz pass, the Python package's
+               pytest suite
   firmware     build the firmware for both boards (--config settings.toml: with that
                configuration baked in; default: the defaults)
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
@@ -45,7 +49,7 @@ fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let verb = args.first().map(String::as_str).unwrap_or("help");
     match verb {
-        "setup" => setup::run(),
+        "setup" => setup::run().and_then(|()| python::setup()),
         "test" | "ci" => test(),
         "firmware" => firmware::build_command(&args[1..]),
         "hdl-report" => hdl::report(),
@@ -74,6 +78,7 @@ fn test() -> Result<()> {
     let root = root();
     let t = Instant::now();
     step("setup", setup::run)?;
+    step("Python venv and wheel", python::setup)?;
     step("fmt", || {
         run(&root, "cargo", &["fmt", "--all", "--", "--check"])
     })?;
@@ -109,6 +114,7 @@ fn test() -> Result<()> {
     step("fuzz (short pass)", || {
         fuzz::fuzz(&fuzz::TARGETS, fuzz::CI_SECONDS, fuzz::Build::Plain)
     })?;
+    step("Python package (pytest)", python::test)?;
     step("benches build", || {
         run(&root, "cargo", &["bench", "--workspace", "--no-run"])
     })?;

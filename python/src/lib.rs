@@ -1,0 +1,45 @@
+//! `tooltouch._tooltouch`: the golden model for Python (cocotb scoreboards, notebooks),
+//! a thin PyO3 layer over `tooltouch-model` and the host crate's settings, so every value
+//! is computed by the same Rust code as the CLI's and is bit-identical to it.
+//!
+//! Shaped for a scoreboard that must not pay Python per clock: [`FrontEnd::run`] takes a
+//! numpy array of pin bytes and returns one numpy array per output, the loop staying in
+//! Rust. Settings come from the CLI's own TOML files or an equal dict and are validated
+//! by the CLI's code, each error a `ValueError` naming the field, its value and its allowed
+//! range. `.ttv` streams are read record by record from a buffered file, never whole.
+//! The pure-Python package `tooltouch` (python/tooltouch/) re-exports these names; its
+//! stubs (`_tooltouch.pyi`) document units and fixed-point formats.
+
+mod model;
+mod settings;
+mod ttv;
+
+use pyo3::prelude::*;
+use tooltouch_model::measure::frontend::pin;
+use tooltouch_model::MeasureOutputs;
+
+/// Output names, in the order of the VCD, the Verilog ports and [`MeasureOutputs::fields`].
+fn output_names() -> Vec<&'static str> {
+    MeasureOutputs::default().fields().map(|(n, _)| n).to_vec()
+}
+
+#[pymodule]
+fn _tooltouch(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<settings::Settings>()?;
+    m.add_class::<model::Outputs>()?;
+    m.add_class::<model::Event>()?;
+    m.add_class::<model::FrontEnd>()?;
+    m.add_class::<model::Measurement>()?;
+    m.add_class::<ttv::Record>()?;
+    m.add_class::<ttv::TtvReader>()?;
+    m.add_class::<ttv::TtvWriter>()?;
+    m.add("PIN_ARM", pin::ARM)?;
+    m.add("PIN_CONTACT", pin::CONTACT)?;
+    m.add("PIN_INDEX", pin::INDEX)?;
+    m.add("PIN_FES", pin::FES)?;
+    m.add("PIN_SCALE_A", pin::SCALE_A)?;
+    m.add("PIN_SCALE_B", pin::SCALE_B)?;
+    m.add("PIN_NAMES", pin::NAMES.to_vec())?;
+    m.add("OUTPUT_NAMES", output_names())?;
+    Ok(())
+}

@@ -1,0 +1,437 @@
+//! `.ttv` binary vector streams for Python: `TtvReader` reads a file record by record
+//! through a small buffer (a stream of any length costs constant memory) with the checks
+//! of `tooltouch_model::wire` (header, record framing, time never going backwards, one END
+//! record closing the stream, nothing after it); `TtvWriter` writes one with the same
+//! framing the CLI uses, so a stream read and written back is byte-identical.
+
+use crate::model::{Event, Outputs};
+use crate::settings::Settings;
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::path::PathBuf;
+use tooltouch::settings::Settings as HostSettings;
+use tooltouch_model::wire::measure_config::{decode_config, encode_config};
+use tooltouch_model::wire::measure_event::{decode_event, encode_event};
+use tooltouch_model::wire::measure_outputs::{decode_outputs, encode_outputs};
+use tooltouch_model::wire::{
+    kind, Header, Record as WireRecord, StreamKind, WireError, HEADER_LEN, MAX_PAYLOAD,
+    RECORD_HEADER_LEN,
+};
+
+/// The name of a record kind, as in `tooltouch_model::wire::kind` in snake case.
+fn kind_name(k: u8) -> &'static str {
+    match k {
+        kind::MEASURE_CONFIG => "measure_config",
+        kind::ARM => "arm",
+        kind::CONTACT => "contact",
+        kind::INDEX => "index",
+        kind::FES => "fes",
+        kind::SCALE => "scale",
+        kind::PRESET_PULSES => "preset_pulses",
+        kind::SAMPLE => "sample",
+        kind::TICK => "tick",
+        kind::IDENTIFY => "identify",
+        kind::CONTROL => "control",
+        kind::CONDITIONS => "conditions",
+        kind::TOOL_CHANGED => "tool_changed",
+        kind::FORCE_CONFIG_CHUNK => "force_config_chunk",
+        kind::MEASURE_OUTPUTS => "measure_outputs",
+        kind::FORCE_OUTPUTS => "force_outputs",
+        kind::FIRMWARE_OBSERVE => "firmware_observe",
+        kind::FIRMWARE_FORCE_PROFILE => "firmware_force_profile",
+        kind::FIRMWARE_ERROR => "firmware_error",
+        kind::FIRMWARE_PROFILE => "firmware_profile",
+        kind::FIRMWARE_STATUS => "firmware_status",
+        kind::END => "end",
+        _ => "unknown",
+    }
+}
+
+fn stream_name(s: StreamKind) -> &'static str {
+    match s {
+        StreamKind::Events => "events",
+        StreamKind::Outputs => "outputs",
+    }
+}
+
+/// One record of a stream.
+#[pyclass(module = "tooltouch", frozen)]
+pub struct Record {
+    /// Kind byte (`tooltouch_model::wire::kind`).
+    #[pyo3(get)]
+    kind: u8,
+    /// Time, ticks of the header's `tick_hz` (FPGA clocks for cycle-level streams).
+    #[pyo3(get)]
+    time: u64,
+    payload: Vec<u8>,
+    /// Decoded payload: an `Event`, `Outputs` or `Settings` (a configuration record,
+    /// `[lathe]` at its defaults), `None` for the kinds not decoded here (force, firmware).
+    #[pyo3(get)]
+    value: Option<Py<PyAny>>,
+}
+
+#[pymethods]
+impl Record {
+    /// Kind name: `measure_config`, `arm`, `contact`, `index`, `fes`, `scale`,
+    /// `preset_pulses`, `measure_outputs`, a force or firmware kind, or `unknown`.
+    #[getter]
+    fn name(&self) -> &'static str {
+        kind_name(self.kind)
+    }
+
+    /// The payload bytes as stored.
+    #[getter]
+    fn payload<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        PyBytes::new(py, &self.payload)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Record({} at {})", kind_name(self.kind), self.time)
+    }
+}
+
+/// Reads a `.ttv` stream record by record: `for record in TtvReader(path): ...`.
+#[pyclass(module = "tooltouch")]
+pub struct TtvReader {
+    file: String,
+    source: BufReader<File>,
+    header: Header,
+    offset: usize,
+    previous: u64,
+    done: bool,
+}
+
+impl TtvReader {
+    fn wire_error(&self, e: WireError) -> PyErr {
+        PyValueError::new_err(format!("{}: {e}", self.file))
+    }
+
+    /// Fills `buf` from the stream; `Ok(false)` at a clean end of file before any byte.
+    fn read_exact_or_eof(&mut self, buf: &mut [u8]) -> PyResult<bool> {
+        let mut got = 0;
+        while got < buf.len() {
+            let n = self
+                .source
+                .read(&mut buf[got..])
+                .map_err(|e| PyOSError::new_err(format!("{}: {e}", self.file)))?;
+            if n == 0 {
+                if got == 0 {
+                    return Ok(false);
+                }
+                return Err(self.wire_error(WireError::Truncated {
+                    offset: self.offset,
+                    needed: buf.len(),
+                }));
+            }
+            got += n;
+        }
+        Ok(true)
+    }
+
+    fn next_record(&mut self, py: Python<'_>) -> PyResult<Option<Record>> {
+        if self.done {
+            return Ok(None);
+        }
+        let mut buf = [0u8; RECORD_HEADER_LEN + MAX_PAYLOAD];
+        if !self.read_exact_or_eof(&mut buf[..RECORD_HEADER_LEN])? {
+            self.done = true;
+            return Err(PyValueError::new_err(format!(
+                "{}: ends at byte {} without its END record (cut short?)",
+                self.file, self.offset
+            )));
+        }
+        let len = usize::from(buf[1]);
+        if len > MAX_PAYLOAD {
+            self.done = true;
+            return Err(self.wire_error(WireError::BadLength {
+                kind: buf[0],
+                len: buf[1],
+                offset: self.offset,
+            }));
+        }
+        let n = RECORD_HEADER_LEN + len;
+        if len > 0 && !self.read_exact_or_eof(&mut buf[RECORD_HEADER_LEN..n])? {
+            self.done = true;
+            return Err(self.wire_error(WireError::Truncated {
+                offset: self.offset,
+                needed: n,
+            }));
+        }
+        let (record, _) = WireRecord::decode(&buf[..n], self.offset).map_err(|e| {
+            self.done = true;
+            PyValueError::new_err(format!("{}: {e}", self.file))
+        })?;
+        if record.time < self.previous {
+            self.done = true;
+            return Err(self.wire_error(WireError::NonMonotonicTime {
+                offset: self.offset,
+                previous: self.previous,
+                time: record.time,
+            }));
+        }
+        let offset = self.offset;
+        self.previous = record.time;
+        self.offset += n;
+        if record.kind == kind::END {
+            self.done = true;
+            let mut extra = [0u8; 1];
+            if self.read_exact_or_eof(&mut extra)? {
+                return Err(PyValueError::new_err(format!(
+                    "{}: bytes after the END record at byte {offset} (two streams glued together?)",
+                    self.file
+                )));
+            }
+            return Ok(None);
+        }
+        let value = self.decode_value(py, &record, offset)?;
+        Ok(Some(Record {
+            kind: record.kind,
+            time: record.time,
+            payload: record.payload().to_vec(),
+            value,
+        }))
+    }
+
+    fn decode_value(
+        &mut self,
+        py: Python<'_>,
+        record: &WireRecord,
+        offset: usize,
+    ) -> PyResult<Option<Py<PyAny>>> {
+        let fail = |e: WireError| PyValueError::new_err(format!("{}: {e}", self.file));
+        Ok(match record.kind {
+            kind::MEASURE_CONFIG => {
+                let config = decode_config(record.payload()).map_err(fail)?;
+                let host = HostSettings {
+                    measure: *config.settings(),
+                    ..HostSettings::default()
+                };
+                Some(Py::new(py, Settings::validated(host)?)?.into_any())
+            }
+            kind::MEASURE_OUTPUTS => {
+                let outputs = decode_outputs(record.payload()).ok_or_else(|| {
+                    fail(WireError::BadLength {
+                        kind: record.kind,
+                        len: u8::try_from(record.payload().len()).unwrap_or(u8::MAX),
+                        offset,
+                    })
+                })?;
+                Some(Py::new(py, Outputs { inner: outputs })?.into_any())
+            }
+            _ => match decode_event(record, offset).map_err(fail)? {
+                Some(event) => Some(Py::new(py, Event { inner: event })?.into_any()),
+                None => None,
+            },
+        })
+    }
+}
+
+#[pymethods]
+impl TtvReader {
+    /// Opens `path` and reads its 28-byte header.
+    #[new]
+    fn new(path: PathBuf) -> PyResult<TtvReader> {
+        let file = path.display().to_string();
+        let f = File::open(&path).map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
+        let mut source = BufReader::with_capacity(1 << 16, f);
+        let mut head = [0u8; HEADER_LEN];
+        let mut got = 0;
+        while got < HEADER_LEN {
+            let n = source
+                .read(&mut head[got..])
+                .map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
+            if n == 0 {
+                break;
+            }
+            got += n;
+        }
+        let header = Header::decode(&head[..got])
+            .map_err(|e| PyValueError::new_err(format!("{file}: {e}")))?;
+        Ok(TtvReader {
+            file,
+            source,
+            header,
+            offset: HEADER_LEN,
+            previous: 0,
+            done: false,
+        })
+    }
+
+    /// `events` or `outputs`.
+    #[getter]
+    fn stream(&self) -> &'static str {
+        stream_name(self.header.stream)
+    }
+    /// Ticks per second of the record times, Hz.
+    #[getter]
+    fn tick_hz(&self) -> u32 {
+        self.header.tick_hz
+    }
+    /// Configuration hash of the measurement settings the stream was made with.
+    #[getter]
+    fn measure_hash(&self) -> u64 {
+        self.header.measure_hash
+    }
+    /// Hash of the force configuration (0 when none).
+    #[getter]
+    fn force_hash(&self) -> u64 {
+        self.header.force_hash
+    }
+
+    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    fn __next__(&mut self, py: Python<'_>) -> PyResult<Option<Record>> {
+        self.next_record(py)
+    }
+}
+
+/// Writes a `.ttv` stream: the header at once, records in time order, END on `close()`
+/// (or leaving a `with` block) at the last record's time.
+#[pyclass(module = "tooltouch")]
+pub struct TtvWriter {
+    file: String,
+    sink: Option<BufWriter<File>>,
+    last_time: u64,
+}
+
+impl TtvWriter {
+    fn put(&mut self, record: &WireRecord) -> PyResult<()> {
+        if record.time < self.last_time {
+            return Err(PyValueError::new_err(format!(
+                "{}: time {} is before the previous record's {}",
+                self.file, record.time, self.last_time
+            )));
+        }
+        let file = &self.file;
+        let sink = self
+            .sink
+            .as_mut()
+            .ok_or_else(|| PyValueError::new_err(format!("{file}: already closed")))?;
+        let mut buf = [0u8; RECORD_HEADER_LEN + MAX_PAYLOAD];
+        let n = record.encode(&mut buf).unwrap_or(0);
+        sink.write_all(&buf[..n])
+            .map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
+        self.last_time = record.time;
+        Ok(())
+    }
+}
+
+#[pymethods]
+impl TtvWriter {
+    /// Creates `path` and writes the header. `stream`: `events` or `outputs`; `tick_hz`:
+    /// ticks per second of the record times; `settings`: whose configuration hash the
+    /// header carries (`measure_hash` instead, for a stream made elsewhere).
+    #[new]
+    #[pyo3(signature = (path, stream, tick_hz, settings=None, measure_hash=None, force_hash=0))]
+    fn new(
+        path: PathBuf,
+        stream: &str,
+        tick_hz: u32,
+        settings: Option<&Settings>,
+        measure_hash: Option<u64>,
+        force_hash: u64,
+    ) -> PyResult<TtvWriter> {
+        let file = path.display().to_string();
+        let stream = match stream {
+            "events" => StreamKind::Events,
+            "outputs" => StreamKind::Outputs,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "stream {other:?}: expected \"events\" or \"outputs\""
+                )))
+            }
+        };
+        let measure_hash = match (settings, measure_hash) {
+            (Some(s), None) => s.config.hash(),
+            (None, Some(h)) => h,
+            _ => {
+                return Err(PyValueError::new_err(
+                    "give exactly one of settings= and measure_hash=",
+                ))
+            }
+        };
+        let header = Header {
+            stream,
+            tick_hz,
+            measure_hash,
+            force_hash,
+        };
+        let f = File::create(&path).map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
+        let mut sink = BufWriter::with_capacity(1 << 16, f);
+        sink.write_all(&header.encode())
+            .map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
+        Ok(TtvWriter {
+            file,
+            sink: Some(sink),
+            last_time: 0,
+        })
+    }
+
+    /// Writes a record of any kind with its payload (at most 48 bytes) as given.
+    fn write_record(&mut self, kind: u8, time: u64, payload: &[u8]) -> PyResult<()> {
+        if payload.len() > MAX_PAYLOAD {
+            return Err(PyValueError::new_err(format!(
+                "{}: a payload of {} bytes, at most {MAX_PAYLOAD} fit a record",
+                self.file,
+                payload.len()
+            )));
+        }
+        if kind == kind::END {
+            return Err(PyValueError::new_err(format!(
+                "{}: END is written by close()",
+                self.file
+            )));
+        }
+        self.put(&WireRecord::new(kind, time, payload))
+    }
+
+    /// Writes the configuration record of `settings` (an events stream starts with it at
+    /// time 0).
+    fn write_config(&mut self, time: u64, settings: &Settings) -> PyResult<()> {
+        let mut r = encode_config(&settings.config);
+        r.time = time;
+        self.put(&r)
+    }
+
+    /// Writes one measurement event at `time`.
+    fn write_event(&mut self, time: u64, event: &Event) -> PyResult<()> {
+        self.put(&encode_event(time, event.inner))
+    }
+
+    /// Writes one outputs record at `time`.
+    fn write_outputs(&mut self, time: u64, outputs: &Outputs) -> PyResult<()> {
+        self.put(&WireRecord::new(
+            kind::MEASURE_OUTPUTS,
+            time,
+            &encode_outputs(&outputs.inner),
+        ))
+    }
+
+    /// Writes the END record at the last record's time and closes the file. Idempotent.
+    fn close(&mut self) -> PyResult<()> {
+        if self.sink.is_none() {
+            return Ok(());
+        }
+        self.put(&WireRecord::new(kind::END, self.last_time, &[]))?;
+        if let Some(mut sink) = self.sink.take() {
+            sink.flush()
+                .map_err(|e| PyOSError::new_err(format!("{}: {e}", self.file)))?;
+        }
+        Ok(())
+    }
+
+    fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    #[pyo3(signature = (*_exc))]
+    fn __exit__(&mut self, _exc: &Bound<'_, pyo3::types::PyTuple>) -> PyResult<bool> {
+        self.close()?;
+        Ok(false)
+    }
+}

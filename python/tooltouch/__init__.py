@@ -1,0 +1,44 @@
+"""The tooltouch golden model for Python, bit-identical to the Rust model and the CLI.
+
+Every value is computed by the Rust crates (``tooltouch-model`` and the ``tooltouch``
+host crate's settings) through the native module ``tooltouch._tooltouch``; see its
+stubs for units and fixed-point formats, and docs/python.md for a scoreboard.
+"""
+
+from ._tooltouch import (
+    OUTPUT_NAMES,
+    PIN_ARM,
+    PIN_CONTACT,
+    PIN_FES,
+    PIN_INDEX,
+    PIN_NAMES,
+    PIN_SCALE_A,
+    PIN_SCALE_B,
+    Event,
+    FrontEnd,
+    Measurement,
+    Outputs,
+    Record,
+    Settings,
+    TtvReader,
+    TtvWriter,
+)
+
+__all__ = [
+    "OUTPUT_NAMES",
+    "PIN_ARM",
+    "PIN_CONTACT",
+    "PIN_FES",
+    "PIN_INDEX",
+    "PIN_NAMES",
+    "PIN_SCALE_A",
+    "PIN_SCALE_B",
+    "Event",
+    "FrontEnd",
+    "Measurement",
+    "Outputs",
+    "Record",
+    "Settings",
+    "TtvReader",
+    "TtvWriter",
+]
