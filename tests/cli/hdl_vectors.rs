@@ -6,41 +6,8 @@
 //!
 //! Needs Icarus Verilog: without it the test fails naming `cargo xtask setup`.
 
-use std::path::Path;
-use std::process::Command;
-
 use crate::common;
-use common::{s, text, tooltouch};
-
-/// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.
-fn icarus(dir: &Path, plusargs: &[&str]) -> String {
-    for tool in ["iverilog", "vvp"] {
-        if let Err(e) = tooltouch::hdl::runner::find_tool(tool) {
-            panic!("{e}");
-        }
-    }
-    let mut sources: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(Result::ok)
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".v"))
-        .collect();
-    sources.sort();
-    let o = Command::new("iverilog")
-        .args(["-g2005", "-o", "tb"])
-        .args(&sources)
-        .current_dir(dir)
-        .output()
-        .expect("iverilog runs");
-    assert!(o.status.success(), "iverilog: {}", text(&o));
-    let o = Command::new("vvp")
-        .arg("tb")
-        .args(plusargs)
-        .current_dir(dir)
-        .output()
-        .expect("vvp runs");
-    text(&o)
-}
+use common::{icarus, s, text, tooltouch};
 
 use crate::common::FAST_LATHE as FAST;
 

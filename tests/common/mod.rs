@@ -29,3 +29,33 @@ pub fn s(p: &Path) -> &str {
 /// The fast lathe of the README's verification quick start and of the firmware's demo
 /// stream: 1 MHz clock, 6000 rpm, one measurement in about 84 000 clocks.
 pub const FAST_LATHE: &str = include_str!("../../firmware/demo-lathe.toml");
+
+/// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.
+pub fn icarus(dir: &Path, plusargs: &[&str]) -> String {
+    for tool in ["iverilog", "vvp"] {
+        if let Err(e) = tooltouch::hdl::runner::find_tool(tool) {
+            panic!("{e}");
+        }
+    }
+    let mut sources: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".v"))
+        .collect();
+    sources.sort();
+    let o = Command::new("iverilog")
+        .args(["-g2005", "-o", "tb"])
+        .args(&sources)
+        .current_dir(dir)
+        .output()
+        .expect("iverilog runs");
+    assert!(o.status.success(), "iverilog: {}", text(&o));
+    let o = Command::new("vvp")
+        .arg("tb")
+        .args(plusargs)
+        .current_dir(dir)
+        .output()
+        .expect("vvp runs");
+    text(&o)
+}

@@ -10,42 +10,10 @@
 //! Needs Icarus Verilog, qemu-system-arm and the thumbv7m-none-eabi target: without them
 //! the test fails naming `cargo xtask setup`.
 
-use std::path::Path;
-use std::process::Command;
-
 use crate::common;
-use common::{s, text, tooltouch};
+use common::{icarus, s, text, tooltouch};
 
 use crate::common::FAST_LATHE;
-
-/// `iverilog -g2005 -o tb *.v && vvp tb` in `dir`; returns vvp's output.
-fn icarus(dir: &Path) -> String {
-    for tool in ["iverilog", "vvp"] {
-        if let Err(e) = tooltouch::hdl::runner::find_tool(tool) {
-            panic!("{e}");
-        }
-    }
-    let mut sources: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(Result::ok)
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".v"))
-        .collect();
-    sources.sort();
-    let o = Command::new("iverilog")
-        .args(["-g2005", "-o", "tb"])
-        .args(&sources)
-        .current_dir(dir)
-        .output()
-        .expect("iverilog runs");
-    assert!(o.status.success(), "iverilog: {}", text(&o));
-    let o = Command::new("vvp")
-        .arg("tb")
-        .current_dir(dir)
-        .output()
-        .expect("vvp runs");
-    text(&o)
-}
 
 #[test]
 fn a_tuned_point_runs_in_the_model_the_rtl_and_the_firmware() {
@@ -174,7 +142,7 @@ fn a_tuned_point_runs_in_the_model_the_rtl_and_the_firmware() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains(&hash), "{}", text(&o));
-    let out = icarus(&rtl);
+    let out = icarus(&rtl, &[]);
     assert!(
         out.lines().any(|l| l.starts_with("TESTBENCH OK ")),
         "the testbench did not pass:\n{out}"
