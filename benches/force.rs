@@ -1,7 +1,8 @@
 //! Criterion benches of the force path: ns per control period for each controller (its
 //! 20 Hz `step` alone), the kernel's tick (one ADC sample + the tick: estimator,
 //! controller, wear monitor), and one ADC sample (the 1 kHz handler's work).
-use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
 use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
 use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;

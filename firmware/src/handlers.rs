@@ -202,9 +202,9 @@ pub const SAMPLE_QUEUE: usize = 256;
 /// The ADC-to-control sample queue (single producer, single consumer, lock-free).
 pub type SampleQueue = Queue<AdcCodes, SAMPLE_QUEUE>;
 /// The ADC interrupt's end of the queue.
-pub type SampleProducer<'a> = Producer<'a, AdcCodes, SAMPLE_QUEUE>;
+pub type SampleProducer<'a> = Producer<'a, AdcCodes>;
 /// The control period's end of the queue.
-pub type SampleConsumer<'a> = Consumer<'a, AdcCodes, SAMPLE_QUEUE>;
+pub type SampleConsumer<'a> = Consumer<'a, AdcCodes>;
 
 /// ADC sample (1 kHz): queue the codes. Returns false when the queue was full and the
 /// sample is dropped (count it in [`Counters::overflowed`]).

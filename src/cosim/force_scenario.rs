@@ -16,7 +16,7 @@
 use crate::drive::scenario::ClosedLoop;
 use crate::drive::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::design::{adaptive_settings, fuzzy_from_pi, pi_settings, NominalProcess};
-use rand::Rng;
+use rand::{Rng, RngExt};
 use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::control::{
     AdaptiveSettings, ControllerSettings, FuzzySettings, PiSettings,
@@ -48,38 +48,38 @@ pub struct PlantSetup {
 /// Draws a plant around `tooltouch control`'s default one.
 pub fn random_plant(rng: &mut impl Rng) -> PlantSetup {
     let drive = DriveParams {
-        inertia: rng.gen_range(0.02..0.1),
-        viscous: rng.gen_range(0.002..0.01),
-        coulomb: rng.gen_range(0.5..2.0),
-        friction_f0: rng.gen_range(0.0..0.1),
-        friction_g0: rng.gen_range(0.0..0.004),
-        slip_stiffness: rng.gen_range(3.0..8.0),
-        speed_ki: rng.gen_range(3.0..8.0),
-        stator_resistance: rng.gen_range(0.2..1.0),
-        line_voltage: rng.gen_range(180.0..240.0),
-        pole_pairs: f64::from(rng.gen_range(1u8..=3)),
-        power_lag: rng.gen_range(0.1..0.5),
-        adc_noise: rng.gen_range(0.5..3.0),
+        inertia: rng.random_range(0.02..0.1),
+        viscous: rng.random_range(0.002..0.01),
+        coulomb: rng.random_range(0.5..2.0),
+        friction_f0: rng.random_range(0.0..0.1),
+        friction_g0: rng.random_range(0.0..0.004),
+        slip_stiffness: rng.random_range(3.0..8.0),
+        speed_ki: rng.random_range(3.0..8.0),
+        stator_resistance: rng.random_range(0.2..1.0),
+        line_voltage: rng.random_range(180.0..240.0),
+        pole_pairs: f64::from(rng.random_range(1u8..=3)),
+        power_lag: rng.random_range(0.1..0.5),
+        adc_noise: rng.random_range(0.5..3.0),
     };
     let process = ProcessParams {
-        ks: rng.gen_range(1500.0..2500.0),
-        ks_drift: rng.gen_range(-0.02..0.02),
-        tau_p: rng.gen_range(0.04..0.15),
-        tau_drift: rng.gen_range(-0.02..0.02),
-        feed_mm_per_rev: rng.gen_range(0.2..0.4),
-        radius: rng.gen_range(0.01..0.04),
-        ripple: rng.gen_range(0.0..0.03),
+        ks: rng.random_range(1500.0..2500.0),
+        ks_drift: rng.random_range(-0.02..0.02),
+        tau_p: rng.random_range(0.04..0.15),
+        tau_drift: rng.random_range(-0.02..0.02),
+        feed_mm_per_rev: rng.random_range(0.2..0.4),
+        radius: rng.random_range(0.01..0.04),
+        ripple: rng.random_range(0.0..0.03),
     };
-    let before = rng.gen_range(0.8..1.2);
+    let before = rng.random_range(0.8..1.2);
     PlantSetup {
         drive,
         process,
         depth: DepthProfile {
             before,
-            after: before * rng.gen_range(1.2..1.6),
+            after: before * rng.random_range(1.2..1.6),
             step_at: f64::INFINITY,
         },
-        speed: rng.gen_range(400.0..1000.0) * std::f64::consts::TAU / 60.0,
+        speed: rng.random_range(400.0..1000.0) * std::f64::consts::TAU / 60.0,
     }
 }
 
@@ -102,14 +102,14 @@ fn fx(x: f64) -> Fx {
 /// the adaptive gain filter, the fuzzy rule table, the F9 switch threshold and hold, the
 /// number of condition sets, the wear filter, debounce and threshold kind — is the kit's.
 pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSettings {
-    let kit = draw_force(rng.gen());
+    let kit = draw_force(rng.random());
     let d = &plant.drive;
     let p = &plant.process;
-    let sample_hz = SAMPLE_RATES[rng.gen_range(0..SAMPLE_RATES.len())];
-    let h_target = rng.gen_range(0.02..0.1);
+    let sample_hz = SAMPLE_RATES[rng.random_range(0..SAMPLE_RATES.len())];
+    let h_target = rng.random_range(0.02..0.1);
     let samples_per_period = ((h_target * f64::from(sample_hz)).round() as u16).clamp(1, 1000);
     let h = f64::from(samples_per_period) / f64::from(sample_hz);
-    let reference = rng.gen_range(200.0..800.0);
+    let reference = rng.random_range(200.0..800.0);
     let omega = plant.speed;
     let idle = d.coulomb * omega + d.viscous * omega * omega;
     let cut = reference * p.radius * omega;
@@ -119,28 +119,30 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
     let v_peak = std::f64::consts::SQRT_2 * d.line_voltage;
     let i_peak = std::f64::consts::SQRT_2 * p_peak / (1.5 * d.line_voltage);
     let scales = AdcScales {
-        speed_per_lsb: fx(1.3 * omega / rng.gen_range(2000.0..3500.0)),
-        power_per_lsb: fx(p_peak / rng.gen_range(2000.0..3500.0)),
-        force_per_lsb: fx(2.5 * reference / rng.gen_range(1200.0..1900.0)),
-        volts_per_lsb: fx(v_peak / rng.gen_range(1200.0..1900.0)),
-        amps_per_lsb: fx(i_peak / rng.gen_range(1000.0..1800.0)),
+        speed_per_lsb: fx(1.3 * omega / rng.random_range(2000.0..3500.0)),
+        power_per_lsb: fx(p_peak / rng.random_range(2000.0..3500.0)),
+        force_per_lsb: fx(2.5 * reference / rng.random_range(1200.0..1900.0)),
+        volts_per_lsb: fx(v_peak / rng.random_range(1200.0..1900.0)),
+        amps_per_lsb: fx(i_peak / rng.random_range(1000.0..1800.0)),
     };
     let estimator = EstimatorSettings {
-        stator_resistance: fx(d.stator_resistance * rng.gen_range(0.8..1.2)),
-        inertia: fx(d.inertia * rng.gen_range(0.9..1.1)),
+        stator_resistance: fx(d.stator_resistance * rng.random_range(0.8..1.2)),
+        inertia: fx(d.inertia * rng.random_range(0.9..1.1)),
         // B ≤ J/(2h) (validate); the plant's B is far below.
-        viscous_nominal: fx((d.viscous * rng.gen_range(0.5..1.5)).min(d.inertia * 0.9 / (2.0 * h))),
-        coulomb_nominal: fx(d.coulomb * rng.gen_range(0.5..1.5)),
+        viscous_nominal: fx(
+            (d.viscous * rng.random_range(0.5..1.5)).min(d.inertia * 0.9 / (2.0 * h))
+        ),
+        coulomb_nominal: fx(d.coulomb * rng.random_range(0.5..1.5)),
         friction_f: [
-            fx(d.friction_f0 * rng.gen_range(0.5..1.5)),
-            fx(rng.gen_range(-0.001..0.001)),
+            fx(d.friction_f0 * rng.random_range(0.5..1.5)),
+            fx(rng.random_range(-0.001..0.001)),
         ],
         friction_g: [
-            fx(d.friction_g0 * rng.gen_range(0.5..1.5)),
-            fx(rng.gen_range(-1e-4..1e-4)),
+            fx(d.friction_g0 * rng.random_range(0.5..1.5)),
+            fx(rng.random_range(-1e-4..1e-4)),
         ],
-        min_speed: fx(rng.gen_range(1.0..20.0)),
-        slip_gain: fx(rng.gen_range(0.8..1.2)),
+        min_speed: fx(rng.random_range(1.0..20.0)),
+        slip_gain: fx(rng.random_range(0.8..1.2)),
         workpiece_radius: fx(p.radius),
         ..kit.estimator
     };
@@ -152,41 +154,46 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
         period: h,
     };
     let (kp, ki) = nominal.ziegler_nichols_pi();
-    let (kp, ki) = (kp * rng.gen_range(0.5..2.0), ki * rng.gen_range(0.5..2.0));
+    let (kp, ki) = (
+        kp * rng.random_range(0.5..2.0),
+        ki * rng.random_range(0.5..2.0),
+    );
     let k = nominal.gain();
     let controller = match kit.controller {
         ControllerSettings::Pi(_) => ControllerSettings::Pi(PiSettings {
-            integrator_min: fx(f64::from(rng.gen_range(0..=40))),
-            integrator_max: fx(f64::from(rng.gen_range(180..=255))),
+            integrator_min: fx(f64::from(rng.random_range(0..=40))),
+            integrator_max: fx(f64::from(rng.random_range(180..=255))),
             ..pi_settings(kp, ki)
         }),
         ControllerSettings::Adaptive(drawn) => ControllerSettings::Adaptive(AdaptiveSettings {
-            gain_min: fx(k / rng.gen_range(5.0..20.0)),
-            gain_max: fx(k * rng.gen_range(5.0..30.0)),
-            initial_gain: fx(k * rng.gen_range(0.5..2.0)),
+            gain_min: fx(k / rng.random_range(5.0..20.0)),
+            gain_max: fx(k * rng.random_range(5.0..30.0)),
+            initial_gain: fx(k * rng.random_range(0.5..2.0)),
             gain_filter_shift: drawn.gain_filter_shift,
-            min_override: fx(rng.gen_range(1.0..20.0)),
-            min_force: fx(rng.gen_range(10.0..100.0)),
-            ..adaptive_settings(rng.gen_range(0.1..0.6) / h, k)
+            min_override: fx(rng.random_range(1.0..20.0)),
+            min_force: fx(rng.random_range(10.0..100.0)),
+            ..adaptive_settings(rng.random_range(0.1..0.6) / h, k)
         }),
         ControllerSettings::Fuzzy(drawn) => ControllerSettings::Fuzzy(FuzzySettings {
             rules: drawn.rules,
-            ..fuzzy_from_pi(kp, ki, h, rng.gen_range(150.0..500.0))
+            ..fuzzy_from_pi(kp, ki, h, rng.random_range(150.0..500.0))
         }),
     };
     let mut sets = kit.wear.sets;
     for set in sets.iter_mut().take(usize::from(kit.wear.set_count)) {
         *set = ConditionSet {
-            mean_power_limit: fx(cut * rng.gen_range(0.6..1.5)),
-            idle_power: fx(idle * rng.gen_range(0.7..1.3)),
+            mean_power_limit: fx(cut * rng.random_range(0.6..1.5)),
+            idle_power: fx(idle * rng.random_range(0.7..1.3)),
         };
     }
     let wear = WearSettings {
         sets,
-        efficiency: fx(rng.gen_range(0.6..1.0)),
+        efficiency: fx(rng.random_range(0.6..1.0)),
         threshold: match kit.wear.threshold {
             Threshold::Updating => Threshold::Updating,
-            Threshold::Constant(_) => Threshold::Constant(fx(idle + cut * rng.gen_range(0.8..1.5))),
+            Threshold::Constant(_) => {
+                Threshold::Constant(fx(idle + cut * rng.random_range(0.8..1.5)))
+            }
         },
         ..kit.wear
     };
@@ -200,7 +207,7 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
         scales,
         estimator,
         reference: fx(reference),
-        manual_override: rng.gen_range(60..=140),
+        manual_override: rng.random_range(60..=140),
         controller,
         wear,
         ..kit
@@ -241,11 +248,11 @@ pub fn force_events(
     let h = spp as f64 / fs;
     let periods = ((duration / h).round() as u64).max(20);
     let at = |t: f64| ((t * periods as f64).round() as u64).clamp(1, periods - 1);
-    let identify_on = at(rng.gen_range(0.03..0.1));
-    let identify_off = at(rng.gen_range(0.25..0.35));
-    let cut_start = at(rng.gen_range(0.38..0.45));
-    let depth_step = at(rng.gen_range(0.62..0.72));
-    let cut_end = at(rng.gen_range(0.9..0.96));
+    let identify_on = at(rng.random_range(0.03..0.1));
+    let identify_off = at(rng.random_range(0.25..0.35));
+    let cut_start = at(rng.random_range(0.38..0.45));
+    let depth_step = at(rng.random_range(0.62..0.72));
+    let cut_end = at(rng.random_range(0.9..0.96));
     let mut depth = plant.depth;
     depth.step_at = depth_step as f64 * h;
     let sim = Plant::new(
@@ -255,7 +262,7 @@ pub fn force_events(
         &s.scales,
         fs,
         plant.speed,
-        rng.gen(),
+        rng.random(),
     );
     let mut lp = ClosedLoop::new(config, sim);
     let set_count = s.wear.set_count;
@@ -275,11 +282,11 @@ pub fn force_events(
             if period == cut_end {
                 lp.command(ForceEvent::Control(false));
             }
-            if period > cut_start && rng.gen_bool(0.03) {
+            if period > cut_start && rng.random_bool(0.03) {
                 // Mostly valid sets, sometimes one out of range (a bad event).
-                lp.command(ForceEvent::Conditions(rng.gen_range(0..set_count + 2)));
+                lp.command(ForceEvent::Conditions(rng.random_range(0..set_count + 2)));
             }
-            if period > cut_start && rng.gen_bool(0.02) {
+            if period > cut_start && rng.random_bool(0.02) {
                 lp.command(ForceEvent::ToolChanged);
             }
         }

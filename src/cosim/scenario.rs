@@ -14,7 +14,7 @@
 //! The measurement stream is integer arithmetic on ticks of [`TICK_HZ`]; the randomness comes from one
 //! seed, so a case is reproduced from its seed alone.
 
-use rand::{Rng, SeedableRng};
+use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
@@ -84,7 +84,7 @@ pub struct Case {
 /// 20–80 % of the window) from one `u64` of `rng`.
 pub fn random_settings(rng: &mut impl Rng) -> MeasureSettings {
     let strategy = testing::measure_settings(&testing::MeasureProfile::LATHE_COSIM);
-    testing::draw(&strategy, rng.gen())
+    testing::draw(&strategy, rng.random())
 }
 
 /// Quadrature phase order for positive motion: A leads B (00, 10, 11, 01).
@@ -164,20 +164,20 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
     let config = settings.validate().unwrap_or_default();
     let ppr = u64::from(config.pulses_per_rev());
     // Spindle speed, rpm: the papers' 600–1000, sometimes the 12 000 rpm target.
-    let rpm: u64 = if rng.gen_bool(0.2) {
+    let rpm: u64 = if rng.random_bool(0.2) {
         12_000
     } else {
-        rng.gen_range(600..=1000)
+        rng.random_range(600..=1000)
     };
     let rev_ticks = u64::from(TICK_HZ) * 60 / rpm;
     let fes_period = (rev_ticks / ppr).max(2);
     let rev_ticks = fes_period * ppr;
-    let lobes: u64 = rng.gen_range(1..=5);
-    let revs_to_permanent: u64 = rng.gen_range(2..=12);
+    let lobes: u64 = rng.random_range(1..=5);
+    let revs_to_permanent: u64 = rng.random_range(2..=12);
     let cycles: u32 = if fault == Fault::BrokenFesLine {
         1
     } else {
-        rng.gen_range(1..=3)
+        rng.random_range(1..=3)
     };
     let mut b = Builder {
         events: Vec::new(),
@@ -187,23 +187,23 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
     // A CNC that watches "register now" like the real one: run the golden model alongside.
     let mut cnc = Measurement::new(&config);
     let mut cnc_upto = 0u64;
-    let mut t: u64 = rng.gen_range(0..1000);
+    let mut t: u64 = rng.random_range(0..1000);
     // Rapid approach: the cross-slide moves some counts before the cycle starts.
-    for _ in 0..rng.gen_range(0..40) {
-        t += rng.gen_range(50..2000);
+    for _ in 0..rng.random_range(0..40) {
+        t += rng.random_range(50..2000);
         b.scale_step(t, true);
     }
     let mut contact = false;
     for cycle in 0..cycles {
-        t += rng.gen_range(1..5000);
+        t += rng.random_range(1..5000);
         b.push(t, MeasureEvent::Arm(true));
         if fault == Fault::CounterWrap {
             // Short of the wrap by less than one revolution's pulses.
-            let short = rng.gen_range(1..=ppr as u32);
+            let short = rng.random_range(1..=ppr as u32);
             b.push(t, MeasureEvent::PresetPulses(u32::MAX - short + 1));
         }
         if fault == Fault::BrokenFesLine {
-            for _ in 0..(65_536 + rng.gen_range(1..600)) {
+            for _ in 0..(65_536 + rng.random_range(1..600)) {
                 t += rev_ticks.min(1 << 20);
                 b.push(t, MeasureEvent::Index);
             }
@@ -211,19 +211,19 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
             b.push(t, MeasureEvent::Arm(false));
             break;
         }
-        let approach_revs: u64 = rng.gen_range(0..3);
+        let approach_revs: u64 = rng.random_range(0..3);
         let max_revs =
             approach_revs + revs_to_permanent + 4 * u64::from(config.settings().window_revs) + 3;
         let stop_after = if fault == Fault::SpindleStopped && cycle + 1 == cycles {
-            rng.gen_range(0..=approach_revs + revs_to_permanent / 2)
+            rng.random_range(0..=approach_revs + revs_to_permanent / 2)
         } else {
             u64::MAX
         };
         // Feed: a scale step every `feed_period` ticks toward the workpiece.
-        let feed_period = rng.gen_range(rev_ticks / 8..=rev_ticks * 2).max(1);
+        let feed_period = rng.random_range(rev_ticks / 8..=rev_ticks * 2).max(1);
         let mut next_feed = t + feed_period;
         let mut decided_at: Option<u64> = None;
-        let rev0 = t + rng.gen_range(0..rev_ticks);
+        let rev0 = t + rng.random_range(0..rev_ticks);
         let mut rev = 0u64;
         'revs: loop {
             if rev >= max_revs || rev >= stop_after {
@@ -252,8 +252,8 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
                 let width = rev_ticks * density / 1000 / lobes;
                 for lobe in 0..lobes {
                     let center =
-                        rev_ticks * lobe / lobes + rng.gen_range(0..rev_ticks / lobes / 4 + 1);
-                    let w = (width * rng.gen_range(50..=150) / 100).max(1);
+                        rev_ticks * lobe / lobes + rng.random_range(0..rev_ticks / lobes / 4 + 1);
+                    let w = (width * rng.random_range(50..=150) / 100).max(1);
                     let s = center.saturating_sub(w / 2).max(1);
                     let e = (s + w).min(rev_ticks - 1);
                     if e > s {
@@ -261,9 +261,9 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
                     }
                 }
                 // Noise spikes: contact shorter than one FES period.
-                for _ in 0..rng.gen_range(0..3) {
-                    let s = rng.gen_range(1..rev_ticks - 2);
-                    let e = (s + rng.gen_range(1..fes_period.max(2))).min(rev_ticks - 1);
+                for _ in 0..rng.random_range(0..3) {
+                    let s = rng.random_range(1..rev_ticks - 2);
+                    let e = (s + rng.random_range(1..fes_period.max(2))).min(rev_ticks - 1);
                     bursts.push(Burst { start: s, end: e });
                 }
                 bursts.sort_by_key(|x| x.start);
@@ -295,9 +295,9 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
                 }
                 contact = level;
                 if fault == Fault::ContactChatter {
-                    for _ in 0..rng.gen_range(1..4) {
+                    for _ in 0..rng.random_range(1..4) {
                         b.push(time, MeasureEvent::Contact(level));
-                        let d = rng.gen_range(0..3);
+                        let d = rng.random_range(0..3);
                         b.push(time + d, MeasureEvent::Contact(!level));
                     }
                     b.push(time + 3, MeasureEvent::Contact(level));
@@ -306,18 +306,18 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
                 }
             }
             // The spindle: index at the revolution's start, one FES per pulse period.
-            let drop_index = fault == Fault::MissingIndex && rng.gen_bool(0.4);
+            let drop_index = fault == Fault::MissingIndex && rng.random_bool(0.4);
             if !drop_index {
                 b.push(start, MeasureEvent::Index);
             }
             for p in 0..ppr {
                 let tp = start + p * fes_period;
                 b.push(tp, MeasureEvent::Fes);
-                if fault == Fault::EncoderGlitches && rng.gen_bool(0.01) {
-                    b.push(tp + rng.gen_range(1..fes_period), MeasureEvent::Fes);
+                if fault == Fault::EncoderGlitches && rng.random_bool(0.01) {
+                    b.push(tp + rng.random_range(1..fes_period), MeasureEvent::Fes);
                 }
                 while next_feed <= tp {
-                    if fault == Fault::EncoderGlitches && rng.gen_bool(0.05) {
+                    if fault == Fault::EncoderGlitches && rng.random_bool(0.05) {
                         b.scale_glitch(next_feed);
                     } else {
                         b.scale_step(next_feed, true);
@@ -336,7 +336,7 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
             }
         }
         // End of this cycle: the time after the last revolution.
-        t = rev0 + rev * rev_ticks + rng.gen_range(1..1000);
+        t = rev0 + rev * rev_ticks + rng.random_range(1..1000);
         if fault == Fault::SpindleStopped && cycle + 1 == cycles {
             // CNC timeout: no FES for a while, then abort.
             t += u64::from(TICK_HZ) / 10;
@@ -344,12 +344,12 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
         b.push(t, MeasureEvent::Arm(false));
         // Retract: a few steps back, then the next cycle starts after a Z step.
         if contact {
-            t += rng.gen_range(10..1000);
+            t += rng.random_range(10..1000);
             b.push(t, MeasureEvent::Contact(false));
             contact = false;
         }
-        for _ in 0..rng.gen_range(0..20) {
-            t += rng.gen_range(50..2000);
+        for _ in 0..rng.random_range(0..20) {
+            t += rng.random_range(50..2000);
             b.scale_step(t, false);
         }
         cnc_upto = b.apply_until(&mut cnc, cnc_upto, t + 1);

@@ -19,7 +19,7 @@
 
 pub mod scenario;
 
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal, StandardNormal};
 use std::f64::consts::PI;

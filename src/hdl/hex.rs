@@ -269,7 +269,7 @@ mod tests {
 
     #[test]
     fn skipping_settled_clocks_writes_the_per_cycle_files_byte_for_byte() {
-        use rand::{Rng, SeedableRng};
+        use rand::{RngExt, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
         let mut configs = vec![MeasureConfig::default()];
         configs.extend((0..4).map(|_| crate::hdl::random::random_config(&mut rng)));
@@ -284,7 +284,7 @@ mod tests {
                     s.push(Pins(pin::ARM | pin::FES), 1); // not settled at clock 0
                 }
                 for seg in &short.segments {
-                    let hold = if rng.gen_bool(0.05) { stretch } else { 1 };
+                    let hold = if rng.random_bool(0.05) { stretch } else { 1 };
                     s.push(seg.pins, u64::from(seg.cycles) * hold);
                 }
                 let fast = golden_vectors(config, &s).unwrap();

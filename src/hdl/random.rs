@@ -4,7 +4,7 @@
 //! changing in the same clock so same-clock edges reach the kernel together.
 
 use crate::stimulus::Stimulus;
-use rand::Rng;
+use rand::{Rng, RngExt};
 use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::{testing, MeasureConfig};
 
@@ -12,7 +12,7 @@ use tooltouch_model::{testing, MeasureConfig};
 /// profile (few pulses per window, small `i_def`, short glitch filters, an occasional
 /// value across the whole valid range) from one `u64` of `rng`.
 pub fn random_config(rng: &mut impl Rng) -> MeasureConfig {
-    testing::draw_measure(&testing::MeasureProfile::HDL_COSIM, rng.gen())
+    testing::draw_measure(&testing::MeasureProfile::HDL_COSIM, rng.random())
 }
 
 /// Phase order of the scale lines for positive motion, as pin bits (A leads B).
@@ -31,33 +31,33 @@ pub fn random_stimulus(
     let mut s = Stimulus::new(clock_hz);
     let mut pins: u8 = 0;
     let mut phase = 0usize;
-    s.push(Pins(0), rng.gen_range(1..=8));
+    s.push(Pins(0), rng.random_range(1..=8));
     // Arm early, often together with other edges.
     pins |= pin::ARM;
     while s.total_cycles() < cycles {
-        let len = if pass > 1 && rng.gen_bool(0.12) {
-            rng.gen_range(1..pass)
+        let len = if pass > 1 && rng.random_bool(0.12) {
+            rng.random_range(1..pass)
         } else {
-            pass + rng.gen_range(0..=2 * pass + 3)
+            pass + rng.random_range(0..=2 * pass + 3)
         };
         s.push(Pins(pins), len);
         // Next levels: several pins may change together.
-        if rng.gen_bool(0.6) {
+        if rng.random_bool(0.6) {
             pins ^= pin::FES;
         }
-        if rng.gen_bool(0.2) {
+        if rng.random_bool(0.2) {
             pins ^= pin::CONTACT;
         }
-        if rng.gen_bool(0.06) {
+        if rng.random_bool(0.06) {
             pins ^= pin::INDEX;
         }
-        if rng.gen_bool(0.012) {
+        if rng.random_bool(0.012) {
             pins ^= pin::ARM;
         }
-        if rng.gen_bool(0.3) {
-            phase = if rng.gen_bool(0.03) {
+        if rng.random_bool(0.3) {
+            phase = if rng.random_bool(0.03) {
                 (phase + 2) % 4 // illegal double change
-            } else if rng.gen_bool(0.6) {
+            } else if rng.random_bool(0.6) {
                 (phase + 1) % 4
             } else {
                 (phase + 3) % 4

@@ -17,7 +17,7 @@
 //! than `spike_max_cycles` toggle the contact pin (they are not in the clean contact).
 
 use crate::stimulus::Stimulus;
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -136,17 +136,17 @@ pub fn approach(s: &ApproachSettings, seed: u64) -> Approach {
     let profile: Vec<(f64, f64, f64)> = [2.0, 3.0, 5.0]
         .iter()
         .zip(s.profile_um)
-        .map(|(&k, a)| (k, a, rng.gen_range(0.0..TAU)))
+        .map(|(&k, a)| (k, a, rng.random_range(0.0..TAU)))
         .collect();
     let rough: Vec<(f64, f64, f64)> = [37.0, 61.0, 113.0]
         .iter()
-        .map(|&k| (k, s.roughness_um, rng.gen_range(0.0..TAU)))
+        .map(|&k| (k, s.roughness_um, rng.random_range(0.0..TAU)))
         .collect();
-    let slow_phase = rng.gen_range(0.0..TAU);
+    let slow_phase = rng.random_range(0.0..TAU);
     let offset = s.random_um * rng.sample::<f64, _>(rand_distr::StandardNormal);
     let revs = u64::from(s.revolutions);
     let jitter: Vec<f64> = (0..revs + 2)
-        .map(|_| 1.0 + 0.3 * rng.gen_range(-1.0..1.0))
+        .map(|_| 1.0 + 0.3 * rng.random_range(-1.0..1.0))
         .collect();
     let peak: f64 = s.profile_um.iter().sum::<f64>() + s.slow_um * 1.3 + 3.0 * s.roughness_um;
     // Revolution 0 starts at clock 0; the arm rises with the index of revolution 1.
@@ -224,11 +224,11 @@ pub fn approach(s: &ApproachSettings, seed: u64) -> Approach {
         let mean_gap = clock / s.spike_rate_hz;
         let mut t = 0.0;
         loop {
-            t += -mean_gap * (1.0 - rng.gen::<f64>()).ln();
+            t += -mean_gap * (1.0 - rng.random::<f64>()).ln();
             if t >= end as f64 {
                 break;
             }
-            let d = rng.gen_range(1..=s.spike_max_cycles.max(1));
+            let d = rng.random_range(1..=s.spike_max_cycles.max(1));
             toggles.push((t as u64, pin::CONTACT));
             toggles.push((t as u64 + u64::from(d), pin::CONTACT));
         }

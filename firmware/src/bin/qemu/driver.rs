@@ -78,8 +78,8 @@ pub fn calibrate() -> (u32, u32) {
 
 /// Drives the firmware from idle (priority 0): every pend preempts it at once.
 pub struct Driver<F, C> {
-    resets: &'static mut Producer<'static, Measurement, MAILBOX>,
-    snapshots: &'static mut Consumer<'static, MeasureOutputs, MAILBOX>,
+    resets: &'static mut Producer<'static, Measurement>,
+    snapshots: &'static mut Consumer<'static, MeasureOutputs>,
     /// The last snapshot (returned again should `observe` not have run: a mismatch
     /// the host reports).
     last: MeasureOutputs,
@@ -113,8 +113,8 @@ where
     /// The driver over the mailboxes' ends, idle's locks on the force kernel and the
     /// counters, and `init`'s SysTick calibration.
     pub fn new(
-        resets: &'static mut Producer<'static, Measurement, MAILBOX>,
-        snapshots: &'static mut Consumer<'static, MeasureOutputs, MAILBOX>,
+        resets: &'static mut Producer<'static, Measurement>,
+        snapshots: &'static mut Consumer<'static, MeasureOutputs>,
         force: F,
         counters: C,
         calibration: (u32, u32),

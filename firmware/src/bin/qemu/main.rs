@@ -58,7 +58,7 @@ const _: () = {
 #[rtic::app(device = lm3s6965, peripherals = false)]
 mod app {
     use crate::board::{Qemu, PRESET};
-    use crate::driver::{self, Driver, Resets, Snapshots, MAILBOX};
+    use crate::driver::{self, Driver, Resets, Snapshots};
     use core::sync::atomic::Ordering;
     use cortex_m::peripheral::syst::SystClkSource;
     use heapless::spsc::{Consumer, Producer};
@@ -86,10 +86,10 @@ mod app {
         calibration: (u32, u32),
         samples_in: SampleProducer<'static>,
         samples_out: SampleConsumer<'static>,
-        resets_in: Producer<'static, Measurement, MAILBOX>,
-        resets_out: Consumer<'static, Measurement, MAILBOX>,
-        snapshots_in: Producer<'static, MeasureOutputs, MAILBOX>,
-        snapshots_out: Consumer<'static, MeasureOutputs, MAILBOX>,
+        resets_in: Producer<'static, Measurement>,
+        resets_out: Consumer<'static, Measurement>,
+        snapshots_in: Producer<'static, MeasureOutputs>,
+        snapshots_out: Consumer<'static, MeasureOutputs>,
     }
 
     #[init(local = [
