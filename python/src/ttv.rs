@@ -4,15 +4,19 @@
 //! record closing the stream, nothing after it); `TtvWriter` writes one with the same
 //! framing the CLI uses, so a stream read and written back is byte-identical.
 
+use crate::force::{ForceEvent, ForceOutputs, ForceSettings};
 use crate::model::{Event, Outputs};
 use crate::settings::Settings;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
+use pyo3::types::{PyBytes, PyDict};
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
 use tooltouch::settings::Settings as HostSettings;
+use tooltouch_model::wire::force_chunks::{force_config_chunks, ForceConfigAssembler};
+use tooltouch_model::wire::force_event::{decode_force_event, encode_force_event};
+use tooltouch_model::wire::force_outputs::{decode_force_outputs, outputs_record};
 use tooltouch_model::wire::measure_config::{decode_config, encode_config};
 use tooltouch_model::wire::measure_event::{decode_event, encode_event};
 use tooltouch_model::wire::measure_outputs::{decode_outputs, encode_outputs};
@@ -67,8 +71,11 @@ pub struct Record {
     #[pyo3(get)]
     time: u64,
     payload: Vec<u8>,
-    /// Decoded payload: an `Event`, `Outputs` or `Settings` (a configuration record,
-    /// `[lathe]` at its defaults), `None` for the kinds not decoded here (force, firmware).
+    /// Decoded payload: `Event`, `Outputs`, `Settings` (a measurement configuration
+    /// record, `[lathe]` at its defaults), `ForceEvent`, `ForceOutputs`, a
+    /// `(total, offset, data)` tuple for a `force_config_chunk` (the reader's
+    /// `force_settings` once the last chunk is read), a dict for a firmware record (see
+    /// `firmware_fields`), `None` for an unknown kind.
     #[pyo3(get)]
     value: Option<Py<PyAny>>,
 }
@@ -102,6 +109,8 @@ pub struct TtvReader {
     offset: usize,
     previous: u64,
     done: bool,
+    chunks: ForceConfigAssembler,
+    force: Option<ForceSettings>,
 }
 
 impl TtvReader {
@@ -221,6 +230,47 @@ impl TtvReader {
                 })?;
                 Some(Py::new(py, Outputs { inner: outputs })?.into_any())
             }
+            kind::FORCE_OUTPUTS => {
+                let outputs = decode_force_outputs(record.payload()).ok_or_else(|| {
+                    fail(WireError::BadLength {
+                        kind: record.kind,
+                        len: u8::try_from(record.payload().len()).unwrap_or(u8::MAX),
+                        offset,
+                    })
+                })?;
+                Some(Py::new(py, ForceOutputs { inner: outputs })?.into_any())
+            }
+            kind::FORCE_CONFIG_CHUNK => {
+                let p = record.payload();
+                let complete = self.chunks.push(p).map_err(|e| {
+                    PyValueError::new_err(format!("{}: byte {offset}: {e}", self.file))
+                })?;
+                if complete {
+                    let config = self.chunks.finish(self.header.force_hash).map_err(|e| {
+                        PyValueError::new_err(format!("{}: byte {offset}: {e}", self.file))
+                    })?;
+                    self.force = Some(ForceSettings { config });
+                }
+                let total = u16::from_le_bytes([p[0], p[1]]);
+                let at = u16::from_le_bytes([p[2], p[3]]);
+                let data = PyBytes::new(py, &p[4..]);
+                Some((total, at, data).into_pyobject(py)?.into_any().unbind())
+            }
+            kind::FIRMWARE_OBSERVE
+            | kind::FIRMWARE_FORCE_PROFILE
+            | kind::FIRMWARE_ERROR
+            | kind::FIRMWARE_PROFILE
+            | kind::FIRMWARE_STATUS => Some(
+                firmware_dict(py, record.kind, record.payload())?
+                    .into_any()
+                    .unbind(),
+            ),
+            k if (kind::FORCE_FIRST..=kind::FORCE_LAST).contains(&k) => {
+                match decode_force_event(record, offset).map_err(fail)? {
+                    Some(event) => Some(Py::new(py, ForceEvent { inner: event })?.into_any()),
+                    None => None,
+                }
+            }
             _ => match decode_event(record, offset).map_err(fail)? {
                 Some(event) => Some(Py::new(py, Event { inner: event })?.into_any()),
                 None => None,
@@ -257,6 +307,8 @@ impl TtvReader {
             offset: HEADER_LEN,
             previous: 0,
             done: false,
+            chunks: ForceConfigAssembler::new(),
+            force: None,
         })
     }
 
@@ -279,6 +331,13 @@ impl TtvReader {
     #[getter]
     fn force_hash(&self) -> u64 {
         self.header.force_hash
+    }
+
+    /// The force configuration reassembled from the `force_config_chunk` records read so
+    /// far (its hash checked against the header's `force_hash`), None before the last.
+    #[getter]
+    fn force_settings(&self) -> Option<ForceSettings> {
+        self.force
     }
 
     fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
@@ -412,6 +471,40 @@ impl TtvWriter {
         ))
     }
 
+    /// Writes one force-path event at `time` (ADC samples, ticks and CNC commands; the
+    /// force streams of `tooltouch control` count time in ADC samples).
+    fn write_force_event(&mut self, time: u64, event: &ForceEvent) -> PyResult<()> {
+        self.put(&encode_force_event(time, &event.inner))
+    }
+
+    /// Writes one force outputs record at `time`.
+    fn write_force_outputs(&mut self, time: u64, outputs: &ForceOutputs) -> PyResult<()> {
+        self.put(&outputs_record(time, &outputs.inner))
+    }
+
+    /// Writes the force configuration of `settings` as `force_config_chunk` records at
+    /// `time` (a force events stream starts with them at time 0; the header's
+    /// `force_hash` must be `settings.force_hash`).
+    fn write_force_config(&mut self, time: u64, settings: &ForceSettings) -> PyResult<()> {
+        for r in force_config_chunks(&settings.config, time) {
+            self.put(&r)?;
+        }
+        Ok(())
+    }
+
+    /// Writes a firmware record of kind `name` (`firmware_observe`, `firmware_profile`,
+    /// `firmware_force_profile`, `firmware_status`, `firmware_error`) from the dict the
+    /// reader gives for it (see `firmware_fields`).
+    fn write_firmware(
+        &mut self,
+        time: u64,
+        name: &str,
+        fields: &Bound<'_, PyDict>,
+    ) -> PyResult<()> {
+        let (k, payload) = firmware_payload(name, fields)?;
+        self.put(&WireRecord::new(k, time, &payload))
+    }
+
     /// Writes the END record at the last record's time and closes the file. Idempotent.
     fn close(&mut self) -> PyResult<()> {
         if self.sink.is_none() {
@@ -434,4 +527,162 @@ impl TtvWriter {
         self.close()?;
         Ok(false)
     }
+}
+
+/// Per-kind slots of the firmware's profile records, in payload order.
+const PROFILE_SLOTS: [&str; 5] = ["arm", "contact", "index", "fes", "scale"];
+/// Slots of the firmware's force profile record, in payload order.
+const FORCE_PROFILE_SLOTS: [&str; 3] = ["sample", "tick", "command"];
+/// The firmware status record's u32 fields, then its u64 fields, in payload order.
+const STATUS_U32: [&str; 6] = [
+    "events",
+    "lost",
+    "overflowed",
+    "stack_bytes",
+    "calibration_instructions",
+    "calibration_ticks",
+];
+const STATUS_U64: [&str; 2] = ["measure_hash", "force_hash"];
+
+fn u32_at(p: &[u8], i: usize) -> Option<u32> {
+    p.get(i..i + 4)
+        .and_then(|b| b.try_into().ok())
+        .map(u32::from_le_bytes)
+}
+
+fn u64_at(p: &[u8], i: usize) -> Option<u64> {
+    p.get(i..i + 8)
+        .and_then(|b| b.try_into().ok())
+        .map(u64::from_le_bytes)
+}
+
+/// A firmware record's payload as a dict (layouts: `tooltouch_model::wire::kind`):
+/// - `firmware_observe`: `observe_fes` (bool);
+/// - `firmware_profile`: `arm` … `scale`, each `(interrupts, systick_ticks)`;
+/// - `firmware_force_profile`: `sample`, `tick`, `command`, each `(events, systick_ticks)`;
+/// - `firmware_status`: `events`, `lost`, `overflowed`, `stack_bytes`,
+///   `calibration_instructions`, `calibration_ticks`, `measure_hash`, `force_hash` (the
+///   fields the payload holds);
+/// - `firmware_error`: `code`, `wire_error`, `offset`, `detail`, `field` (bytes) and
+///   `description` (the CLI's explanation).
+fn firmware_dict<'py>(py: Python<'py>, k: u8, p: &[u8]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    match k {
+        kind::FIRMWARE_OBSERVE => d.set_item("observe_fes", p.first().is_none_or(|&b| b != 0))?,
+        kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {
+            let slots: &[&str] = if k == kind::FIRMWARE_PROFILE {
+                &PROFILE_SLOTS
+            } else {
+                &FORCE_PROFILE_SLOTS
+            };
+            for (i, name) in slots.iter().enumerate() {
+                if let (Some(a), Some(b)) = (u32_at(p, 8 * i), u32_at(p, 8 * i + 4)) {
+                    d.set_item(*name, (a, b))?;
+                }
+            }
+        }
+        kind::FIRMWARE_STATUS => {
+            for (i, name) in STATUS_U32.iter().enumerate() {
+                if let Some(v) = u32_at(p, 4 * i) {
+                    d.set_item(*name, v)?;
+                }
+            }
+            for (i, name) in STATUS_U64.iter().enumerate() {
+                if let Some(v) = u64_at(p, 24 + 8 * i) {
+                    d.set_item(*name, v)?;
+                }
+            }
+        }
+        _ => {
+            d.set_item("code", p.first().copied().unwrap_or(0))?;
+            d.set_item("wire_error", p.get(1).copied().unwrap_or(0))?;
+            d.set_item("offset", u64_at(p, 2).unwrap_or(0))?;
+            d.set_item("detail", u64_at(p, 10).unwrap_or(0))?;
+            d.set_item("field", PyBytes::new(py, p.get(18..).unwrap_or(&[])))?;
+            d.set_item(
+                "description",
+                tooltouch::cosim::trace::describe_firmware_error(p),
+            )?;
+        }
+    }
+    Ok(d)
+}
+
+/// The kind and payload of a firmware record from its dict ([`firmware_dict`]'s keys;
+/// the status and profile fields up to the first one missing).
+fn firmware_payload(name: &str, d: &Bound<'_, PyDict>) -> PyResult<(u8, Vec<u8>)> {
+    let get = |key: &str| -> PyResult<Option<Bound<'_, PyAny>>> { d.get_item(key) };
+    let mut p = Vec::new();
+    let k = match name {
+        "firmware_observe" => {
+            let on: bool = get("observe_fes")?
+                .ok_or_else(|| PyValueError::new_err("firmware_observe needs observe_fes"))?
+                .extract()?;
+            p.push(u8::from(on));
+            kind::FIRMWARE_OBSERVE
+        }
+        "firmware_profile" | "firmware_force_profile" => {
+            let (k, slots): (u8, &[&str]) = if name == "firmware_profile" {
+                (kind::FIRMWARE_PROFILE, &PROFILE_SLOTS)
+            } else {
+                (kind::FIRMWARE_FORCE_PROFILE, &FORCE_PROFILE_SLOTS)
+            };
+            for slot in slots {
+                let Some(v) = get(slot)? else { break };
+                let (a, b): (u32, u32) = v.extract()?;
+                p.extend_from_slice(&a.to_le_bytes());
+                p.extend_from_slice(&b.to_le_bytes());
+            }
+            k
+        }
+        "firmware_status" => {
+            let mut complete = true;
+            for f in STATUS_U32 {
+                let Some(v) = get(f)? else {
+                    complete = false;
+                    break;
+                };
+                p.extend_from_slice(&v.extract::<u32>()?.to_le_bytes());
+            }
+            if complete {
+                for f in STATUS_U64 {
+                    let Some(v) = get(f)? else { break };
+                    p.extend_from_slice(&v.extract::<u64>()?.to_le_bytes());
+                }
+            }
+            kind::FIRMWARE_STATUS
+        }
+        "firmware_error" => {
+            let num = |key: &str| -> PyResult<u64> {
+                Ok(match get(key)? {
+                    Some(v) => v.extract()?,
+                    None => 0,
+                })
+            };
+            p.push(u8::try_from(num("code")?).map_err(|_| PyValueError::new_err("code: a byte"))?);
+            p.push(
+                u8::try_from(num("wire_error")?)
+                    .map_err(|_| PyValueError::new_err("wire_error: a byte"))?,
+            );
+            p.extend_from_slice(&num("offset")?.to_le_bytes());
+            p.extend_from_slice(&num("detail")?.to_le_bytes());
+            if let Some(field) = get("field")? {
+                p.extend_from_slice(field.cast::<PyBytes>()?.as_bytes());
+            }
+            kind::FIRMWARE_ERROR
+        }
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "{other:?} is not a firmware record kind (firmware_observe, firmware_profile, \
+                 firmware_force_profile, firmware_status, firmware_error)"
+            )))
+        }
+    };
+    if p.len() > MAX_PAYLOAD {
+        return Err(PyValueError::new_err(format!(
+            "{name}: a payload of {} bytes, at most {MAX_PAYLOAD} fit a record",
+            p.len()
+        )));
+    }
+    Ok((k, p))
 }

@@ -61,3 +61,97 @@ def test_the_writer_refuses_time_going_backwards(tmp_path):
             w.write_event(9, tooltouch.Event.fes())
     records = list(tooltouch.TtvReader(tmp_path / "t.ttv"))
     assert [r.value for r in records] == [tooltouch.Event.arm(True)]
+
+
+FIRMWARE_RECORDS = [
+    ("firmware_observe", {"observe_fes": False}),
+    ("firmware_profile", {"arm": (3, 120), "contact": (5, 300), "index": (2, 80), "fes": (9, 40), "scale": (7, 210)}),
+    ("firmware_force_profile", {"sample": (650, 91000), "tick": (13, 52000), "command": (3, 900)}),
+    (
+        "firmware_status",
+        {
+            "events": 1234,
+            "lost": 0,
+            "overflowed": 1,
+            "stack_bytes": 1800,
+            "calibration_instructions": 100,
+            "calibration_ticks": 104,
+            "measure_hash": 0x0123456789ABCDEF,
+            "force_hash": 0xFEDCBA9876543210,
+        },
+    ),
+    ("firmware_error", {"code": 8, "wire_error": 1, "offset": 28, "detail": 50, "field": b""}),
+]
+
+
+def test_every_record_kind_is_typed_and_written_back_byte_for_byte(tmp_path):
+    """Measurement, force and firmware records, each typed on reading and written back
+    from its typed value to the same bytes."""
+    settings = tooltouch.Settings()
+    force = tooltouch.ForceSettings.design("adaptive")
+    measure_outputs = tooltouch.Measurement(settings).apply(tooltouch.Event.arm(True))
+    force_outputs = tooltouch.ForceKernel(force).apply(tooltouch.ForceEvent.control(True))
+    typed = tmp_path / "typed.ttv"
+    with tooltouch.TtvWriter(typed, "events", 1000, settings=settings, force_hash=force.force_hash) as w:
+        w.write_config(0, settings)
+        w.write_force_config(0, force)
+        for t, event in enumerate(
+            [tooltouch.Event.arm(True), tooltouch.Event.contact(False), tooltouch.Event.index(), tooltouch.Event.fes(),
+             tooltouch.Event.scale(True, False), tooltouch.Event.preset_pulses(77)]
+        ):
+            w.write_event(t, event)
+        for event in [tooltouch.ForceEvent.sample([1, 2, 3, 4095, 2048, 7, 8, 9]), tooltouch.ForceEvent.tick(),
+                      tooltouch.ForceEvent.identify(True), tooltouch.ForceEvent.control(False),
+                      tooltouch.ForceEvent.conditions(3), tooltouch.ForceEvent.tool_changed()]:
+            w.write_force_event(10, event)
+        w.write_outputs(11, measure_outputs)
+        w.write_force_outputs(11, force_outputs)
+        for name, fields in FIRMWARE_RECORDS:
+            w.write_firmware(12, name, fields)
+    reader = tooltouch.TtvReader(typed)
+    records = list(reader)
+    assert reader.force_settings == force
+    names = [r.name for r in records]
+    assert names.count("force_config_chunk") == (len(force.canonical_bytes) + 43) // 44
+    assert all(r.value is not None for r in records), [r.name for r in records if r.value is None]
+    assert [r.value for r in records if r.name == "measure_outputs"] == [measure_outputs]
+    assert [r.value for r in records if r.name == "force_outputs"] == [force_outputs]
+    firmware = {r.name: r.value for r in records if r.name.startswith("firmware_")}
+    for name, fields in FIRMWARE_RECORDS:
+        assert {k: v for k, v in firmware[name].items() if k != "description"} == fields
+    assert "chunk of 50 bytes" in firmware["firmware_error"]["description"]
+
+    again = tmp_path / "again.ttv"
+    with tooltouch.TtvWriter(again, reader.stream, reader.tick_hz, measure_hash=reader.measure_hash,
+                             force_hash=reader.force_hash) as w:
+        chunks_written = False
+        for r in records:
+            v = r.value
+            if r.name == "measure_config":
+                w.write_config(r.time, v)
+            elif r.name == "force_config_chunk":
+                if not chunks_written:
+                    w.write_force_config(r.time, reader.force_settings)
+                    chunks_written = True
+            elif isinstance(v, tooltouch.Event):
+                w.write_event(r.time, v)
+            elif isinstance(v, tooltouch.ForceEvent):
+                w.write_force_event(r.time, v)
+            elif isinstance(v, tooltouch.Outputs):
+                w.write_outputs(r.time, v)
+            elif isinstance(v, tooltouch.ForceOutputs):
+                w.write_force_outputs(r.time, v)
+            else:
+                w.write_firmware(r.time, r.name, v)
+    assert again.read_bytes() == typed.read_bytes()
+
+
+def test_a_force_stream_with_a_wrong_hash_is_refused(tmp_path):
+    force = tooltouch.ForceSettings()
+    path = tmp_path / "f.ttv"
+    with tooltouch.TtvWriter(path, "events", 1000, measure_hash=0, force_hash=force.force_hash ^ 1) as w:
+        w.write_force_config(0, force)
+    with pytest.raises(ValueError, match="f.ttv: byte"):
+        list(tooltouch.TtvReader(path))
+    with pytest.raises(ValueError, match="not a firmware record kind"):
+        tooltouch.TtvWriter(tmp_path / "g.ttv", "outputs", 1000, measure_hash=0).write_firmware(0, "firmware_x", {})
