@@ -62,10 +62,11 @@ def cli():
 
 @pytest.fixture(scope="session")
 def fast_run(tmp_path_factory, cli):
-    """`tooltouch measure` on the fast lathe run: (settings file, output folder)."""
+    """`tooltouch measure` on the fast lathe run, golden VCD of all of it: (settings
+    file, output folder)."""
     work = tmp_path_factory.mktemp("fast_run")
     settings = work / "fast.toml"
     settings.write_text(FAST_LATHE)
     out = work / "out"
-    cli("measure", "--config", settings, "--out", out, "--vcd", "none", "--no-progress")
+    cli("measure", "--config", settings, "--out", out, "--vcd", "all", "--no-progress")
     return settings, out
