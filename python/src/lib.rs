@@ -6,13 +6,19 @@
 //! numpy array of pin bytes and returns one numpy array per output, the loop staying in
 //! Rust. Settings come from the CLI's own TOML files or an equal dict and are validated
 //! by the CLI's code, each error a `ValueError` naming the field, its value and its allowed
-//! range. `.ttv` streams are read record by record from a buffered file, never whole.
+//! range. `.ttv` streams are read record by record from a buffered file, never whole, and
+//! VCDs change by change in numpy chunks. The force path (`ForceKernel.run`), the lathe
+//! and drive scenarios and every file writer reuse the host crate's code, so the files
+//! are the CLI's byte for byte.
 //! The pure-Python package `tooltouch` (python/tooltouch/) re-exports these names; its
 //! stubs (`_tooltouch.pyi`) document units and fixed-point formats.
 
+mod force;
 mod model;
 mod settings;
+mod stimulus;
 mod ttv;
+mod vcd;
 
 use pyo3::prelude::*;
 use tooltouch_model::measure::frontend::pin;
@@ -33,6 +39,16 @@ fn _tooltouch(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<ttv::Record>()?;
     m.add_class::<ttv::TtvReader>()?;
     m.add_class::<ttv::TtvWriter>()?;
+    m.add_class::<force::ForceSettings>()?;
+    m.add_class::<force::ForceEvent>()?;
+    m.add_class::<force::ForceOutputs>()?;
+    m.add_class::<force::ForceKernel>()?;
+    m.add_function(wrap_pyfunction!(force::drive_scenario, m)?)?;
+    m.add_class::<stimulus::Stimulus>()?;
+    m.add_function(wrap_pyfunction!(stimulus::lathe_stimulus, m)?)?;
+    m.add_function(wrap_pyfunction!(stimulus::read_stimulus, m)?)?;
+    m.add_function(wrap_pyfunction!(stimulus::read_expect_hex, m)?)?;
+    m.add_class::<vcd::VcdReader>()?;
     m.add("PIN_ARM", pin::ARM)?;
     m.add("PIN_CONTACT", pin::CONTACT)?;
     m.add("PIN_INDEX", pin::INDEX)?;

@@ -1,4 +1,7 @@
-"""The tooltouch golden model for Python, bit-identical to the Rust model and the CLI.
+"""The tooltouch golden model for Python, bit-identical to the Rust model and the CLI:
+the measurement front end (cycle and event level), the force kernel, the lathe and drive
+scenarios that make stimuli, and the CLI's files (.ttv streams, golden VCD, $readmemh
+vectors).
 
 Every value is computed by the Rust crates (``tooltouch-model`` and the ``tooltouch``
 host crate's settings) through the native module ``tooltouch._tooltouch``; see its
@@ -15,13 +18,23 @@ from ._tooltouch import (
     PIN_SCALE_A,
     PIN_SCALE_B,
     Event,
+    ForceEvent,
+    ForceKernel,
+    ForceOutputs,
+    ForceSettings,
     FrontEnd,
     Measurement,
     Outputs,
     Record,
     Settings,
+    Stimulus,
     TtvReader,
     TtvWriter,
+    VcdReader,
+    drive_scenario,
+    lathe_stimulus,
+    read_expect_hex,
+    read_stimulus,
 )
 
 __all__ = [
@@ -34,11 +47,21 @@ __all__ = [
     "PIN_SCALE_A",
     "PIN_SCALE_B",
     "Event",
+    "ForceEvent",
+    "ForceKernel",
+    "ForceOutputs",
+    "ForceSettings",
     "FrontEnd",
     "Measurement",
     "Outputs",
     "Record",
     "Settings",
+    "Stimulus",
     "TtvReader",
     "TtvWriter",
+    "VcdReader",
+    "drive_scenario",
+    "lathe_stimulus",
+    "read_expect_hex",
+    "read_stimulus",
 ]

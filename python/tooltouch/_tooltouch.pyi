@@ -6,7 +6,7 @@ int); the charge is UQ0.``charge_bits`` of full scale (LSBs); flags are bool.
 """
 
 from os import PathLike
-from typing import Any, Dict, Iterator, List, Optional, Tuple, Union
+from typing import Any, Dict, Iterator, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -175,6 +175,18 @@ class FrontEnd:
     @property
     def filtered_pins(self) -> int:
         """Glitch-filtered pin levels, a pin byte."""
+    def run_segments(
+        self, pins: npt.NDArray[np.uint8], cycles: npt.NDArray[np.uint32]
+    ) -> Dict[str, npt.NDArray[Any]]:
+        """Run-length clocking: ``pins[i]`` held for ``cycles[i]`` clocks (0 allowed),
+        settled clocks skipped exactly (cost follows the pin changes). Returns the output
+        change list: ``clock`` (uint64, clock index since reset) and every output (dtypes
+        as ``run``), a row for the call's first clock and for every later clock after
+        which an output changed; each row holds until the next — the outputs half of the
+        golden VCD's change list."""
+    @property
+    def clocks(self) -> int:
+        """Clocks since reset (``step``, ``run``, ``advance``, ``run_segments``)."""
 
 class Measurement:
     """The event-level measurement kernel (firmware semantics) from reset."""
@@ -201,9 +213,27 @@ class Record:
     @property
     def payload(self) -> bytes: ...
     @property
-    def value(self) -> Union[Event, Outputs, Settings, None]:
-        """The decoded payload (a configuration record gives ``Settings`` with
-        ``[lathe]`` at its defaults); ``None`` for kinds not decoded here."""
+    def value(
+        self,
+    ) -> Union[Event, Outputs, Settings, ForceEvent, ForceOutputs, Tuple[int, int, bytes], Dict[str, Any], None]:
+        """The decoded payload: ``Event`` / ``Outputs`` / ``Settings`` (a measurement
+        configuration record, ``[lathe]`` at its defaults); ``ForceEvent`` /
+        ``ForceOutputs``; ``(total, offset, data)`` for a ``force_config_chunk`` (the
+        reader's ``force_settings`` once the last one is read); a dict for a firmware
+        record:
+
+        - ``firmware_observe``: ``observe_fes`` (bool);
+        - ``firmware_profile``: ``arm``, ``contact``, ``index``, ``fes``, ``scale``, each
+          ``(interrupts, systick_ticks)``;
+        - ``firmware_force_profile``: ``sample``, ``tick``, ``command``, each
+          ``(events, systick_ticks)``;
+        - ``firmware_status``: ``events``, ``lost``, ``overflowed``, ``stack_bytes``,
+          ``calibration_instructions``, ``calibration_ticks`` (u32), ``measure_hash``,
+          ``force_hash`` (u64) — those the payload holds;
+        - ``firmware_error``: ``code``, ``wire_error`` (u8), ``offset``, ``detail`` (u64),
+          ``field`` (bytes), ``description`` (the CLI's explanation).
+
+        ``None`` for an unknown kind."""
 
 class TtvReader:
     """Reads a ``.ttv`` stream record by record (constant memory); stops at its END
@@ -220,6 +250,10 @@ class TtvReader:
     def measure_hash(self) -> int: ...
     @property
     def force_hash(self) -> int: ...
+    @property
+    def force_settings(self) -> Optional[ForceSettings]:
+        """The force configuration reassembled from the ``force_config_chunk`` records
+        read so far (hash checked against ``force_hash``); None before the last chunk."""
     def __iter__(self) -> Iterator[Record]: ...
     def __next__(self) -> Record: ...
 
@@ -239,6 +273,255 @@ class TtvWriter:
     def write_config(self, time: int, settings: Settings) -> None: ...
     def write_event(self, time: int, event: Event) -> None: ...
     def write_outputs(self, time: int, outputs: Outputs) -> None: ...
+    def write_force_event(self, time: int, event: ForceEvent) -> None:
+        """One force event (time in ADC samples for ``tooltouch control``'s streams)."""
+    def write_force_outputs(self, time: int, outputs: ForceOutputs) -> None: ...
+    def write_force_config(self, time: int, settings: ForceSettings) -> None:
+        """The configuration as ``force_config_chunk`` records (at most 44 bytes each)."""
+    def write_firmware(self, time: int, name: str, fields: Dict[str, Any]) -> None:
+        """A firmware record from the dict ``Record.value`` gives for it."""
     def close(self) -> None: ...
     def __enter__(self) -> TtvWriter: ...
     def __exit__(self, *exc: object) -> bool: ...
+
+class ForceSettings:
+    """A validated force-path configuration (sampling, estimator, controller, wear
+    monitor). ``ValueError`` names a bad field and its allowed range."""
+
+    def __init__(self) -> None:
+        """The model's defaults (what a firmware image without a ``[force]`` table runs)."""
+    @staticmethod
+    def design(
+        controller: str = "pi", kp_percent: int = 100, ki_percent: int = 100, force_source: str = "estimated"
+    ) -> ForceSettings:
+        """A settings file's ``[force]`` table: ``pi``/``adaptive``/``fuzzy``, gains in %
+        of the Ziegler–Nichols design (1..=1000), ``estimated``/``measured`` feedback."""
+    @staticmethod
+    def control_scenario(controller: str = "pi", force_source: str = "estimated") -> ForceSettings:
+        """What ``tooltouch control --controller C --force S`` runs."""
+    @staticmethod
+    def from_toml(path: StrPath) -> ForceSettings:
+        """The ``[force]`` table of a settings file (model defaults without one)."""
+    @staticmethod
+    def from_canonical_bytes(data: bytes) -> ForceSettings: ...
+    @property
+    def canonical_bytes(self) -> bytes:
+        """Canonical little-endian encoding (fixed-point values as raw bits)."""
+    @property
+    def force_hash(self) -> int:
+        """64-bit FNV-1a of ``canonical_bytes``: the ``force_hash`` of .ttv headers."""
+    @property
+    def sample_hz(self) -> int:
+        """ADC sample rate, Hz (the tick rate of force streams)."""
+    @property
+    def samples_per_period(self) -> int:
+        """ADC samples per control period."""
+    @property
+    def period_s(self) -> float:
+        """Control period, s (I32F32 as float)."""
+    @property
+    def reference_n(self) -> float:
+        """Reference force, N."""
+    @property
+    def manual_override(self) -> int:
+        """Feed override while control is off, %."""
+    @property
+    def lowpass_shift(self) -> int:
+        """Low-pass coefficient 2**-k."""
+    @property
+    def force_source(self) -> str:
+        """``estimated`` or ``measured``."""
+    @property
+    def controller(self) -> str:
+        """``pi``, ``adaptive`` or ``fuzzy``."""
+
+class ForceEvent:
+    """One input event of the force path."""
+
+    @staticmethod
+    def sample(codes: Sequence[int]) -> ForceEvent:
+        """One ADC sample: eight 12-bit codes (0..=4095, larger clamped) in wire order:
+        speed, power (unipolar: code × scale), force, v_u, v_v, v_w, i_u, i_v (bipolar:
+        (code − 2048) × scale)."""
+    @staticmethod
+    def tick() -> ForceEvent:
+        """The control period's tick (estimate, control, wear)."""
+    @staticmethod
+    def identify(on: bool) -> ForceEvent:
+        """CNC: no-load identification on (clears its sums) / off (solves B and T_fco)."""
+    @staticmethod
+    def control(on: bool) -> ForceEvent:
+        """CNC: force control on / off (override back to ``manual_override``)."""
+    @staticmethod
+    def conditions(index: int) -> ForceEvent:
+        """CNC: cutting conditions changed to condition set ``index`` (u8)."""
+    @staticmethod
+    def tool_changed() -> ForceEvent:
+        """CNC: new tool; clears the wear alarm."""
+    @property
+    def kind(self) -> str:
+        """``sample``, ``tick``, ``identify``, ``control``, ``conditions``, ``tool_changed``."""
+    @property
+    def codes(self) -> Optional[Tuple[int, int, int, int, int, int, int, int]]: ...
+    @property
+    def level(self) -> Optional[bool]: ...
+    @property
+    def index(self) -> Optional[int]: ...
+
+class ForceOutputs:
+    """Every output of the force path after one event. The I32F32 values (32 integer
+    and 32 fraction bits) are given as float and exactly as ``<name>_bits`` (value ×
+    2**32, int)."""
+
+    @property
+    def override_pct(self) -> int:
+        """Feed override to the CNC, %, 0..=255."""
+    @property
+    def saturated(self) -> bool:
+        """The controller's demand was outside 0..=255 in the last period."""
+    @property
+    def fast_estimate(self) -> bool:
+        """The fast electrical estimate was selected in the last period."""
+    @property
+    def control_enabled(self) -> bool: ...
+    @property
+    def identifying(self) -> bool: ...
+    @property
+    def identified(self) -> bool:
+        """B and T_fco come from an identification."""
+    @property
+    def wear_over(self) -> bool:
+        """Spindle power at or above the wear threshold."""
+    @property
+    def wear_alarm(self) -> bool:
+        """Wear alarm latched (change the tool)."""
+    @property
+    def bad_events(self) -> int:
+        """Bad CNC commands (condition index out of range), saturating at 255."""
+    @property
+    def force_estimate(self) -> float:
+        """Estimated cutting force, N."""
+    @property
+    def force_measured(self) -> float:
+        """Dynamometer force (period average), N."""
+    @property
+    def wear_power(self) -> float:
+        """Low-passed mean spindle power, W."""
+    @property
+    def wear_allowed(self) -> float:
+        """Allowed power, W."""
+    @property
+    def coulomb(self) -> float:
+        """Coulomb friction torque in use, N·m."""
+    @property
+    def force_estimate_bits(self) -> int: ...
+    @property
+    def force_measured_bits(self) -> int: ...
+    @property
+    def wear_power_bits(self) -> int: ...
+    @property
+    def wear_allowed_bits(self) -> int: ...
+    @property
+    def coulomb_bits(self) -> int: ...
+    def as_dict(self) -> Dict[str, Union[int, bool, float]]:
+        """Every output; each I32F32 value as float under its name and as bits under
+        ``<name>_bits``."""
+
+class ForceKernel:
+    """The force path's event-level kernel (firmware semantics) from reset: sampling
+    chain, estimator, controller, wear monitor."""
+
+    def __init__(self, settings: ForceSettings) -> None: ...
+    def apply(self, event: ForceEvent) -> ForceOutputs:
+        """One event; the outputs after it (a sample counts toward ``samples``)."""
+    def run(
+        self, codes: npt.NDArray[np.uint16], commands: Optional[List[Tuple[int, ForceEvent]]] = None
+    ) -> Dict[str, npt.NDArray[Any]]:
+        """Feeds ADC samples (uint16, shape (n, 8), wire order) in Rust: sample ``k``
+        (counted from the first sample of the kernel), then the tick when ``(k + 1) %
+        samples_per_period == 0``, then the ``commands`` at ``k`` (CNC commands, in order).
+        Returns one element per tick and command, the outputs after it: ``time`` (sample
+        index, uint64), ``kind`` (wire kind, uint8), ``override_pct``, ``bad_events``
+        (uint8), flags (bool), each I32F32 value as float64 and as int64 ``<name>_bits`` —
+        the records of ``tooltouch control``'s ``.outputs.bin``."""
+    @property
+    def outputs(self) -> ForceOutputs: ...
+    @property
+    def samples(self) -> int:
+        """ADC samples applied so far."""
+
+def drive_scenario(
+    settings: ForceSettings, seed: int = 1
+) -> Tuple[npt.NDArray[np.uint16], List[Tuple[int, ForceEvent]]]:
+    """``tooltouch control``'s depth-step scenario (13 s: identification, run-up, control
+    on at 3 s, depth step at 8 s) closed around the model: the ADC samples (uint16,
+    (n, 8), one row per 1 kHz sample) and the CNC commands ``(sample index, event)``.
+    ``ForceKernel(settings).run(codes, commands)`` replays it bit for bit."""
+
+class Stimulus:
+    """Run-length pins at a clock rate: segment ``i`` holds pin byte ``pins[i]`` for
+    ``cycles[i]`` clocks."""
+
+    def __init__(self, pins: npt.NDArray[np.uint8], cycles: npt.NDArray[np.uint32], clock_hz: int) -> None: ...
+    @property
+    def pins(self) -> npt.NDArray[np.uint8]: ...
+    @property
+    def cycles(self) -> npt.NDArray[np.uint32]: ...
+    @property
+    def clock_hz(self) -> int:
+        """FPGA clock, Hz."""
+    @property
+    def total_cycles(self) -> int: ...
+    def __len__(self) -> int: ...
+    def per_clock(self) -> npt.NDArray[np.uint8]:
+        """Every clock's pin byte (what ``FrontEnd.run`` takes)."""
+    def events(self, settings: Settings) -> List[Tuple[int, Event]]:
+        """The measurement events the cycle level acts on, ``(clock, event)``, canonical
+        order: the events of ``tooltouch measure``'s ``events.ttv``."""
+    def write_vcd(self, path: StrPath, settings: Settings, end: Optional[int] = None) -> int:
+        """Writes the golden VCD of clocks ``[0, end)`` (byte for byte the CLI's);
+        returns the clocks covered."""
+    def hex_vectors(self, settings: Settings) -> Tuple[str, str]:
+        """``(stim.hex, expect.hex)`` texts of the generated testbench (``$readmemh``),
+        those of ``tooltouch hdl --vectors``."""
+
+def lathe_stimulus(settings: Settings, seed: Optional[int] = None) -> Stimulus:
+    """The pins of ``tooltouch measure``'s simulated lathe run for ``settings``
+    (``[lathe]``), the model in the loop; ``seed`` replaces ``[lathe] seed``."""
+
+def read_stimulus(path: StrPath, clock_hz: Optional[int] = None) -> Stimulus:
+    """A pin stimulus from a VCD (golden, ``pin_*`` ports or bare names) or a
+    ``stim.hex``, as ``tooltouch vectors --stimulus`` reads it."""
+
+def read_expect_hex(path: StrPath, settings: Settings) -> Dict[str, npt.NDArray[np.uint64]]:
+    """The generated testbench's ``expect.hex`` (``$readmemh``) as the output change
+    list: ``clock`` and every output's register bits (uint64) at clock 0 and at each
+    clock after which an output changed — ``FrontEnd.run_segments``' rows."""
+
+class VcdReader:
+    """Any tool's VCD: declarations at once, value changes in numpy chunks (constant
+    memory). Errors name the file and line."""
+
+    def __init__(self, path: StrPath) -> None: ...
+    @property
+    def signals(self) -> List[Tuple[str, str, int, int]]:
+        """``(scope, name, width, code)`` of every ``$var``; scope dotted."""
+    def code(self, name: str, scope: Optional[str] = None) -> int:
+        """The code of ``name`` in a scope ending with ``scope`` (else the shallowest,
+        outputs first); ``KeyError`` if none."""
+    @property
+    def timescale_fs(self) -> int: ...
+    @property
+    def golden_stamp(self) -> Optional[Tuple[int, int]]:
+        """``(measure_hash, clock_hz)`` of a golden VCD."""
+    @property
+    def end_cycles(self) -> Optional[int]:
+        """Clocks a golden VCD covers, once read to its end."""
+    @property
+    def time_fs(self) -> int:
+        """Time of the last ``#`` read, fs."""
+    def read(self, max_changes: int = 65536) -> Optional[Dict[str, npt.NDArray[Any]]]:
+        """The next changes: ``time_fs`` (uint64), ``code`` (uint32), ``bits`` (uint64,
+        x/z read 0), ``unknown`` (bool); None at the end."""
+    def __iter__(self) -> Iterator[Dict[str, npt.NDArray[Any]]]: ...
+    def __next__(self) -> Dict[str, npt.NDArray[Any]]: ...
