@@ -16,7 +16,7 @@ use pyo3::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
 use tooltouch::hdl::hex::golden_vectors;
-use tooltouch::stimulus::{Segment, Stimulus as HostStimulus};
+use tooltouch::stimulus::Stimulus as HostStimulus;
 use tooltouch::vectors::stimulus_file::{self, StatedClock, StimulusFile};
 use tooltouch::vectors::{events_from_stimulus, vcd};
 use tooltouch_model::measure::frontend::{pin, Pins};
@@ -32,8 +32,8 @@ pub struct Stimulus {
 impl Stimulus {
     /// A stimulus from `pins` (uint8 pin bytes, bit 0 arm … bit 5 scale_b) and `cycles`
     /// (uint32 clocks per segment, each at least 1) at `clock_hz` (Hz; 1e9 / clock_hz
-    /// must be whole nanoseconds for a VCD). Segments are kept as given (equal neighbours
-    /// are not merged), as `stim.hex` keeps them.
+    /// must be whole nanoseconds for a VCD). Equal neighbours are merged into one segment,
+    /// as the CLI merges them reading any stimulus file.
     #[new]
     fn new(
         pins: PyReadonlyArray1<'_, u8>,
@@ -51,7 +51,7 @@ impl Stimulus {
         if clock_hz == 0 {
             return Err(PyValueError::new_err("clock_hz 0: the clock must run"));
         }
-        let mut segments = Vec::with_capacity(pins.len());
+        let mut stimulus = HostStimulus::new(clock_hz);
         for (i, (&p, &c)) in pins.iter().zip(cycles).enumerate() {
             if p & !pin::ALL != 0 {
                 return Err(PyValueError::new_err(format!(
@@ -63,14 +63,9 @@ impl Stimulus {
                     "cycles[{i}] = 0: a segment lasts at least one clock"
                 )));
             }
-            segments.push(Segment {
-                pins: Pins(p),
-                cycles: c,
-            });
+            stimulus.push(Pins(p), u64::from(c));
         }
-        Ok(Stimulus {
-            inner: HostStimulus { clock_hz, segments },
-        })
+        Ok(Stimulus { inner: stimulus })
     }
 
     /// Pin byte of every segment (uint8).

@@ -462,7 +462,9 @@ class Stimulus:
     """Run-length pins at a clock rate: segment ``i`` holds pin byte ``pins[i]`` for
     ``cycles[i]`` clocks."""
 
-    def __init__(self, pins: npt.NDArray[np.uint8], cycles: npt.NDArray[np.uint32], clock_hz: int) -> None: ...
+    def __init__(self, pins: npt.NDArray[np.uint8], cycles: npt.NDArray[np.uint32], clock_hz: int) -> None:
+        """Segments from pin bytes and clock counts (each ≥ 1) at ``clock_hz`` Hz; equal
+        neighbours are merged, as the CLI merges them reading a stimulus file."""
     @property
     def pins(self) -> npt.NDArray[np.uint8]: ...
     @property
