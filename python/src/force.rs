@@ -637,7 +637,7 @@ impl ForceKernel {
             }
             self.inner.apply(ModelForceEvent::Sample(codes_from(words)));
             self.samples += 1;
-            if (k + 1) % spp == 0 {
+            if (k + 1).is_multiple_of(spp) {
                 self.inner.apply(ModelForceEvent::Tick);
                 columns.push(k, &ModelForceEvent::Tick, &self.inner.outputs());
             }
@@ -664,6 +664,9 @@ impl ForceKernel {
     }
 }
 
+/// The ADC samples (a numpy array) and the CNC commands of a scenario.
+type ScenarioStimuli<'py> = (Bound<'py, PyAny>, Vec<(u64, ForceEvent)>);
+
 /// `tooltouch control`'s depth-step scenario closed around the model for `settings` with
 /// noise `seed`: the plant's ADC samples as a uint16 array (n, 8) and the CNC commands as
 /// `[(sample index, ForceEvent)]`. `ForceKernel(settings).run(codes, commands)` replays
@@ -675,7 +678,7 @@ pub fn drive_scenario<'py>(
     py: Python<'py>,
     settings: &ForceSettings,
     seed: u64,
-) -> PyResult<(Bound<'py, PyAny>, Vec<(u64, ForceEvent)>)> {
+) -> PyResult<ScenarioStimuli<'py>> {
     let mut sc = ControlScenario::new(settings.config);
     sc.seed = seed;
     let run = py.detach(|| scenario::run(&sc, scenario::Engine::Model, true));
