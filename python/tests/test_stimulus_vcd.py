@@ -36,8 +36,16 @@ def test_the_lathe_scenario_is_the_clis_run(fast_run):
     assert events == [(r.time, r.value) for r in records]
     assert stimulus.write_vcd(out.parent / "lathe.vcd", settings) == stimulus.total_cycles
     assert (out.parent / "lathe.vcd").read_bytes() == (out / "measure.vcd").read_bytes()
-    other = tooltouch.lathe_stimulus(settings, seed=99)
-    assert other != stimulus, "the seed changes the surface and the noise"
+
+
+def test_a_seed_given_to_the_lathe_scenario_is_the_clis_seed_flag(fast_run, tmp_path, cli):
+    settings_file, _ = fast_run
+    settings = tooltouch.Settings.from_toml(settings_file)
+    cli("measure", "--config", settings_file, "--seed", 99, "--out", tmp_path / "out", "--vcd", "all", "--no-progress")
+    stimulus = tooltouch.lathe_stimulus(settings, seed=99)
+    assert stimulus != tooltouch.lathe_stimulus(settings), "the seed changes the surface and the noise"
+    stimulus.write_vcd(tmp_path / "seed.vcd", settings)
+    assert (tmp_path / "seed.vcd").read_bytes() == (tmp_path / "out" / "measure.vcd").read_bytes()
 
 
 def test_hex_vectors_and_golden_vcd_equal_the_clis(small_vectors, tmp_path, cli):
