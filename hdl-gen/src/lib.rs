@@ -46,6 +46,16 @@
 //! header, `${NAME}` template filler, literals, comparisons with a constant) are in
 //! `src/emit.rs`, the MCU register map in `src/mcu.rs`.
 //!
+//! ## The reference and the formal proof
+//!
+//! [`reference`] writes `tt_frontend_ref`, a plain front end with the same ports written
+//! straight from the model's semantics (one register per model state field, the model's
+//! statements in the model's order), co-simulated against the model like the design.
+//! [`formal`] proves the optimized design equal to it on every input sequence: a miter
+//! (`src/modules/tt_formal_miter.rs`) with the register-correspondence invariants the
+//! generator knows, proven by k-induction in yosys; a failed proof yields a counterexample
+//! from power-on that `tooltouch check` replays against the golden model (docs/formal.md).
+//!
 //! The generated files of two configurations are committed under `hdl-gen/snapshots/`
 //! and compared byte for byte by `tests/snapshots.rs`, so every change of the generator
 //! shows as a diff of the Verilog; `cargo xtask bless-hdl` rewrites them.
@@ -54,6 +64,7 @@
 
 mod design;
 mod emit;
+pub mod formal;
 mod mcu;
 mod modules;
 mod outputs;
@@ -62,6 +73,7 @@ use tooltouch_model::MeasureConfig;
 
 pub use design::{Design, Fault, Options, VerilogFile, FPGA_TOP, TOP};
 pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
+pub use modules::tt_frontend_ref::{reference, REFERENCE_TOP};
 pub use modules::tt_testbench::{
     testbench, TestbenchSpec, EXPECT_HEX, MAX_CYCLES, MAX_DEPTH, STIM_HEX, STIM_WORD_BITS,
     TESTBENCH,

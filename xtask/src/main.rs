@@ -1,4 +1,5 @@
-//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, fuzz, bench, mutants.
+//! `cargo xtask <verb>`: setup, test, firmware, hdl-report, bless-hdl, formal, fuzz, bench,
+//! mutants.
 //!
 //! Each external tool is run with the working directory it needs: cargo reads
 //! `.cargo/config.toml` from the current directory, so firmware commands run inside
@@ -6,6 +7,7 @@
 
 mod bench;
 mod firmware;
+mod formal;
 mod fuzz;
 mod hdl;
 mod mutants;
@@ -35,6 +37,9 @@ verbs:
                refit the tuning cost model (src/tune/cost_model.json)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
                generator; review the result with `git diff hdl-gen/snapshots`
+  formal       prove the generated Verilog equal to the reference RTL written from the model
+               (yosys k-induction): default, structural variants, TOOLTOUCH_FORMAL_CONFIGS
+               random configurations (4), and every injected fault caught (docs/formal.md)
   fuzz         coverage-guided fuzzing of every decoder and parser (fuzz/): each target
                for --seconds N (60) or only --target T; a failing input fails the verb;
                --plain: the uninstrumented short pass that `test` runs
@@ -54,6 +59,7 @@ fn main() -> Result<()> {
         "firmware" => firmware::build_command(&args[1..]),
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
+        "formal" => formal::run(),
         "bench" => bench::run(&args[1..]),
         "fuzz" => fuzz::run(&args[1..]),
         "mutants" => mutants::run(&args[1..]),

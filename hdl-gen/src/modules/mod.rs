@@ -7,8 +7,10 @@
 
 pub(crate) mod tt_density_detector;
 pub(crate) mod tt_edge_detect;
+pub(crate) mod tt_formal_miter;
 pub(crate) mod tt_fpga;
 pub(crate) mod tt_frontend;
+pub(crate) mod tt_frontend_ref;
 pub(crate) mod tt_glitch_filter;
 pub(crate) mod tt_measurement;
 pub(crate) mod tt_position_latch;
