@@ -5,7 +5,7 @@
 //! ```toml
 //! [measure]
 //! i_def = 512
-//! method = "counter"              # single_pulse | counter | density
+//! method = "counter"              # single-pulse | counter | density
 //! contact_rule = "sticky"         # sampled | sticky
 //! charge_law = { law = "linear", charge_step = 2048, discharge_step = 1024 }
 //!
@@ -26,6 +26,11 @@
 //! [`read_text_file`]: at most [`MAX_TEXT_FILE_BYTES`], checked before it is read (a TOML
 //! parse takes about twenty times the file's size), valid UTF-8, each failure one message
 //! naming the file.
+//!
+//! Enum values have one spelling everywhere, kebab-case (`single-pulse`,
+//! `permanent-contact`: the command line's convention, docs/cli.md); the old snake_case
+//! spellings in [`RENAMED_VALUES`] are still read for one release, each with a warning
+//! naming the new one ([`old_spellings_in_toml`]).
 
 use crate::lathe::{LatheScenario, ScenarioError};
 use serde::{Deserialize, Serialize};
@@ -91,6 +96,56 @@ pub fn read_text_file(path: &Path, what: &str) -> Result<String, String> {
     Ok(text)
 }
 
+/// Enum values whose spelling changed, `(old, new)`: the old one is still accepted for one
+/// release, with a warning naming the new one.
+pub const RENAMED_VALUES: [(&str, &str); 2] = [
+    ("single_pulse", "single-pulse"),
+    ("permanent_contact", "permanent-contact"),
+];
+
+/// The current spelling of `value` when it is an old one of [`RENAMED_VALUES`].
+pub fn renamed_value(value: &str) -> Option<&'static str> {
+    RENAMED_VALUES
+        .iter()
+        .find(|(old, _)| *old == value)
+        .map(|&(_, new)| new)
+}
+
+/// The warning for an old spelling `old` of `new`, given as `what` (e.g. `--method` or
+/// `settings file a.toml: method`).
+pub fn old_spelling_warning(what: &str, old: &str, new: &str) -> String {
+    format!(
+        "warning: {what}: `{old}` is the old spelling of `{new}`; write `{new}` (the old one \
+         is accepted until the next release)"
+    )
+}
+
+/// One warning (see [`old_spelling_warning`]) for every string value of the TOML `text` —
+/// a value, an array entry or a piece of comma-separated text — that is an old spelling of
+/// [`RENAMED_VALUES`]; `file` names the file. Text that is not TOML gives none (the parse
+/// reports it).
+pub fn old_spellings_in_toml(text: &str, file: &str) -> Vec<String> {
+    fn walk(key: &str, v: &toml::Value, file: &str, out: &mut Vec<String>) {
+        match v {
+            toml::Value::String(s) => {
+                for piece in s.split(',').map(str::trim) {
+                    if let Some(new) = renamed_value(piece) {
+                        out.push(old_spelling_warning(&format!("{file}: {key}"), piece, new));
+                    }
+                }
+            }
+            toml::Value::Array(a) => a.iter().for_each(|v| walk(key, v, file, out)),
+            toml::Value::Table(t) => t.iter().for_each(|(k, v)| walk(k, v, file, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    if let Ok(table) = text.parse::<toml::Table>() {
+        table.iter().for_each(|(k, v)| walk(k, v, file, &mut out));
+    }
+    out
+}
+
 /// A TOML error as one line: `line N: <the parser's message>` (the parser's own text
 /// spans several lines with a drawing of the spot).
 pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
@@ -130,11 +185,16 @@ pub enum SettingsError {
 }
 
 impl Settings {
-    /// Reads a settings file.
+    /// Reads a settings file; warns on standard error about each old spelling in it
+    /// ([`old_spellings_in_toml`]).
     pub fn load(path: &Path) -> Result<Settings, SettingsError> {
         let file = path.display().to_string();
         let text = read_text_file(path, "settings file").map_err(SettingsError::Io)?;
-        Settings::parse(&text, &file)
+        let settings = Settings::parse(&text, &file)?;
+        for warning in old_spellings_in_toml(&text, &format!("settings file {file}")) {
+            eprintln!("{warning}");
+        }
+        Ok(settings)
     }
 
     /// Parses settings from TOML text; `file` names it in errors.
@@ -178,6 +238,31 @@ mod tests {
         assert_eq!(s.lathe.cycle.repeats, 3);
         assert_eq!(s.lathe.diameter_mm, 40.0);
         s.resolve().unwrap();
+    }
+
+    #[test]
+    fn old_spellings_are_read_with_a_warning_naming_the_new_one() {
+        let old = "[measure]\nmethod = \"single_pulse\"\n[lathe.cycle]\nretract_at = \"permanent_contact\"\n";
+        let new = old
+            .replace("single_pulse", "single-pulse")
+            .replace("permanent_contact", "permanent-contact");
+        let (a, b) = (
+            Settings::parse(old, "o.toml").unwrap(),
+            Settings::parse(&new, "n.toml").unwrap(),
+        );
+        assert_eq!(a, b);
+        assert_eq!(a.measure.method, DecisionMethod::SinglePulse);
+        let warnings = old_spellings_in_toml(old, "o.toml");
+        assert_eq!(warnings.len(), 2, "{warnings:?}");
+        assert!(warnings[0].contains("o.toml: method") && warnings[0].contains("`single-pulse`"));
+        assert!(warnings[1].contains("retract_at") && warnings[1].contains("`permanent-contact`"));
+        assert!(old_spellings_in_toml(&new, "n.toml").is_empty());
+        // Written back, the settings use the new spelling.
+        let written = toml::to_string(&a).unwrap();
+        assert!(
+            written.contains("\"single-pulse\"") && written.contains("\"permanent-contact\""),
+            "{written}"
+        );
     }
 
     #[test]

@@ -7,7 +7,6 @@ use crate::drive::scenario::{
 };
 use crate::output::OutputFolder;
 use anyhow::{Context, Result};
-use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use tooltouch_model::force::config::{ForceConfig, ForceSource};
@@ -64,7 +63,8 @@ pub struct Args {
     /// Noise seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Directory for plots and vectors (`<controller>_<force>.{svg,events.bin,outputs.bin}`).
+    /// Directory for plots, vectors and tables (`<controller>_<force>.{svg,csv,json,
+    /// events.ttv,outputs.ttv}`, `control.{csv,json}`; docs/control.md).
     /// A run replaces this command's files in the folder (and removes those it did not
     /// write this time, e.g. other controllers'); other files are left alone; a failed run
     /// leaves the folder as it was.
@@ -129,8 +129,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
         let r = scenario::run(&sc, engine, args.out.is_some() && engine == Engine::Model);
         if let Some(out) = &out {
             let stem = format!("{}_{}", k.name(), source_name(source));
-            plot_run(&out.path(&format!("{stem}.svg")), &r, &stem)
-                .with_context(|| format!("plotting {stem}"))?;
+            let reference_n = config.settings().reference.to_num::<f64>();
+            crate::plot::control::control_run(
+                &out.path(&format!("{stem}.svg")),
+                &r,
+                &stem,
+                reference_n,
+                sc.depth.step_at,
+            )
+            .with_context(|| format!("plotting {stem}"))?;
+            let series = super::run_tables::control_series(&r, reference_n);
+            super::run_tables::write_table(out.staging(), &stem, &series)?;
             if engine == Engine::Model {
                 write_vectors(
                     out.staging(),
@@ -145,6 +154,25 @@ pub fn run(args: Args) -> Result<ExitCode> {
         bar.inc(1);
     }
     bar.finish_and_clear();
+    if let Some(out) = &out {
+        let engine_name = match engine {
+            Engine::Model => "model",
+            Engine::Reference => "reference",
+        };
+        let table: Vec<_> = rows
+            .iter()
+            .map(|(k, s, m)| {
+                super::run_tables::ControlMetrics::new(
+                    k.name(),
+                    source_name(*s),
+                    engine_name,
+                    args.seed,
+                    m,
+                )
+            })
+            .collect();
+        super::run_tables::write_table(out.staging(), "control", &table)?;
+    }
     for (k, source, m) in rows {
         outln!(
             "{:<9} {:<10} {:>9.1}% {:>10.2}s {:>10.1} N {:>8.1}Ns {:>5}-{:<4}",
@@ -161,17 +189,28 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(out) = out {
         let dir = out.dir().to_path_buf();
         out.commit()?;
-        outln!("plots and vectors written to {}", dir.display());
+        outln!("plots, tables and vectors written to {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// Every file `control --out` can write: plot and vectors of each controller and source.
+/// Every file `control --out` can write: plot, series and vectors of each controller and
+/// source, and the metrics table. The vectors' old names (`.events.bin`, `.outputs.bin`,
+/// before they took the `.ttv` of every vector file) are listed too, so a run removes
+/// the stale copies an older version left.
 fn known_outputs() -> Vec<String> {
-    let mut names = Vec::new();
+    let mut names = super::run_tables::table_files("control").to_vec();
     for k in ControllerKind::ALL {
         for s in [ForceSource::Estimated, ForceSource::Measured] {
-            for suffix in ["svg", "events.bin", "outputs.bin"] {
+            for suffix in [
+                "svg",
+                "csv",
+                "json",
+                "events.ttv",
+                "outputs.ttv",
+                "events.bin",
+                "outputs.bin",
+            ] {
                 names.push(format!("{}_{}.{suffix}", k.name(), source_name(s)));
             }
         }
@@ -186,8 +225,8 @@ fn source_name(s: ForceSource) -> &'static str {
     }
 }
 
-/// Writes `<stem>.events.bin` (the force configuration in `FORCE_CONFIG_CHUNK` records at
-/// time 0, then every input event) and `<stem>.outputs.bin` (the model's outputs after
+/// Writes `<stem>.events.ttv` (the force configuration in `FORCE_CONFIG_CHUNK` records at
+/// time 0, then every input event) and `<stem>.outputs.ttv` (the model's outputs after
 /// every non-sample event), each ending with an END record; both headers carry `config`'s
 /// hash.
 pub fn write_vectors(
@@ -229,72 +268,8 @@ pub fn write_vectors(
         &mut r.outputs.iter().map(|(t, o)| outputs_record(*t, o)),
     );
     for (name, bytes) in [("events", events), ("outputs", outputs)] {
-        let path = dir.join(format!("{stem}.{name}.bin"));
+        let path = dir.join(format!("{stem}.{name}.ttv"));
         std::fs::write(&path, bytes).with_context(|| format!("writing {}", path.display()))?;
     }
-    Ok(())
-}
-
-fn plot_run(path: &Path, r: &Run, title: &str) -> Result<()> {
-    let tr = &r.trace;
-    let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (top, bottom) = root.split_vertically(450);
-    let t_end = tr.t.last().copied().unwrap_or(1.0);
-    let fmax = tr
-        .force_true
-        .iter()
-        .chain(&tr.force_est)
-        .fold(600.0f64, |a, &b| a.max(b))
-        * 1.1;
-    let mut c = ChartBuilder::on(&top)
-        .caption(format!("{title}: cutting force"), ("sans-serif", 20))
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(50)
-        .build_cartesian_2d(0.0..t_end, 0.0..fmax)?;
-    c.configure_mesh()
-        .x_desc("t, s")
-        .y_desc("force, N")
-        .draw()?;
-    c.draw_series(LineSeries::new(
-        tr.t.iter().map(|&t| (t, 500.0)),
-        BLACK.stroke_width(1),
-    ))?
-    .label("reference")
-    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], BLACK));
-    c.draw_series(LineSeries::new(
-        tr.t.iter().zip(&tr.force_true).map(|(&t, &f)| (t, f)),
-        BLUE.stroke_width(2),
-    ))?
-    .label("true")
-    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], BLUE));
-    c.draw_series(LineSeries::new(
-        tr.t.iter().zip(&tr.force_est).map(|(&t, &f)| (t, f)),
-        RED.stroke_width(1),
-    ))?
-    .label("estimated")
-    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], RED));
-    c.configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE)
-        .draw()?;
-    let mut c = ChartBuilder::on(&bottom)
-        .caption("feed override", ("sans-serif", 20))
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(50)
-        .build_cartesian_2d(0.0..t_end, 0.0..160.0)?;
-    c.configure_mesh()
-        .x_desc("t, s")
-        .y_desc("override, %")
-        .draw()?;
-    c.draw_series(LineSeries::new(
-        tr.t.iter()
-            .zip(&tr.override_pct)
-            .map(|(&t, &o)| (t, f64::from(o))),
-        GREEN.stroke_width(2),
-    ))?;
-    root.present()?;
     Ok(())
 }

@@ -25,10 +25,13 @@ use std::time::Instant;
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
 
-/// Decision method.
+/// Decision method (the values are the settings file's, docs/cli.md).
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Method {
     /// First contact (measures near the largest diameter).
+    SinglePulse,
+    /// The old spelling of `single-pulse`: accepted for one release, with a warning.
+    #[value(hide = true)]
     Single,
     /// Pulse counter: count > i_def (50 % → the mean diameter).
     Counter,
@@ -379,7 +382,14 @@ impl SettingFlags {
         let m = &mut s.measure;
         if let Some(method) = self.method {
             m.method = match method {
-                Method::Single => DecisionMethod::SinglePulse,
+                Method::SinglePulse => DecisionMethod::SinglePulse,
+                Method::Single => {
+                    eprintln!(
+                        "{}",
+                        crate::settings::old_spelling_warning("--method", "single", "single-pulse")
+                    );
+                    DecisionMethod::SinglePulse
+                }
                 Method::Counter => DecisionMethod::Counter,
                 Method::Density => DecisionMethod::Density,
             };

@@ -51,7 +51,9 @@ enum Command {
     },
 }
 
-/// The sweep's flags. Value lists: `8,12,16`, `16`, `8..=16` or `8..=16:4`.
+/// The sweep's flags. Each parameter flag replaces the spec's values of the parameter of
+/// the same name (`-` for `_`); its help shows its syntax: numbers as a list `8,12,16`, one
+/// value `16`, or an inclusive range `8..=16` / `8..=16:4`; names as a comma list.
 #[derive(clap::Args, Debug)]
 struct SweepArgs {
     /// Sweep spec, TOML (parameters not given keep the default sweep's values).
@@ -65,65 +67,78 @@ struct SweepArgs {
     /// Run only slice K of N (0-based): points whose index % N == K.
     #[arg(long, value_name = "K/N")]
     shard: Option<String>,
-    /// Scenarios (seeds 1..=N) per point.
-    #[arg(long)]
+    /// Scenarios (seeds 1..=N) per point (one number, 1..=1000).
+    #[arg(long, value_name = "N")]
     scenarios: Option<u32>,
-    /// Revolutions of approach per scenario.
-    #[arg(long)]
+    /// Revolutions of approach per scenario (one number).
+    #[arg(long, value_name = "N")]
     revolutions: Option<u32>,
-    /// Decision methods: counter, density, single_pulse.
-    #[arg(long)]
+    /// Decision methods, a comma list of: counter, density, single-pulse.
+    #[arg(long, value_name = "NAMES")]
     method: Option<String>,
-    /// Contact rules: sticky, sampled.
-    #[arg(long)]
+    /// Contact rules, a comma list of: sticky, sampled.
+    #[arg(long, value_name = "NAMES")]
     contact_rule: Option<String>,
-    /// Charge laws: linear, exponential.
-    #[arg(long)]
+    /// Charge laws, a comma list of: linear, exponential.
+    #[arg(long, value_name = "NAMES")]
     law: Option<String>,
-    /// Capacitor widths, bits.
-    #[arg(long)]
+    /// Capacitor widths, bits (4..=24):
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     charge_bits: Option<String>,
-    /// Scale position widths, bits.
-    #[arg(long)]
+    /// Scale position widths, bits (8..=32):
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     scale_bits: Option<String>,
-    /// Glitch filter lengths, clocks.
-    #[arg(long)]
+    /// Glitch filter lengths, clocks (0..=255):
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     glitch_cycles: Option<String>,
-    /// Counter thresholds, contact pulses per window.
-    #[arg(long)]
+    /// Counter thresholds, contact pulses per window:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     i_def: Option<String>,
-    /// Counting windows, revolutions.
-    #[arg(long)]
+    /// Counting windows, revolutions (1..=16):
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     window_revs: Option<String>,
-    /// Linear law: pulses from empty to full.
-    #[arg(long)]
+    /// Linear law: pulses from empty to full:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     charge_pulses: Option<String>,
-    /// Linear law: pulses from full to empty.
-    #[arg(long)]
+    /// Linear law: pulses from full to empty:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     discharge_pulses: Option<String>,
-    /// Exponential law: charge shifts.
-    #[arg(long)]
+    /// Exponential law: charge shifts:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     charge_shift: Option<String>,
-    /// Exponential law: discharge shifts.
-    #[arg(long)]
+    /// Exponential law: discharge shifts:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     discharge_shift: Option<String>,
-    /// Fire thresholds, percent of full scale.
-    #[arg(long)]
+    /// Fire thresholds, percent of full scale (1..=100):
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     fire_percent: Option<String>,
-    /// Re-arm thresholds, percent of full scale.
-    #[arg(long)]
+    /// Re-arm thresholds, percent of full scale (0..=99):
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     rearm_percent: Option<String>,
-    /// Force controllers: pi, adaptive, fuzzy, or `none` to skip the force sweep.
-    #[arg(long)]
+    /// Force controllers, a comma list of: pi, adaptive, fuzzy; or `none` to skip the force sweep.
+    #[arg(long, value_name = "NAMES")]
     force_controller: Option<String>,
-    /// Force controllers' proportional gain, percent of the Ziegler–Nichols design.
-    #[arg(long)]
+    /// Force controllers' proportional gain, percent of the Ziegler–Nichols design:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     kp_percent: Option<String>,
-    /// Force controllers' integral gain, percent of the design.
-    #[arg(long)]
+    /// Force controllers' integral gain, percent of the design:
+    /// `a,b,c`, `a`, `a..=b` or `a..=b:step`.
+    #[arg(long, value_name = "VALUES")]
     ki_percent: Option<String>,
-    /// Force feedback: estimated, measured.
-    #[arg(long)]
+    /// Force feedback, a comma list of: estimated, measured.
+    #[arg(long, value_name = "NAMES")]
     force_source: Option<String>,
 }
 
@@ -178,11 +193,18 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
         Some(p) => {
             let text =
                 crate::settings::read_text_file(p, "sweep spec").map_err(anyhow::Error::msg)?;
-            SweepSpec::from_toml(&text).with_context(|| format!("sweep spec {}", p.display()))?
+            let spec = SweepSpec::from_toml(&text)
+                .with_context(|| format!("sweep spec {}", p.display()))?;
+            let file = format!("sweep spec {}", p.display());
+            for warning in crate::settings::old_spellings_in_toml(&text, &file) {
+                eprintln!("{warning}");
+            }
+            spec
         }
         None => SweepSpec::default(),
     };
     let overrides = a.overrides();
+    warn_old_spellings(&overrides);
     spec.apply(&overrides)?;
     let shard: Option<Shard> = a.shard.as_deref().map(str::parse).transpose()?;
     let n = tune::points_in(&spec, shard)
@@ -221,6 +243,25 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Warns on standard error about each old spelling in a flag's names (`--method
+/// counter,single_pulse`); the sweep reads it as the new one.
+fn warn_old_spellings(overrides: &Overrides) {
+    for (key, text) in &overrides.values {
+        for piece in text.split(',').map(str::trim) {
+            if let Some(new) = crate::settings::renamed_value(piece) {
+                let flag = match key.as_str() {
+                    "force.controller" => "--force-controller".to_string(),
+                    k => format!("--{}", k.rsplit('.').next().unwrap_or(k).replace('_', "-")),
+                };
+                eprintln!(
+                    "{}",
+                    crate::settings::old_spelling_warning(&flag, piece, new)
+                );
+            }
+        }
+    }
 }
 
 /// A sweep error told with the flag that set its parameter (`--force-controller x:`),

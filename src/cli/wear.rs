@@ -2,17 +2,17 @@
 //! depth 2 mm then 3 mm, with a new and a worn tool, each watched with the constant and
 //! with the updating threshold, through the fixed-point model's wear monitor.
 
-use crate::milling::{WearRun, WearScenario, NEW_TOOL, WORN_TOOL};
+use crate::milling::{WearScenario, NEW_TOOL, WORN_TOOL};
 use crate::output::OutputFolder;
 use anyhow::{Context, Result};
-use plotters::prelude::*;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Arguments of `tooltouch wear`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Directory for the plots (`wear_<tool>.svg`). A run replaces this command's files in
+    /// Directory for the plots and tables (`wear_<tool>.{svg,csv,json}`,
+    /// `wear.{csv,json}`; docs/wear.md). A run replaces this command's files in
     /// the folder; other files are left alone; a failed run leaves the folder as it was.
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -28,10 +28,14 @@ pub fn run(args: Args) -> Result<ExitCode> {
         ..WearScenario::default()
     };
     let out = match &args.out {
-        Some(dir) => Some(OutputFolder::create(
-            dir,
-            [NEW_TOOL, WORN_TOOL].map(|t| format!("wear_{}.svg", t.name)),
-        )?),
+        Some(dir) => {
+            let mut known = super::run_tables::table_files("wear").to_vec();
+            for t in [NEW_TOOL, WORN_TOOL] {
+                known.push(format!("wear_{}.svg", t.name));
+                known.extend(super::run_tables::table_files(&format!("wear_{}", t.name)));
+            }
+            Some(OutputFolder::create(dir, known)?)
+        }
         None => None,
     };
     let m = &sc.milling;
@@ -66,6 +70,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     );
     let bar = indicatif::ProgressBar::new(4);
     let mut rows = Vec::new();
+    let mut verdicts = Vec::new();
     for tool in [NEW_TOOL, WORN_TOOL] {
         let mut runs = Vec::new();
         for constant in [true, false] {
@@ -98,12 +103,34 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 cut.unwrap_or("-"),
                 verdict
             ));
+            verdicts.push(super::run_tables::WearVerdict {
+                tool: tool.name,
+                threshold: name,
+                alarm_at_s: r.alarm_at,
+                alarm_power_w: crate::plot::wear::alarm_power(&r).map(|(_, p)| p),
+                alarm_cut: r
+                    .alarm_at
+                    .map(|t| if t < sc.idle_s + sc.segment_s { 1 } else { 2 }),
+                verdict: match verdict {
+                    "right" => "right",
+                    "FALSE ALARM" => "false-alarm",
+                    _ => "missed",
+                },
+            });
             runs.push((name, r));
         }
         if let Some(out) = &out {
             let name = format!("wear_{}.svg", tool.name);
-            plot(&out.path(&name), tool.name, &runs)
+            crate::plot::wear::wear_runs(&out.path(&name), tool.name, &runs)
                 .with_context(|| format!("plotting {}", out.final_path(&name).display()))?;
+            if let [(_, constant), (_, updating)] = &runs[..] {
+                let series = super::run_tables::wear_series(constant, updating);
+                super::run_tables::write_table(
+                    out.staging(),
+                    &format!("wear_{}", tool.name),
+                    &series,
+                )?;
+            }
         }
     }
     bar.finish_and_clear();
@@ -111,71 +138,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
         outln!("{r}");
     }
     if let Some(out) = out {
+        super::run_tables::write_table(out.staging(), "wear", &verdicts)?;
         let dir = out.dir().to_path_buf();
         out.commit()?;
-        outln!("plots written to {}", dir.display());
+        outln!("plots and tables written to {}", dir.display());
     }
     Ok(ExitCode::SUCCESS)
-}
-
-fn plot(path: &Path, tool: &str, runs: &[(&str, WearRun)]) -> Result<()> {
-    let root = SVGBackend::new(path, (1000, 500)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let Some((_, first)) = runs.first() else {
-        return Ok(());
-    };
-    let t_end = first.t.last().copied().unwrap_or(1.0);
-    let pmax = runs
-        .iter()
-        .flat_map(|(_, r)| r.power_true.iter().chain(&r.allowed))
-        .fold(0.0f64, |a, &b| a.max(b))
-        * 1.15;
-    let mut c = ChartBuilder::on(&root)
-        .caption(
-            format!("{tool} tool: spindle power and thresholds"),
-            ("sans-serif", 20),
-        )
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(60)
-        .build_cartesian_2d(0.0..t_end, 0.0..pmax)?;
-    c.configure_mesh()
-        .x_desc("t, s")
-        .y_desc("power, W")
-        .draw()?;
-    c.draw_series(LineSeries::new(
-        first.t.iter().zip(&first.power_true).map(|(&t, &p)| (t, p)),
-        RGBColor(180, 180, 180).stroke_width(1),
-    ))?
-    .label("motor power (true, period mean)")
-    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], RGBColor(180, 180, 180)));
-    c.draw_series(LineSeries::new(
-        first.t.iter().zip(&first.power).map(|(&t, &p)| (t, p)),
-        BLUE.stroke_width(2),
-    ))?
-    .label("monitored p-bar")
-    .legend(|(x, y)| PathElement::new([(x, y), (x + 15, y)], BLUE));
-    for ((name, r), color) in runs.iter().zip([RED, GREEN]) {
-        c.draw_series(LineSeries::new(
-            r.t.iter().zip(&r.allowed).map(|(&t, &p)| (t, p)),
-            color.stroke_width(2),
-        ))?
-        .label(format!("{name} threshold"))
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 15, y)], color));
-        if let Some(t) = r.alarm_at {
-            c.draw_series(std::iter::once(Circle::new(
-                (t, pmax * 0.95),
-                6,
-                color.filled(),
-            )))?
-            .label(format!("{name} alarm"))
-            .legend(move |(x, y)| Circle::new((x + 7, y), 5, color.filled()));
-        }
-    }
-    c.configure_series_labels()
-        .border_style(BLACK)
-        .background_style(WHITE)
-        .draw()?;
-    root.present()?;
-    Ok(())
 }

@@ -41,13 +41,15 @@ use tooltouch_model::MeasureConfig;
 
 /// When the CNC retracts after "register now".
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "kebab-case")]
 pub enum RetractAt {
     /// `cnc_reaction_us` after "register now" rises (the production handshake).
     Decision,
     /// Keep feeding after the decision until contact has been permanent for one whole
     /// revolution, then retract: what the papers' experiments record (revolutions to
     /// permanent contact, the density growing to 1). The latched position is unaffected.
+    /// Spelled `permanent-contact`; the old `permanent_contact` is read for one release.
+    #[serde(alias = "permanent_contact")]
     PermanentContact,
 }
 
@@ -652,7 +654,7 @@ impl fmt::Display for RetractAt {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             RetractAt::Decision => "decision",
-            RetractAt::PermanentContact => "permanent_contact",
+            RetractAt::PermanentContact => "permanent-contact",
         })
     }
 }

@@ -5,7 +5,6 @@
 
 use super::{Results, Row};
 use anyhow::{Context, Result};
-use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -95,7 +94,7 @@ pub fn write(results: &Results, dir: &Path) -> Result<()> {
     std::fs::write(&p, force_csv(&results.force))
         .with_context(|| format!("writing {}", p.display()))?;
     if results.shard.is_none() {
-        plot(&results.rows, &dir.join(SVG))?;
+        crate::plot::pareto::pareto(&results.rows, &dir.join(SVG))?;
     }
     Ok(())
 }
@@ -111,94 +110,4 @@ pub fn read(path: &Path) -> Result<Results> {
         std::fs::read_to_string(&file).with_context(|| format!("reading {}", file.display()))?;
     serde_json::from_str(&text)
         .with_context(|| format!("{}: not a tune results file", file.display()))
-}
-
-/// Scatter of diameter error against logic cells, one colour per decision method, each
-/// method's Pareto front joined by a line.
-pub fn plot(rows: &[Row], path: &Path) -> Result<()> {
-    // Log scale: errors span a scale count's fraction to whole revolutions of feed; an
-    // error below 1 nm is drawn at 1 nm.
-    let pts: Vec<(&str, u32, f64, bool)> = rows
-        .iter()
-        .filter(|r| r.misses == 0)
-        .filter_map(|r| {
-            r.diameter_error_um
-                .map(|e| (r.method.as_str(), r.logic_cells, e.max(1e-3), r.pareto))
-        })
-        .collect();
-    let (mut x0, mut x1) = (u32::MAX, 0u32);
-    let (mut y0, mut y1) = (f64::MAX, 0.0f64);
-    for &(_, x, y, _) in &pts {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    if pts.is_empty() {
-        (x0, x1, y0, y1) = (0, 1, 1e-3, 1.0);
-    }
-    let mut methods: Vec<&str> = pts.iter().map(|p| p.0).collect();
-    methods.sort_unstable();
-    methods.dedup();
-    let palette = [BLUE, RED, GREEN, MAGENTA, CYAN];
-    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
-    let draw = || -> std::result::Result<(), Box<dyn std::error::Error>> {
-        root.fill(&WHITE)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(
-                "tooltouch tune: latched-diameter error vs FPGA cost",
-                ("sans-serif", 20),
-            )
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(60)
-            .build_cartesian_2d(
-                x0.saturating_sub(10)..(x1 + 10),
-                (y0 / 1.5..(y1 * 1.5).max(y0 * 2.0)).log_scale(),
-            )?;
-        chart
-            .configure_mesh()
-            .x_desc("logic cells (iCE40 LUT4, estimated)")
-            .y_desc("mean |diameter error| vs float reference, µm (log)")
-            .draw()?;
-        for (i, m) in methods.iter().enumerate() {
-            let colour = palette[i % palette.len()];
-            chart
-                .draw_series(
-                    pts.iter()
-                        .filter(|p| p.0 == *m)
-                        .map(|&(_, x, y, _)| Circle::new((x, y), 3, colour.mix(0.35).filled())),
-                )?
-                .label(m.to_string())
-                .legend(move |(x, y)| Circle::new((x, y), 3, colour.mix(0.35).filled()));
-            let mut front: Vec<(u32, f64)> = pts
-                .iter()
-                .filter(|p| p.0 == *m && p.3)
-                .map(|&(_, x, y, _)| (x, y))
-                .collect();
-            front.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-            chart
-                .draw_series(LineSeries::new(
-                    front.iter().copied(),
-                    colour.stroke_width(2),
-                ))?
-                .label(format!("{m}: Pareto front"))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x - 8, y), (x + 8, y)], colour.stroke_width(2))
-                });
-            chart.draw_series(
-                front
-                    .iter()
-                    .map(|&(x, y)| Circle::new((x, y), 5, colour.filled())),
-            )?;
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()?;
-        root.present()?;
-        Ok(())
-    };
-    draw().map_err(|e| anyhow::anyhow!("drawing {}: {e}", path.display()))
 }

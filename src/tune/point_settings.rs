@@ -43,7 +43,8 @@ pub fn settings_toml(results: &Results, index: usize) -> anyhow::Result<String> 
                 || row.scale_bits != s.scale_bits
                 || row.glitch_cycles != s.glitch_cycles
                 || row.fire_threshold != s.fire_threshold
-                || row.method != super::spec::method_name(s.method)
+                || crate::settings::renamed_value(&row.method).unwrap_or(&row.method)
+                    != super::spec::method_name(s.method)
             {
                 return Err(stale(index, "the measurement settings"));
             }

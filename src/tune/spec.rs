@@ -34,7 +34,7 @@ pub enum Law {
 const METHODS: [(&str, DecisionMethod); 3] = [
     ("counter", DecisionMethod::Counter),
     ("density", DecisionMethod::Density),
-    ("single_pulse", DecisionMethod::SinglePulse),
+    ("single-pulse", DecisionMethod::SinglePulse),
 ];
 const RULES: [(&str, ContactRule); 2] = [
     ("sticky", ContactRule::Sticky),
@@ -62,7 +62,7 @@ pub struct SweepSpec {
     pub scenarios: u32,
     /// The approach every scenario simulates.
     pub approach: ApproachSettings,
-    /// Decision methods: `counter`, `density`, `single_pulse`.
+    /// Decision methods: `counter`, `density`, `single-pulse`.
     pub method: Names,
     /// Contact rules: `sticky`, `sampled`.
     pub contact_rule: Names,
@@ -107,7 +107,7 @@ impl Default for SweepSpec {
             method: Names::List(vec![
                 "counter".into(),
                 "density".into(),
-                "single_pulse".into(),
+                "single-pulse".into(),
             ]),
             contact_rule: Names::List(vec!["sticky".into(), "sampled".into()]),
             charge_bits: Values::List(vec![6, 10, 16]),

@@ -138,7 +138,9 @@ pub enum Names {
 }
 
 impl Names {
-    /// The named values, each looked up in `known`.
+    /// The named values, each looked up in `known`; an old spelling
+    /// ([`crate::settings::RENAMED_VALUES`]) is read as its new one (the command line
+    /// warns about it).
     pub fn expand<T: Copy>(
         &self,
         parameter: &str,
@@ -158,9 +160,10 @@ impl Names {
         names
             .iter()
             .map(|n| {
+                let n = crate::settings::renamed_value(n).unwrap_or(n);
                 known
                     .iter()
-                    .find(|(k, _)| *k == n.as_str())
+                    .find(|(k, _)| *k == n)
                     .map(|&(_, v)| v)
                     .ok_or_else(|| {
                         let list: Vec<&str> = known.iter().map(|(k, _)| *k).collect();

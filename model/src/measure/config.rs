@@ -12,7 +12,7 @@ use crate::validation::{check, ConfigError};
 /// Which contact bit a pulse counts with (docs/domain.md §2.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum ContactRule {
     /// The contact level at the FES edge. Misses bursts shorter than one pulse period.
     Sampled,
@@ -47,9 +47,12 @@ pub enum ChargeLaw {
 /// Which detector decides "position reached, register now" (docs/domain.md §2.1, §2.3, §2.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum DecisionMethod {
     /// The first (filtered) contact edge: measures near the largest diameter (docs/domain.md §2.1).
+    /// Spelled `single-pulse`; the old `single_pulse` is read for one release (the
+    /// command line warns about it).
+    #[cfg_attr(feature = "serde", serde(alias = "single_pulse"))]
     SinglePulse,
     /// Device 1: the pulse counter's count exceeds `i_def` within the window (docs/domain.md §2.3).
     Counter,
