@@ -24,7 +24,7 @@ another configuration, a missing or zero-width signal).")]
 pub struct Args {
     /// Golden expected trace: a VCD written by `tooltouch measure` or `tooltouch
     /// vectors`, or a binary Outputs stream (expected_outputs.ttv, a `tooltouch control`
-    /// `*.outputs.bin`).
+    /// `*.outputs.ttv`).
     #[arg(long)]
     pub expected: PathBuf,
     /// Device-under-test trace: a VCD of any tool (signals matched by leaf name), or a

@@ -51,18 +51,22 @@ pub enum EngineArg {
 /// Arguments of `tooltouch control`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Controller; `all` prints the table for the three.
-    #[arg(long, value_enum, default_value = "pi")]
-    pub controller: Which,
-    /// Force feedback; `both` runs measured and estimated.
-    #[arg(long, value_enum, default_value = "estimated")]
-    pub force: Source,
-    /// Fixed-point model or float reference.
-    #[arg(long, value_enum, default_value = "model")]
-    pub engine: EngineArg,
-    /// Noise seed.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
+    /// Settings file: a `[control]` table of these flags' keys (examples/control.toml);
+    /// a flag wins over it.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Controller (default `pi`); `all` prints the table for the three.
+    #[arg(long, value_enum)]
+    pub controller: Option<Which>,
+    /// Force feedback (default `estimated`); `both` runs measured and estimated.
+    #[arg(long, value_enum)]
+    pub force: Option<Source>,
+    /// Fixed-point model or float reference (default `model`).
+    #[arg(long, value_enum)]
+    pub engine: Option<EngineArg>,
+    /// Noise seed (default 1).
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Directory for plots, vectors and tables (`<controller>_<force>.{svg,csv,json,
     /// events.ttv,outputs.ttv}`, `control.{csv,json}`; docs/control.md).
     /// A run replaces this command's files in the folder (and removes those it did not
@@ -74,18 +78,19 @@ pub struct Args {
 
 /// Runs `tooltouch control`.
 pub fn run(args: Args) -> Result<ExitCode> {
-    let kinds: Vec<ControllerKind> = match args.controller {
+    let chosen = super::run_settings::control(&args)?;
+    let kinds: Vec<ControllerKind> = match chosen.controller {
         Which::Pi => vec![ControllerKind::Pi],
         Which::Adaptive => vec![ControllerKind::Adaptive],
         Which::Fuzzy => vec![ControllerKind::Fuzzy],
         Which::All => ControllerKind::ALL.to_vec(),
     };
-    let sources: Vec<ForceSource> = match args.force {
+    let sources: Vec<ForceSource> = match chosen.force {
         Source::Estimated => vec![ForceSource::Estimated],
         Source::Measured => vec![ForceSource::Measured],
         Source::Both => vec![ForceSource::Measured, ForceSource::Estimated],
     };
-    let engine = match args.engine {
+    let engine = match chosen.engine {
         EngineArg::Model => Engine::Model,
         EngineArg::Reference => Engine::Reference,
     };
@@ -125,7 +130,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             .map_err(|e| anyhow::anyhow!("{e}"))
             .with_context(|| format!("configuring the {} controller", k.name()))?;
         let mut sc = ControlScenario::new(config);
-        sc.seed = args.seed;
+        sc.seed = chosen.seed;
         let r = scenario::run(&sc, engine, args.out.is_some() && engine == Engine::Model);
         if let Some(out) = &out {
             let stem = format!("{}_{}", k.name(), source_name(source));
@@ -166,7 +171,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
                     k.name(),
                     source_name(*s),
                     engine_name,
-                    args.seed,
+                    chosen.seed,
                     m,
                 )
             })

@@ -49,6 +49,7 @@ pub mod control;
 pub mod cosim;
 pub mod hdl;
 pub mod measure;
+pub mod run_settings;
 pub mod run_tables;
 pub mod tune;
 pub mod vectors;

@@ -89,6 +89,10 @@ pub fn load_settings(
             crate::settings::toml_error(&text, &e)
         )
     })?;
+    let file = format!("settings file {}", path.display());
+    for warning in crate::settings::old_spellings_in_toml(&text, &file) {
+        eprintln!("{warning}");
+    }
     let tables = ["measure", "lathe", "force"];
     if tables.iter().any(|t| table.contains_key(*t)) {
         if let Some(unknown) = table.keys().find(|k| !tables.contains(&k.as_str())) {

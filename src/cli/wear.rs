@@ -16,15 +16,19 @@ pub struct Args {
     /// the folder; other files are left alone; a failed run leaves the folder as it was.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Noise seed.
-    #[arg(long, default_value_t = 7)]
-    pub seed: u64,
+    /// Noise seed (default 7).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Settings file: a `[wear]` table of these flags' keys (examples/wear.toml); a flag
+    /// wins over it.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
 }
 
 /// Runs `tooltouch wear`.
 pub fn run(args: Args) -> Result<ExitCode> {
     let sc = WearScenario {
-        seed: args.seed,
+        seed: super::run_settings::wear_seed(args.config.as_deref(), args.seed)?,
         ..WearScenario::default()
     };
     let out = match &args.out {

@@ -1,0 +1,127 @@
+//! The settings files of `tooltouch control` and `tooltouch wear` (`--config`, examples/
+//! control.toml and wear.toml): a `[control]` or `[wear]` table holding the subcommand's
+//! flags under their own names (`_` for `-`) and values, spelled as on the command line
+//! (the values are parsed by the flags' own `ValueEnum`s). A flag wins over the file; a
+//! key left out keeps the flag's default. Unknown tables and keys are errors.
+
+use super::control::{EngineArg, Source, Which};
+use anyhow::{Context, Result};
+use serde::Deserialize;
+use std::path::Path;
+
+/// The `[control]` table.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ControlTable {
+    controller: Option<String>,
+    force: Option<String>,
+    engine: Option<String>,
+    seed: Option<u64>,
+}
+
+/// The `[wear]` table.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WearTable {
+    seed: Option<u64>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    control: Option<ControlTable>,
+    wear: Option<WearTable>,
+}
+
+/// What `control` runs: its flags, else the settings file's keys, else the defaults.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ControlChoice {
+    /// `--controller` / `controller` (default `pi`).
+    pub controller: Which,
+    /// `--force` / `force` (default `estimated`).
+    pub force: Source,
+    /// `--engine` / `engine` (default `model`).
+    pub engine: EngineArg,
+    /// `--seed` / `seed` (default 1).
+    pub seed: u64,
+}
+
+fn read(path: &Path, table: &str) -> Result<File> {
+    let text =
+        crate::settings::read_text_file(path, "settings file").map_err(anyhow::Error::msg)?;
+    let file: File = toml::from_str(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "settings file {}: {}",
+            path.display(),
+            crate::settings::toml_error(&text, &e)
+        )
+    })?;
+    let other = if table == "control" {
+        file.wear.is_some()
+    } else {
+        file.control.is_some()
+    };
+    if other {
+        anyhow::bail!(
+            "settings file {}: `tooltouch {table}` reads a `[{table}]` table only",
+            path.display()
+        );
+    }
+    Ok(file)
+}
+
+/// A value of the file's key `key` parsed as the flag's `ValueEnum` `T`.
+fn value<T: clap::ValueEnum>(path: &Path, table: &str, key: &str, text: &str) -> Result<T> {
+    T::from_str(text, false).map_err(|_| {
+        let allowed: Vec<String> = T::value_variants()
+            .iter()
+            .filter_map(|v| v.to_possible_value())
+            .filter(|v| !v.is_hide_set())
+            .map(|v| v.get_name().to_string())
+            .collect();
+        anyhow::anyhow!(
+            "settings file {}: [{table}] {key} = \"{text}\": allowed {}",
+            path.display(),
+            allowed.join(", ")
+        )
+    })
+}
+
+/// Resolves `control`'s choices from its flags and its `--config` file.
+pub fn control(args: &super::control::Args) -> Result<ControlChoice> {
+    let table = match &args.config {
+        Some(p) => read(p, "control")
+            .with_context(|| "reading the control settings")?
+            .control
+            .unwrap_or_default(),
+        None => ControlTable::default(),
+    };
+    let path = args.config.as_deref().unwrap_or(Path::new(""));
+    Ok(ControlChoice {
+        controller: match (args.controller, &table.controller) {
+            (Some(v), _) => v,
+            (None, Some(t)) => value(path, "control", "controller", t)?,
+            (None, None) => Which::Pi,
+        },
+        force: match (args.force, &table.force) {
+            (Some(v), _) => v,
+            (None, Some(t)) => value(path, "control", "force", t)?,
+            (None, None) => Source::Estimated,
+        },
+        engine: match (args.engine, &table.engine) {
+            (Some(v), _) => v,
+            (None, Some(t)) => value(path, "control", "engine", t)?,
+            (None, None) => EngineArg::Model,
+        },
+        seed: args.seed.or(table.seed).unwrap_or(1),
+    })
+}
+
+/// Resolves `wear`'s noise seed from its flag and its `--config` file (default 7).
+pub fn wear_seed(config: Option<&Path>, flag: Option<u64>) -> Result<u64> {
+    let table = match config {
+        Some(p) => read(p, "wear")?.wear.unwrap_or_default(),
+        None => WearTable::default(),
+    };
+    Ok(flag.or(table.seed).unwrap_or(7))
+}
