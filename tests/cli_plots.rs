@@ -31,10 +31,12 @@ fn texts(path: &Path) -> Vec<SvgText> {
             .and_then(|v| v.parse().ok())
             .unwrap_or(f64::NAN);
         let text = body
+            .trim()
             .replace("&lt;", "<")
             .replace("&gt;", ">")
             .replace("&quot;", "\"")
             .replace("&#39;", "'")
+            .replace("&apos;", "'")
             .replace("&amp;", "&");
         out.push(SvgText { x, text });
     }
