@@ -250,7 +250,7 @@ fn force_output_streams_are_checked_field_by_field() {
     let w = work();
     let o = tooltouch(&["control", "--out", w.path().to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o));
-    let golden = w.path().join("pi_estimated.outputs.bin");
+    let golden = w.path().join("pi_estimated.outputs.ttv");
     let (code, out) = check(&golden, &golden);
     assert_eq!(code, Some(0), "{out}");
     assert!(
@@ -282,7 +282,7 @@ fn force_output_streams_are_checked_field_by_field() {
         "both",
     ]);
     assert!(o.status.success(), "{}", text(&o));
-    let (code, out) = check(&golden, &w.path().join("pi_measured.outputs.bin"));
+    let (code, out) = check(&golden, &w.path().join("pi_measured.outputs.ttv"));
     assert_eq!(code, Some(2), "{out}");
     assert!(out.contains("force configuration hash"), "{out}");
 }

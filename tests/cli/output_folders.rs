@@ -109,14 +109,18 @@ fn control_replaces_other_controllers_files() {
     let out = w.path().join("c");
     let o = tooltouch(&["control", "--out", s(&out), "--force", "both"]);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(out.join("pi_measured.outputs.bin").is_file());
+    assert!(out.join("pi_measured.outputs.ttv").is_file());
     let o = tooltouch(&["control", "--out", s(&out)]);
     assert!(o.status.success(), "{}", text(&o));
     assert_eq!(
         names(&out),
         [
-            "pi_estimated.events.bin",
-            "pi_estimated.outputs.bin",
+            "control.csv",
+            "control.json",
+            "pi_estimated.csv",
+            "pi_estimated.events.ttv",
+            "pi_estimated.json",
+            "pi_estimated.outputs.ttv",
             "pi_estimated.svg"
         ]
     );

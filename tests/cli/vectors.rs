@@ -263,10 +263,10 @@ fn force_event_streams_give_controls_outputs_and_replace_a_measurement_set() {
     let o = vectors(&m.join("measure.vcd"), &["--config", s(&toml)], &out);
     assert!(o.status.success(), "{}", text(&o));
     assert!(out.join("golden.vcd").is_file());
-    let o = vectors(&c.join("pi_estimated.events.bin"), &[], &out);
+    let o = vectors(&c.join("pi_estimated.events.ttv"), &[], &out);
     assert!(o.status.success(), "{}", text(&o));
-    assert!(read(&out.join("expected_outputs.ttv")) == read(&c.join("pi_estimated.outputs.bin")));
-    assert!(read(&out.join("events.ttv")) == read(&c.join("pi_estimated.events.bin")));
+    assert!(read(&out.join("expected_outputs.ttv")) == read(&c.join("pi_estimated.outputs.ttv")));
+    assert!(read(&out.join("events.ttv")) == read(&c.join("pi_estimated.events.ttv")));
     // The measurement files of the earlier run are gone: nothing left to mislead.
     for f in ["golden.vcd", "stim.hex", "expect.hex"] {
         assert!(!out.join(f).exists(), "stale {f} left");
@@ -283,7 +283,7 @@ fn force_event_streams_give_controls_outputs_and_replace_a_measurement_set() {
         "--expected",
         s(&out.join("expected_outputs.ttv")),
         "--dut",
-        s(&c.join("pi_estimated.outputs.bin")),
+        s(&c.join("pi_estimated.outputs.ttv")),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
 }
