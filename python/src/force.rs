@@ -8,7 +8,7 @@
 //! of ADC codes (one row per 1 kHz sample), applies the control tick after every
 //! `samples_per_period`-th sample and the CNC commands at their sample, all in Rust, and
 //! returns one numpy column per output after every non-sample event — the records of the
-//! CLI's `<controller>_<force>.outputs.bin`.
+//! CLI's `<controller>_<force>.outputs.ttv`.
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
@@ -671,7 +671,7 @@ type ScenarioStimuli<'py> = (Bound<'py, PyAny>, Vec<(u64, ForceEvent)>);
 /// noise `seed`: the plant's ADC samples as a uint16 array (n, 8) and the CNC commands as
 /// `[(sample index, ForceEvent)]`. `ForceKernel(settings).run(codes, commands)` replays
 /// the run bit for bit (the plant reacted to exactly those outputs); the CLI writes the
-/// same events to `<controller>_<force>.events.bin`.
+/// same events to `<controller>_<force>.events.ttv`.
 #[pyfunction]
 #[pyo3(signature = (settings, seed=1))]
 pub fn drive_scenario<'py>(

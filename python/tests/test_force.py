@@ -1,6 +1,6 @@
 """The force path against `tooltouch control`: the drive scenario's stimuli, the
-ForceKernel's outputs and the typed force records equal the CLI's `.events.bin` /
-`.outputs.bin` on the same settings and seed, bit for bit."""
+ForceKernel's outputs and the typed force records equal the CLI's `.events.ttv` /
+`.outputs.ttv` on the same settings and seed, bit for bit."""
 
 import numpy as np
 import pytest
@@ -22,11 +22,11 @@ def control_run(tmp_path_factory, cli):
 
 def cli_streams(out, controller, source):
     stem = out / f"{controller}_{source}"
-    return stem.with_suffix(".events.bin"), stem.with_suffix(".outputs.bin")
+    return stem.with_suffix(".events.ttv"), stem.with_suffix(".outputs.ttv")
 
 
 def read_events(path):
-    """(force settings, sample codes (n, 8), commands [(sample, ForceEvent)]) of an events.bin."""
+    """(force settings, sample codes (n, 8), commands [(sample, ForceEvent)]) of an events.ttv."""
     reader = tooltouch.TtvReader(path)
     rows, commands, ticks = [], [], []
     for record in reader:

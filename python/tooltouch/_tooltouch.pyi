@@ -443,7 +443,7 @@ class ForceKernel:
         Returns one element per tick and command, the outputs after it: ``time`` (sample
         index, uint64), ``kind`` (wire kind, uint8), ``override_pct``, ``bad_events``
         (uint8), flags (bool), each I32F32 value as float64 and as int64 ``<name>_bits`` —
-        the records of ``tooltouch control``'s ``.outputs.bin``."""
+        the records of ``tooltouch control``'s ``.outputs.ttv``."""
     @property
     def outputs(self) -> ForceOutputs: ...
     @property
