@@ -6,12 +6,15 @@ variables: ``TT_BENCH_SETTINGS`` (the settings TOML the design was generated fro
 with ``--mcu-diagnostics``) and ``TT_BENCH_REPORT`` (a JSON file this writes: the cycles
 run, the wall and CPU time and the first mismatch, if any).
 
-Clocking: the bench drives ``clk`` itself (two timer waits per clock, cheaper than a
-``Clock`` coroutine plus edge triggers). The pins and ``mcu_addr`` of clock ``k`` are
-applied at the falling edge before rising edge ``k``, as tt_testbench.v does (applying
-them at the rising edge itself races the flip-flops); every output, ``irq`` and
-``mcu_rdata`` are read at the end of the high phase, before the next falling edge. Reset
-(``rst``, active high, synchronous) is held for three clocks with every pin low.
+Clocking: the bench drives ``clk`` itself, two timer waits per clock (a ``Clock``
+coroutine plus an edge trigger costs more), and writes with ``setimmediatevalue`` (a
+``.value =`` write costs a ReadWrite trigger per time step: half of the bench's CPU
+time). The pins and ``mcu_addr`` of clock ``k`` are applied at the falling edge before
+rising edge ``k``, as tt_testbench.v does (applying them at the rising edge itself races
+the flip-flops); nothing in the design reacts to them before that rising edge, so the
+immediate writes are race-free. Every output, ``irq`` and ``mcu_rdata`` are read at the
+end of the high phase, before the next falling edge. Reset (``rst``, active high,
+synchronous) is held for three clocks with every pin low.
 """
 
 from __future__ import annotations
@@ -65,6 +68,7 @@ async def tt_frontend_matches_the_model(dut):
         await high
         dut.clk.value = 0
     dut.rst.value = 0
+    clk, mcu_addr = dut.clk, dut.mcu_addr
 
     mismatch = None
     applied = 0
@@ -78,16 +82,16 @@ async def tt_frontend_matches_the_model(dut):
         columns = [expected[name] for name in reference.signals]
         for i, (pins, address) in enumerate(zip(pins_chunk.tolist(), addr_chunk.tolist())):
             # The falling edge before rising edge k: the inputs of clock k.
-            dut.clk.value = 0
+            clk.setimmediatevalue(0)
             changed = pins ^ applied
             if changed:
                 for bit, port in enumerate(pin_ports):
                     if changed >> bit & 1:
-                        port.value = pins >> bit & 1
+                        port.setimmediatevalue(pins >> bit & 1)
                 applied = pins
-            dut.mcu_addr.value = address
+            mcu_addr.setimmediatevalue(address)
             await low
-            dut.clk.value = 1
+            clk.setimmediatevalue(1)
             await high
             # End of the high phase: the registers of rising edge k.
             run += 1
