@@ -9,19 +9,24 @@
 //! ([`super::vectors::load_settings`]): the `[measure]` table of `tooltouch measure`'s
 //! settings (or the `MeasureSettings` fields at top level) and the `[lathe]` table (its
 //! clock, and the lathe run of `--vectors lathe`); other tables are errors. Without
-//! `--config`, the defaults.
+//! `--config`, the defaults. The testbench's clock is the settings file's `[lathe]
+//! clock_hz`, as `tooltouch measure` reads it, so the testbench and the golden VCD share
+//! one period; a `--clock-hz` that contradicts it is an error.
+//!
+//! The hidden `--inject-fault` option generates a deliberately wrong design
+//! ([`tooltouch_hdl_gen::Fault`]) for testing testbenches: a bench that passes it is blind.
 
 use super::vectors::{golden_set_of, load_settings, CLOCK_RULE};
 use crate::hdl::hex::{self, Vectors};
 use crate::hdl::write_design;
 use crate::output::OutputFolder;
 use crate::stimulus::Stimulus;
-use crate::vectors::stimulus_file::DEFAULT_CLOCK_HZ;
+use crate::vectors::stimulus_file::{StatedClock, DEFAULT_CLOCK_HZ};
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use tooltouch_hdl_gen::{
-    generate, testbench, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX, TESTBENCH,
+    generate, testbench, Fault, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX, TESTBENCH,
 };
 use tooltouch_model::MeasureConfig;
 
@@ -65,6 +70,29 @@ pub struct Args {
     /// measure.vcd), or a stimulus FILE as `tooltouch vectors --stimulus` reads it.
     #[arg(long, value_name = "lathe|FILE")]
     pub vectors: Option<String>,
+    /// For testing testbenches only: generate the design with this deliberate fault, which
+    /// a testbench must report as a mismatch against the model.
+    #[arg(long, value_enum, hide = true)]
+    pub inject_fault: Option<InjectedFault>,
+}
+
+/// A fault `--inject-fault` puts into the generated design (see [`Fault`]).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InjectedFault {
+    /// [`Fault::FesBeforeIndex`]: an FES pulse with a same-clock index is counted in the
+    /// old window instead of the new one.
+    FesBeforeIndex,
+    /// [`Fault::FireThresholdPlusOne`]: the density detector fires one LSB late.
+    FireThresholdPlusOne,
+}
+
+impl From<InjectedFault> for Fault {
+    fn from(fault: InjectedFault) -> Self {
+        match fault {
+            InjectedFault::FesBeforeIndex => Fault::FesBeforeIndex,
+            InjectedFault::FireThresholdPlusOne => Fault::FireThresholdPlusOne,
+        }
+    }
 }
 
 /// Reads the measurement settings of `path` (see the module documentation).
@@ -151,7 +179,22 @@ fn depth(given: Option<usize>, needed: usize, flag: &str, file: &str) -> anyhow:
 
 /// Runs `tooltouch hdl`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let settings = load_settings(args.config.as_deref(), args.clock_hz)?;
+    let mut settings = load_settings(args.config.as_deref(), None)?;
+    match (args.clock_hz, &settings.clock) {
+        (Some(flag), Some(file)) if flag != file.hz => bail!(
+            "--clock-hz {flag} contradicts {} = {} Hz: the testbench and the golden VCD must \
+             share one clock; leave --clock-hz out or make the two agree",
+            file.source,
+            file.hz
+        ),
+        (Some(hz), None) => {
+            settings.clock = Some(StatedClock {
+                hz,
+                source: "--clock-hz".into(),
+            });
+        }
+        _ => {}
+    }
     let config = settings.config;
     let vectors = match &args.vectors {
         Some(what) => Some(vectors_for(what, &settings, args.config.is_some())?),
@@ -178,7 +221,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let options = Options {
         mcu_diagnostics: args.mcu_diagnostics,
-        ..Options::default()
+        fault: args.inject_fault.map_or(Fault::None, Fault::from),
     };
     let design = generate(&config, &options);
     let mut known: Vec<String> = design.files.iter().map(|f| f.name.clone()).collect();

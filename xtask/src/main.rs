@@ -26,11 +26,11 @@ usage: cargo xtask <verb>
 verbs:
   setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
                iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing; the
-               Python venv (target/py-venv, pinned by python/requirements-dev.txt) with
-               the wheel
+               Python venv (target/py-venv, pinned by python/requirements-dev.txt: cocotb
+               among them) with the wheel
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
                host tests too), lockfile check, a short fuzz pass, the Python package's
-               pytest suite
+               pytest suite, the cocotb bench of the RTL under Icarus and Verilator
   firmware     build the firmware for both boards (--config settings.toml: with that
                configuration baked in; default: the defaults)
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
@@ -121,6 +121,10 @@ fn test() -> Result<()> {
         fuzz::fuzz(&fuzz::TARGETS, fuzz::CI_SECONDS, fuzz::Build::Plain)
     })?;
     step("Python package (pytest)", python::test)?;
+    step(
+        "cocotb bench of tt_frontend (Icarus, Verilator)",
+        python::cocotb,
+    )?;
     step("benches build", || {
         run(&root, "cargo", &["bench", "--workspace", "--no-run"])
     })?;

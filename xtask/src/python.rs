@@ -1,5 +1,6 @@
 //! The Python package (python/): a venv with the pinned tools, the wheel built by maturin
-//! and installed into it (`cargo xtask setup`), and its pytest suite (`cargo xtask test`).
+//! and installed into it (`cargo xtask setup`), its pytest suite and the cocotb bench of the
+//! generated RTL, tests/cocotb (`cargo xtask test`).
 //!
 //! The venv lives in `target/py-venv` so `cargo clean` removes it with every other build
 //! product and git ignores it with target/. Its packages come from
@@ -91,6 +92,17 @@ pub fn setup() -> Result<()> {
 
 /// Runs the package's pytest suite in the venv against the release CLI.
 pub fn test() -> Result<()> {
+    pytest("python/tests")
+}
+
+/// Runs the cocotb bench of `tt_frontend` (tests/cocotb) under Icarus and Verilator, in
+/// the venv, with the release CLI generating the Verilog.
+pub fn cocotb() -> Result<()> {
+    pytest("tests/cocotb")
+}
+
+/// `pytest -q <tests>` in the venv with `TOOLTOUCH_BIN` set to the release CLI (built).
+fn pytest(tests: &str) -> Result<()> {
     let root = root();
     let python = venv_program(&root, "python");
     if !python.is_file() {
@@ -110,17 +122,17 @@ pub fn test() -> Result<()> {
     )?;
     let cli = root.join("target/release/tooltouch");
     println!(
-        "$ (cd {}) {VENV}/bin/python -m pytest python/tests",
+        "$ (cd {}) {VENV}/bin/python -m pytest {tests}",
         root.display()
     );
     let status = std::process::Command::new(&python)
-        .args(["-m", "pytest", "-q", "python/tests"])
+        .args(["-m", "pytest", "-q", tests])
         .env("TOOLTOUCH_BIN", &cli)
         .current_dir(&root)
         .status()
         .context("could not start the venv's python")?;
     if !status.success() {
-        bail!("pytest python/tests failed ({status})");
+        bail!("pytest {tests} failed ({status})");
     }
     Ok(())
 }

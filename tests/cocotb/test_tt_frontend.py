@@ -1,0 +1,232 @@
+"""The cocotb bench of tt_frontend under Icarus and Verilator, run by pytest.
+
+For each drawn configuration: the settings file is written, ``tooltouch hdl --config``
+generates the Verilog from it, cocotb's runner builds it and runs tt_frontend_bench.py
+against the tooltouch package. Then each fault hdl-gen can inject (``tooltouch hdl
+--inject-fault``) must make the bench fail with a mismatch report.
+
+Environment: ``TOOLTOUCH_BIN`` (the CLI; default target/release/tooltouch),
+``TOOLTOUCH_COCOTB_CYCLES`` (clocks per random run, default 50000),
+``TOOLTOUCH_COCOTB_CONFIGS`` (random configurations per simulator, default 3 under
+Icarus and 1 under Verilator),
+``TOOLTOUCH_COCOTB_SEED`` (default 15). Build folders: target/cocotb/.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+from typing import List, Optional, Tuple
+
+import pytest
+
+with warnings.catch_warnings():
+    # cocotb 1.8 marks its Python runner experimental; the pinned version is the one tested.
+    warnings.simplefilter("ignore", UserWarning)
+    from cocotb.runner import get_runner
+
+from stimuli import Configuration, draw_configuration
+
+ROOT = Path(__file__).resolve().parents[2]
+WORK = ROOT / "target" / "cocotb"
+HERE = Path(__file__).resolve().parent
+SIMULATORS = ["icarus", "verilator"]
+CYCLES = int(os.environ.get("TOOLTOUCH_COCOTB_CYCLES", "50000"))
+# Random configurations per simulator: each is a new design to build, and Verilator's
+# build costs about 20 s of CPU, Icarus's well under one.
+CONFIGS = {
+    "icarus": int(os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "3")),
+    "verilator": int(os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "1")),
+}
+SEED = int(os.environ.get("TOOLTOUCH_COCOTB_SEED", "15"))
+TOP = "tt_frontend"
+# Verilator's C++ build is the bench's largest cost (about 20 s of CPU per design): let
+# its make use every core unless the caller chose otherwise.
+os.environ.setdefault("MAKEFLAGS", f"-j{os.cpu_count() or 1}")
+
+# A configuration under which the seeded random stimulus reveals both faults within a few
+# thousand clocks: the charge climbs by 1 LSB per contact pulse, so it sits exactly on the
+# (small) fire threshold before firing; index and FES edges fall into one clock while
+# armed and in contact. The correct design passes the same run.
+FAULT_CONFIGURATION = Configuration(
+    toml="""[measure]
+pulses_per_rev = 16
+i_def = 3
+window_revs = 1
+contact_rule = "sticky"
+charge_bits = 6
+charge_law = { law = "linear", charge_step = 1, discharge_step = 1 }
+fire_threshold = 5
+rearm_threshold = 2
+glitch_cycles = 1
+scale_bits = 12
+method = "density"
+
+[lathe]
+clock_hz = 50000000
+""",
+    mcu_diagnostics=True,
+)
+# Each fault, with the ports its first mismatch may be on (what the fault changes first).
+FAULTS = {
+    "fes-before-index": {"count", "last_window_count", "mcu_rdata"},
+    "fire-threshold-plus-one": {
+        "density_fired",
+        "density_armed",
+        "register_now",
+        "irq",
+        "decision_position",
+        "mcu_rdata",
+    },
+}
+
+
+def tooltouch_bin() -> Path:
+    path = Path(os.environ.get("TOOLTOUCH_BIN", ROOT / "target/release/tooltouch"))
+    if not path.is_file():
+        pytest.fail(
+            f"no tooltouch CLI at {path}: run `cargo build --release` (or `cargo xtask setup`) "
+            "or set TOOLTOUCH_BIN"
+        )
+    return path
+
+
+def generate(out: Path, settings: Path, diagnostics: bool, fault: Optional[str]) -> List[Path]:
+    """``tooltouch hdl`` into ``out``; the sources of tt_frontend (without the testbench and
+    the chip top tt_fpga, which instantiates tt_frontend and so would hide it as a root)."""
+    command = [str(tooltouch_bin()), "hdl", "--config", str(settings), "--out", str(out)]
+    if diagnostics:
+        command.append("--mcu-diagnostics")
+    if fault is not None:
+        command += ["--inject-fault", fault]
+    done = subprocess.run(command, capture_output=True, text=True)
+    assert done.returncode == 0, f"{' '.join(command)}:\n{done.stdout}{done.stderr}"
+    return sorted(p for p in out.glob("*.v") if p.name not in ("tt_testbench.v", "tt_fpga.v"))
+
+
+def run_bench(
+    simulator: str,
+    name: str,
+    configuration: Configuration,
+    seed: int,
+    cycles: int,
+    fault: Optional[str] = None,
+    module: Optional[Tuple[str, str]] = None,
+) -> dict:
+    """Generates, builds and runs one bench (tt_frontend_bench, or ``module``: a test
+    module's name and text); returns its report. Raises ``SystemExit`` (cocotb's runner)
+    when the cocotb test fails."""
+    for tool in {"icarus": ["iverilog", "vvp"], "verilator": ["verilator"]}[simulator]:
+        if shutil.which(tool) is None:
+            pytest.fail(f"{tool} is not installed: run `cargo xtask setup`")
+    work = WORK / simulator / name
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    settings_path = work / "settings.toml"
+    configuration.write(settings_path)
+    sources = generate(work / "rtl", settings_path, configuration.mcu_diagnostics, fault)
+    report = work / "report.json"
+    test_module = "tt_frontend_bench"
+    if module is not None:
+        test_module, text = module
+        (work / "modules").mkdir()
+        (work / "modules" / f"{test_module}.py").write_text(text)
+        # cocotb's runner hands the simulator this process's sys.path as PYTHONPATH.
+        sys.path.insert(0, str(work / "modules"))
+    runner = get_runner(simulator)
+    runner.build(
+        verilog_sources=sources,
+        hdl_toplevel=TOP,
+        build_dir=work / "build",
+        always=True,
+    )
+    runner.test(
+        test_module=test_module,
+        hdl_toplevel=TOP,
+        build_dir=work / "build",
+        test_dir=work,
+        extra_env={
+            "TT_BENCH_SETTINGS": str(settings_path),
+            "TT_BENCH_SEED": str(seed),
+            "TT_BENCH_CYCLES": str(cycles),
+            "TT_BENCH_MCU_DIAGNOSTICS": "1" if configuration.mcu_diagnostics else "0",
+            "TT_BENCH_REPORT": str(report),
+        },
+    )
+    return json.loads(report.read_text()) if report.is_file() else {}
+
+
+def record(simulator: str, name: str, report: dict) -> None:
+    """Prints the run's throughput (shown with ``pytest -s``; kept in the report file)."""
+    print(
+        f"{simulator} {name}: {report['cycles']} clocks in {report['seconds']:.2f} s, "
+        f"{report['cycles_per_s'] or 0:.0f} clocks/s ({report['cycles_per_cpu_s'] or 0:.0f} "
+        "per CPU second)"
+    )
+
+
+@pytest.mark.parametrize(
+    "simulator,index", [(sim, i) for sim in SIMULATORS for i in range(CONFIGS[sim])]
+)
+def test_random_configuration_matches_the_model(simulator: str, index: int) -> None:
+    rng = random.Random(f"{SEED}-{simulator}-{index}")
+    configuration = draw_configuration(rng)
+    seed = rng.getrandbits(32)
+    name = f"random-{index}"
+    try:
+        report = run_bench(simulator, name, configuration, seed, CYCLES)
+    except SystemExit as failure:
+        report_file = WORK / simulator / name / "report.json"
+        detail = report_file.read_text() if report_file.is_file() else "(no report)"
+        pytest.fail(
+            f"{failure}\nsettings:\n{configuration.toml}seed {seed}, "
+            f"mcu_diagnostics {configuration.mcu_diagnostics}\nreport: {detail}"
+        )
+    assert report["mismatch"] is None
+    assert report["cycles"] == CYCLES
+    record(simulator, name, report)
+
+
+@pytest.mark.parametrize("fault", FAULTS)
+@pytest.mark.parametrize("simulator", SIMULATORS)
+def test_injected_fault_is_reported(simulator: str, fault: str) -> None:
+    name = f"fault-{fault}"
+    with pytest.raises(SystemExit):
+        run_bench(simulator, name, FAULT_CONFIGURATION, SEED, 4000, fault=fault)
+    report = json.loads((WORK / simulator / name / "report.json").read_text())
+    mismatch = report["mismatch"]
+    assert mismatch is not None, report
+    assert re.fullmatch(
+        r"MISMATCH at cycle \d+: \w+ expected \d+ \(0x[0-9a-f]+\), got .+",
+        mismatch["message"],
+    ), mismatch
+    assert mismatch["signal"] in FAULTS[fault], mismatch
+    print(f"{simulator} {fault}: {mismatch['message']}")
+
+
+def test_the_correct_design_passes_the_fault_stimulus() -> None:
+    # The faults are caught by the same stimulus the correct design passes.
+    report = run_bench("icarus", "fault-none", FAULT_CONFIGURATION, SEED, 4000)
+    assert report["mismatch"] is None
+
+
+def test_the_docs_scoreboard_runs_as_written() -> None:
+    text = (ROOT / "docs" / "cocotb.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) == 1, "docs/cocotb.md should hold one python example"
+    name = "docs-example"
+    try:
+        run_bench("icarus", name, FAULT_CONFIGURATION, SEED, 0, module=("docs_scoreboard", blocks[0]))
+    except SystemExit as failure:
+        pytest.fail(f"docs/cocotb.md's scoreboard failed ({failure}); see target/cocotb/icarus/{name}")
+    (results_file,) = (WORK / "icarus" / name).glob("*results.xml")
+    results = results_file.read_text()
+    assert 'name="outputs_match_the_model"' in results and "<failure" not in results, results
