@@ -1,6 +1,8 @@
 //! SVG plots of a measurement run: the contact density per revolution (the burst pattern
 //! growing denser, docs/domain.md §1) and the measured diameters against the true ones.
 
+pub mod estimator;
+
 use crate::measurement_cycle::MeasurementReport;
 use plotters::prelude::*;
 use std::path::Path;
