@@ -4,9 +4,12 @@
 //! sample-level vectors.
 //!
 //! Timeline (defaults): spindle at 600 rpm, run-up to 800 rpm between 0.5 and 1.5 s while
-//! the no-load identification runs (0.1–2.5 s: steady periods at 600 rpm before the ramp and at 800 rpm after it, docs/estimator.md), tool engages and force control starts at
-//! 3 s, depth steps at 8 s, end at 13 s. Events are timed in ADC samples (tick_hz =
-//! sample rate); the tick closing a period carries the time of its last sample.
+//! the no-load identification runs (0.1–2.5 s: it fits the steady periods at 600 rpm before
+//! the ramp and at 800 rpm after it, docs/estimator.md), tool engages and force control
+//! starts at 3 s (with `force_control` off the tool engages at the manual override), depth
+//! steps at 8 s, end at 13 s. Events are timed in ADC samples (tick_hz = sample rate); the
+//! tick closing a period carries the time of its last sample. The trace keeps, besides the
+//! kernel's estimate, the power-only and fast electrical estimates it chose between.
 
 use super::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::ReferenceStack;
