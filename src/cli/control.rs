@@ -74,6 +74,11 @@ pub struct Args {
     /// leaves the folder as it was.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Also characterize the force estimator against the dynamometer (force control off:
+    /// a depth step and a run-up without cutting; docs/estimator.md): a second table and,
+    /// with `--out`, `estimator.csv`, `estimator.json` and `estimator.svg`.
+    #[arg(long)]
+    pub estimator_report: bool,
 }
 
 /// Runs `tooltouch control`.
@@ -191,6 +196,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
             m.override_range.1
         );
     }
+    if args.estimator_report {
+        estimator_report(chosen.seed, out.as_ref())?;
+    }
     if let Some(out) = out {
         let dir = out.dir().to_path_buf();
         out.commit()?;
@@ -199,12 +207,35 @@ pub fn run(args: Args) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--estimator-report`: the estimator table, and its files into `out`.
+fn estimator_report(seed: u64, out: Option<&OutputFolder>) -> Result<()> {
+    let report = crate::drive::estimator_report::report(seed);
+    outln!();
+    for line in report.table() {
+        outln!("{line}");
+    }
+    if let Some(out) = out {
+        let write = |name: &str, text: String| {
+            let path = out.path(name);
+            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+        };
+        write(ESTIMATOR_FILES[0], report.csv()?)?;
+        write(ESTIMATOR_FILES[1], report.json()? + "\n")?;
+        crate::plot::estimator::estimator(&out.path(ESTIMATOR_FILES[2]), &report)?;
+    }
+    Ok(())
+}
+
+/// The files of `--estimator-report --out`.
+const ESTIMATOR_FILES: [&str; 3] = ["estimator.csv", "estimator.json", "estimator.svg"];
+
 /// Every file `control --out` can write: plot, series and vectors of each controller and
-/// source, and the metrics table. The vectors' old names (`.events.bin`, `.outputs.bin`,
-/// before they took the `.ttv` of every vector file) are listed too, so a run removes
-/// the stale copies an older version left.
+/// source, the metrics table and the estimator report's files. The vectors' old names
+/// (`.events.bin`, `.outputs.bin`, before they took the `.ttv` of every vector file) are
+/// listed too, so a run removes the stale copies an older version left.
 fn known_outputs() -> Vec<String> {
     let mut names = super::run_tables::table_files("control").to_vec();
+    names.extend(ESTIMATOR_FILES.map(String::from));
     for k in ControllerKind::ALL {
         for s in [ForceSource::Estimated, ForceSource::Measured] {
             for suffix in [

@@ -14,9 +14,19 @@
 //! - Turning process F10 `τ_p dF/dt = K_s·a·f − F` with f = programmed feed × override/100,
 //!   K_s and τ_p drifting linearly in time (relative rates per second), a small random
 //!   force ripple, and the depth-of-cut profile `a(t)` (default 1 mm stepping to 1.5 mm).
-//! - ADC: Gaussian noise in LSBs on every channel, rounded and clamped to 0..=4095, with
-//!   the scales of the model's [`AdcScales`]; a dynamometer channel reads the true force.
+//! - Dynamometer: a piezoelectric force sensor with a charge amplifier reads the cutting
+//!   force the tool sees (F10's force with its ripple) through a first-order low-pass of
+//!   [`DYNAMOMETER_BANDWIDTH_HZ`] — far above the 20 Hz control rate, so after the model's
+//!   100 Hz low-pass and 20 Hz average it is as fast as any channel can be.
+//! - Speed reference: [`Plant::set_speed`] before each sample; it moves linearly over the
+//!   sample's integration substeps (a drive's ramp generator is continuous, and a reference
+//!   stepped at the ADC rate would leave a 1 kHz torque sawtooth that the ADC, sampling
+//!   always at the same phase of it, would alias into a bias of the torque during a ramp).
+//! - ADC: Gaussian noise of [`DriveParams::adc_noise`] LSB rms on every channel, rounded and
+//!   clamped to 0..=4095, with the scales of the model's [`AdcScales`]
+//!   (docs/estimator.md states what each channel models and its noise).
 
+pub mod estimator_report;
 pub mod scenario;
 
 use rand::{RngExt, SeedableRng};
@@ -28,6 +38,9 @@ use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
 
 /// Integration steps per ADC sample.
 pub const SUBSTEPS: u32 = 10;
+
+/// −3 dB bandwidth of the dynamometer (piezo sensor and charge amplifier), Hz.
+pub const DYNAMOMETER_BANDWIDTH_HZ: f64 = 2000.0;
 
 /// Spindle-drive parameters (SI units).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -132,8 +145,11 @@ pub struct PlantState {
     pub omega_s: f64,
     /// Motor torque, N·m.
     pub t_e: f64,
-    /// Cutting force, N.
+    /// Cutting force, N (F10's state, without the ripple).
     pub force: f64,
+    /// Dynamometer reading before the ADC, N (the force with its ripple, low-passed at
+    /// [`DYNAMOMETER_BANDWIDTH_HZ`]).
+    pub dynamometer: f64,
     /// Depth of cut, mm.
     pub depth: f64,
     /// Air-gap power, W.
@@ -153,7 +169,11 @@ pub struct Plant {
     scales: [f64; 5],
     dt: f64,
     state: PlantState,
+    /// Speed reference at the end of the next sample period, rad/s.
     speed_ref: f64,
+    /// Speed reference at the end of the last sample period, rad/s: the reference moves
+    /// linearly between the two over the integration substeps.
+    speed_ref_prev: f64,
     integ: f64,
     theta: f64,
     ripple: f64,
@@ -199,6 +219,7 @@ impl Plant {
                 ..PlantState::default()
             },
             speed_ref: speed,
+            speed_ref_prev: speed,
             integ: slip,
             theta: 0.0,
             ripple: 0.0,
@@ -226,7 +247,11 @@ impl Plant {
     pub fn sample(&mut self) -> AdcCodes {
         let d = self.drive;
         let pr = self.process;
-        for _ in 0..SUBSTEPS {
+        // exact discretization of the dynamometer's first-order lag over one substep
+        let dyn_alpha = 1.0 - (-2.0 * PI * DYNAMOMETER_BANDWIDTH_HZ * self.dt).exp();
+        for j in 1..=SUBSTEPS {
+            let speed_ref = self.speed_ref_prev
+                + (self.speed_ref - self.speed_ref_prev) * f64::from(j) / f64::from(SUBSTEPS);
             let s = &mut self.state;
             s.t += self.dt;
             s.depth = if s.t >= self.depth.step_at {
@@ -247,17 +272,20 @@ impl Plant {
             if !self.engaged {
                 s.force = s.force.max(0.0) * (1.0 - self.dt / 0.005);
             }
+            let cutting = s.force * (1.0 + self.ripple);
+            s.dynamometer += (cutting - s.dynamometer) * dyn_alpha;
             // drive
-            let t_c = s.force * (1.0 + self.ripple) * pr.radius;
+            let t_c = cutting * pr.radius;
             let t_load = d.coulomb + d.friction_f0 * t_c + d.friction_g0 * t_c * t_c + t_c;
-            self.integ += d.speed_ki * (self.speed_ref - s.omega) * self.dt;
-            s.omega_s = self.speed_ref + self.integ;
+            self.integ += d.speed_ki * (speed_ref - s.omega) * self.dt;
+            s.omega_s = speed_ref + self.integ;
             s.t_e = d.slip_stiffness * (s.omega_s - s.omega);
             s.omega += (s.t_e - d.viscous * s.omega - t_load) / d.inertia * self.dt;
             s.p_g = s.t_e * s.omega_s;
             s.p_o += (s.t_e * s.omega - s.p_o) * self.dt / d.power_lag;
             self.theta = (self.theta + d.pole_pairs * s.omega_s * self.dt) % (2.0 * PI);
         }
+        self.speed_ref_prev = self.speed_ref;
         // slowly varying force ripple (first-order noise, ~20 ms)
         let n: f64 = self.rng.sample(StandardNormal);
         self.ripple += (self.process.ripple * n * 3.0 - self.ripple) * 0.05;
@@ -284,7 +312,7 @@ impl Plant {
         AdcCodes {
             speed: code(s.omega, ks, 0.0),
             power: code(s.p_o, kp, 0.0),
-            force: code(s.force, kf, mid),
+            force: code(s.dynamometer, kf, mid),
             volts: volts.map(|x| code(x, kv, mid)),
             amps: amps.map(|x| code(x, ka, mid)),
         }

@@ -4,9 +4,12 @@
 //! sample-level vectors.
 //!
 //! Timeline (defaults): spindle at 600 rpm, run-up to 800 rpm between 0.5 and 1.5 s while
-//! the no-load identification runs (0.3–2.5 s), tool engages and force control starts at
-//! 3 s, depth steps at 8 s, end at 13 s. Events are timed in ADC samples (tick_hz =
-//! sample rate); the tick closing a period carries the time of its last sample.
+//! the no-load identification runs (0.1–2.5 s: it fits the steady periods at 600 rpm before
+//! the ramp and at 800 rpm after it, docs/estimator.md), tool engages and force control
+//! starts at 3 s (with `force_control` off the tool engages at the manual override), depth
+//! steps at 8 s, end at 13 s. Events are timed in ADC samples (tick_hz = sample rate); the
+//! tick closing a period carries the time of its last sample. The trace keeps, besides the
+//! kernel's estimate, the power-only and fast electrical estimates it chose between.
 
 use super::{DepthProfile, DriveParams, Plant, ProcessParams};
 use crate::reference::ReferenceStack;
@@ -37,8 +40,12 @@ pub struct ControlScenario {
     pub ramp: (f64, f64),
     /// No-load identification window, s.
     pub identify: (f64, f64),
-    /// Tool engagement and control on, s.
+    /// Tool engagement (and force control on, with `force_control`), s; beyond `duration`
+    /// the tool never cuts.
     pub engage_at: f64,
+    /// Force control on at engagement; off: the cut runs open loop at the manual override
+    /// (the estimator report's depth step).
+    pub force_control: bool,
     /// Noise seed.
     pub seed: u64,
 }
@@ -59,8 +66,9 @@ impl ControlScenario {
             rpm_start: 600.0,
             rpm_cut: 800.0,
             ramp: (0.5, 1.5),
-            identify: (0.3, 2.5),
+            identify: (0.1, 2.5),
             engage_at: 3.0,
+            force_control: true,
             seed: 1,
         }
     }
@@ -90,6 +98,12 @@ pub struct Trace {
     pub override_pct: Vec<u8>,
     /// F9 used the fast estimate.
     pub fast: Vec<bool>,
+    /// The power-only estimate: F4–F8 on the measured power P_o alone, N (model engine
+    /// only; empty with the reference).
+    pub force_power_only: Vec<f64>,
+    /// The fast electrical estimate: F4–F8 on k_slip·P_g (F2) alone, N (model engine
+    /// only).
+    pub force_electrical: Vec<f64>,
 }
 
 /// The scenario's figures of merit (on the true force).
@@ -154,6 +168,21 @@ impl Stack {
             Stack::Reference(r) => (r.estimate.force, r.estimate.force_measured, r.estimate.fast),
         }
     }
+    /// The period's power-only and fast electrical estimates (model only), N.
+    fn single_estimates(&self) -> Option<(f64, f64)> {
+        match self {
+            Stack::Model(k) => {
+                let e = k.estimate();
+                let est = k.estimator();
+                let slip_gain = est.settings().slip_gain;
+                let (omega, d_omega) = (e.signals.omega, e.d_omega);
+                let power_only = est.torque_chain(e.signals.p_o, omega, d_omega);
+                let electrical = est.torque_chain(slip_gain.saturating_mul(e.p_g), omega, d_omega);
+                Some((power_only.force.to_num(), electrical.force.to_num()))
+            }
+            Stack::Reference(_) => None,
+        }
+    }
 }
 
 /// Runs the scenario; `record` keeps the events and outputs for vectors.
@@ -179,11 +208,18 @@ pub fn run(sc: &ControlScenario, engine: Engine, record: bool) -> Run {
     let reference = s.reference.to_num::<f64>();
     let n = (sc.duration * fs).round() as u64;
     let at = |t: f64| (t * fs).round() as u64;
-    let commands = [
+    let engage = if sc.engage_at < sc.duration {
+        at(sc.engage_at)
+    } else {
+        u64::MAX
+    };
+    let mut commands = vec![
         (at(sc.identify.0), ForceEvent::Identify(true)),
         (at(sc.identify.1), ForceEvent::Identify(false)),
-        (at(sc.engage_at), ForceEvent::Control(true)),
     ];
+    if sc.force_control {
+        commands.push((engage, ForceEvent::Control(true)));
+    }
     let mut run = Run::default();
     let mut force_sum = 0.0;
     let emit = |stack: &mut Stack, run: &mut Run, k: u64, ev: ForceEvent| {
@@ -220,7 +256,14 @@ pub fn run(sc: &ControlScenario, engine: Engine, record: bool) -> Run {
             tr.force_meas.push(meas);
             tr.override_pct.push(plant.override_pct);
             tr.fast.push(fast);
+            if let Some((power_only, electrical)) = stack.single_estimates() {
+                tr.force_power_only.push(power_only);
+                tr.force_electrical.push(electrical);
+            }
             force_sum = 0.0;
+        }
+        if k == engage && !sc.force_control {
+            plant.engaged = true;
         }
         for &(when, ev) in &commands {
             if when == k {

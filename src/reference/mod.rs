@@ -115,6 +115,7 @@ pub struct EstimatorF {
     omega_prev: Option<f64>,
     hold: u32,
     identifying: bool,
+    steady_prev: bool,
     sums: [f64; 5],
 }
 
@@ -131,6 +132,7 @@ impl EstimatorF {
             omega_prev: None,
             hold: 0,
             identifying: false,
+            steady_prev: false,
             sums: [0.0; 5],
         };
         e.inv_b = e.inverse_b();
@@ -200,8 +202,14 @@ impl EstimatorF {
         let t_e = self.torque(if fast { fast_power } else { p_o }, omega);
         let d_omega = omega - self.omega_prev.unwrap_or(omega);
         self.omega_prev = Some(omega);
-        if self.identifying {
-            let y = self.torque(fast_power, omega) - f(es.inertia) / self.h * d_omega;
+        // identification on steady periods, without the slip gain (as the model)
+        let t_g = self.torque(p_g, omega);
+        let inertia_torque = f(es.inertia) / self.h * d_omega;
+        let steady = inertia_torque.abs()
+            * f64::from(1u32 << tooltouch_model::force::estimator::STEADY_SHIFT)
+            <= t_g.abs();
+        if self.identifying && steady && self.steady_prev {
+            let y = t_g - inertia_torque;
             let s = &mut self.sums;
             s[0] += 1.0;
             s[1] += omega;
@@ -209,6 +217,7 @@ impl EstimatorF {
             s[3] += y;
             s[4] += omega * y;
         }
+        self.steady_prev = steady;
         let t_t = t_e - self.inv_b * d_omega - self.viscous * omega;
         let c = t_t - self.coulomb;
         let ff = f(es.friction_f[0]) + f(es.friction_f[1]) * omega;

@@ -25,13 +25,23 @@
 //!    least 1/2 so the denominator is never below 1/2;
 //! 7. force `F̂_c = T̂_c / r` (multiplied by the precomputed `1/r`).
 //!
-//! No-load identification (before the tool touches): while on, every period adds
-//! `(ω(i), y(i))` with `y = k_slip·P_g/ω − (J/h)(ω(i) − ω(i−1))` (the fast electrical
-//! torque: P_o lags too much during a speed change) to least-squares sums of the model
-//! `y = B·ω + T_fco` (F5 at no load). When it ends, B and T_fco are solved from the sums
-//! (in `i128`, values reduced to 16 fractional bits). Needs a speed change during the
-//! window (spindle run-up): if the speed variance is below 1 (rad/s)², B keeps its
-//! nominal value and only T_fco = mean(y) − B·mean(ω) is identified.
+//! No-load identification (before the tool touches) fits F5 at no load, `y = B·ω + T_fco`,
+//! by least squares over the window's *steady-speed* periods: `y = P_g/ω − (J/h)(ω(i) −
+//! ω(i−1))`, the electrical torque (P_o lags too much after a speed change) less the small
+//! inertia torque left while the speed settles. A period counts as steady when its inertia
+//! torque is at most 1/16 of that torque, `16·|(J/h)·Δω| ≤ |P_g/ω|` ([`STEADY_SHIFT`]), and
+//! it is collected only when the period before it was steady too. Why: ω is a period
+//! *average*, so `(J/h)·Δω` is the inertia torque around the boundary between the two
+//! periods, half a period earlier than the torque average it is subtracted from; during a
+//! run-up that misalignment adds ±J·a/2 summed over the periods where the acceleration a
+//! starts and stops — at the low and the high speed, so it tilts the fitted line (B came out
+//! at about half the plant's value). At steady speed there is nothing to misalign. The slip
+//! gain is not applied either: it corrects P_g/ω_M for the slip under load, which at no load
+//! is a fraction of a percent (applied, it scaled B and T_fco by it). When the window ends,
+//! B and T_fco are solved from the sums (in `i128`, values reduced to 16 fractional bits).
+//! The window therefore needs steady periods at two or more speeds (before and after a
+//! spindle run-up): if the collected speeds' variance is below 1 (rad/s)², B keeps its value
+//! and only T_fco = mean(y) − B·mean(ω) is identified; with no steady period nothing changes.
 //!
 //! All quantities are I32F32 ([`Fx`]) in SI units; every product and sum saturates.
 
@@ -40,6 +50,12 @@ pub mod settings;
 use crate::force::estimator::settings::{inverse_b, viscous_max, EstimatorSettings};
 use crate::force::sampling::DriveSignals;
 use crate::units::{Fx, NewtonMetres, Newtons, NmsPerRad, RadPerSec, Seconds, Watts};
+
+/// A period is steady for the identification when `|(J/h)·Δω| · 2^STEADY_SHIFT ≤ |P_g/ω|`:
+/// its inertia torque is at most 1/16 of the motor torque (at the default drive's idle
+/// torque of 1.4 N·m: 1.75 rad/s², where the speed channel's noise moves Δω by about
+/// 0.3 rad/s² rms).
+pub const STEADY_SHIFT: u32 = 4;
 
 /// Square root of a non-negative I32F32 value, I32F32, by the exact integer square root of
 /// the raw bits shifted by 32 (the floor of the true root in the last bit). Negative
@@ -67,6 +83,21 @@ pub struct Estimate {
     pub p_used: Watts,
     /// F9 selected the fast electrical estimate this period.
     pub fast: bool,
+    /// Speed change since the previous period `ω(i) − ω(i−1)` (0 in the first), rad/s.
+    pub d_omega: RadPerSec,
+    /// Motor torque T_e (F4), N·m.
+    pub t_e: NewtonMetres,
+    /// External torque T̂_t (F6), N·m.
+    pub t_t: NewtonMetres,
+    /// Cutting torque T̂_c (F7–F8), N·m.
+    pub t_c: NewtonMetres,
+    /// Cutting force F̂_c = T̂_c / r, N.
+    pub force: Newtons,
+}
+
+/// F4–F8 for one power: the torques and the force they give.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct TorqueChain {
     /// Motor torque T_e (F4), N·m.
     pub t_e: NewtonMetres,
     /// External torque T̂_t (F6), N·m.
@@ -100,6 +131,8 @@ pub struct Estimator {
     hold: u8,
     identifying: bool,
     identified: bool,
+    /// The previous period was steady (see [`STEADY_SHIFT`]).
+    steady_prev: bool,
     sums: NoLoadSums,
 }
 
@@ -120,10 +153,15 @@ impl Estimator {
             hold: 0,
             identifying: false,
             identified: false,
+            steady_prev: false,
             sums: NoLoadSums::default(),
         }
     }
 
+    /// The settings it was made with.
+    pub fn settings(&self) -> &EstimatorSettings {
+        &self.s
+    }
     /// Viscous friction B in use, N·m·s/rad.
     pub fn viscous(&self) -> NmsPerRad {
         self.viscous
@@ -202,6 +240,37 @@ impl Estimator {
         }
     }
 
+    /// F4–F8 with the B and T_fco in use: the force that `power` (W) gives at speed `omega`
+    /// after a speed change `d_omega` (rad/s) since the previous period. [`Estimator::step`]
+    /// calls it with F9's choice; the host calls it with P_o or k_slip·P_g alone to
+    /// characterize the two estimates F9 chooses between.
+    pub fn torque_chain(&self, power: Watts, omega: RadPerSec, d_omega: RadPerSec) -> TorqueChain {
+        let t_e = self.torque(power, omega);
+        // F6
+        let t_t = t_e
+            .saturating_sub(self.inv_b.saturating_mul(d_omega))
+            .saturating_sub(self.viscous.saturating_mul(omega));
+        // F7–F8
+        let c = t_t.saturating_sub(self.coulomb);
+        let f = self.s.friction_f[0].saturating_add(self.s.friction_f[1].saturating_mul(omega));
+        let g = self.s.friction_g[0].saturating_add(self.s.friction_g[1].saturating_mul(omega));
+        let one_f = Fx::ONE.saturating_add(f).max(const { Fx::lit("0.5") });
+        let disc = one_f
+            .saturating_mul(one_f)
+            .saturating_add(g.saturating_mul(c).saturating_mul(Fx::const_from_int(4)));
+        let denom = one_f.saturating_add(sqrt_fx(disc));
+        let t_c = c
+            .saturating_mul(Fx::const_from_int(2))
+            .checked_div(denom)
+            .unwrap_or(Fx::ZERO);
+        TorqueChain {
+            t_e,
+            t_t,
+            t_c,
+            force: t_c.saturating_mul(self.inv_radius),
+        }
+    }
+
     /// One control period: F1–F9 from the period's signals (see the module header).
     pub fn step(&mut self, sig: &DriveSignals) -> Estimate {
         const THREE_HALVES: Fx = Fx::lit("1.5");
@@ -225,15 +294,19 @@ impl Estimator {
         let fast = self.hold > 0;
         let p_used = if fast { fast_power } else { sig.p_o };
         self.hold = self.hold.saturating_sub(1);
-        let t_e = self.torque(p_used, omega);
         let omega_prev = self.omega_prev.unwrap_or(omega);
         self.omega_prev = Some(omega);
         let d_omega = omega.saturating_sub(omega_prev);
-        if self.identifying {
-            let j_over_h = self.s.inertia.checked_div(self.h).unwrap_or(Fx::ZERO);
-            let y = self
-                .torque(fast_power, omega)
-                .saturating_sub(j_over_h.saturating_mul(d_omega));
+        // No-load identification on steady periods (module header).
+        let j_over_h = self.s.inertia.checked_div(self.h).unwrap_or(Fx::ZERO);
+        let t_g = self.torque(p_g, omega);
+        let inertia_torque = j_over_h.saturating_mul(d_omega);
+        let steady = inertia_torque
+            .saturating_abs()
+            .saturating_mul(Fx::const_from_int(1 << STEADY_SHIFT))
+            <= t_g.saturating_abs();
+        if self.identifying && steady && self.steady_prev {
+            let y = t_g.saturating_sub(inertia_torque);
             let w16 = i128::from(omega.to_bits() >> 16);
             let y16 = i128::from(y.to_bits() >> 16);
             let s = &mut self.sums;
@@ -243,34 +316,19 @@ impl Estimator {
             s.sy = s.sy.saturating_add(y16);
             s.swy = s.swy.saturating_add(w16.saturating_mul(y16));
         }
-        // F6
-        let t_t = t_e
-            .saturating_sub(self.inv_b.saturating_mul(d_omega))
-            .saturating_sub(self.viscous.saturating_mul(omega));
-        // F7–F8
-        let c = t_t.saturating_sub(self.coulomb);
-        let f = self.s.friction_f[0].saturating_add(self.s.friction_f[1].saturating_mul(omega));
-        let g = self.s.friction_g[0].saturating_add(self.s.friction_g[1].saturating_mul(omega));
-        let one_f = Fx::ONE.saturating_add(f).max(const { Fx::lit("0.5") });
-        let disc = one_f
-            .saturating_mul(one_f)
-            .saturating_add(g.saturating_mul(c).saturating_mul(Fx::const_from_int(4)));
-        let denom = one_f.saturating_add(sqrt_fx(disc));
-        let t_c = c
-            .saturating_mul(Fx::const_from_int(2))
-            .checked_div(denom)
-            .unwrap_or(Fx::ZERO);
-        let force = t_c.saturating_mul(self.inv_radius);
+        self.steady_prev = steady;
+        let chain = self.torque_chain(p_used, omega, d_omega);
         Estimate {
             signals: *sig,
             p_i,
             p_g,
             p_used,
             fast,
-            t_e,
-            t_t,
-            t_c,
-            force,
+            d_omega,
+            t_e: chain.t_e,
+            t_t: chain.t_t,
+            t_c: chain.t_c,
+            force: chain.force,
         }
     }
 }
@@ -325,18 +383,28 @@ mod tests {
     #[test]
     fn no_load_identification_recovers_b_and_coulomb() {
         let h = Fx::lit("0.05");
-        let mut e = Estimator::new(&settings(), h);
         let (b, t_fco) = (Fx::lit("0.005"), Fx::ONE);
         let j_over_h = Fx::ONE; // 0.05 / 0.05
-        e.start_identification();
-        let mut omega = Fx::const_from_int(60);
         let step = Fx::lit("0.5");
-        // one period at constant speed, then a ramp of 0.5 rad/s per period
-        let _ = e.step(&signals(omega, b * omega + t_fco));
-        for _ in 0..40 {
-            omega += step;
-            let _ = e.step(&signals(omega, b * omega + t_fco + j_over_h * step));
-        }
+        // 10 periods at 60 rad/s, a ramp of 0.5 rad/s per period to 80 rad/s (inertia
+        // torque 0.5 N·m, more than 1/16 of the ~1.8 N·m torque: not steady), 10 at 80.
+        let run_up = |e: &mut Estimator, plateaus: bool| {
+            let mut omega = Fx::const_from_int(60);
+            let reps = if plateaus { 10 } else { 1 };
+            for _ in 0..reps {
+                let _ = e.step(&signals(omega, b * omega + t_fco));
+            }
+            for _ in 0..40 {
+                omega += step;
+                let _ = e.step(&signals(omega, b * omega + t_fco + j_over_h * step));
+            }
+            for _ in 0..reps {
+                let _ = e.step(&signals(omega, b * omega + t_fco));
+            }
+        };
+        let mut e = Estimator::new(&settings(), h);
+        e.start_identification();
+        run_up(&mut e, true);
         e.finish_identification();
         assert!(e.identified());
         assert!(
@@ -348,6 +416,28 @@ mod tests {
             (e.coulomb() - t_fco).abs() < Fx::lit("0.01"),
             "T_fco = {}",
             e.coulomb()
+        );
+        // The ramp with one period before and after it has no two steady periods in a row:
+        // nothing is collected, B and T_fco keep their nominal values.
+        let mut e = Estimator::new(&settings(), h);
+        e.start_identification();
+        run_up(&mut e, false);
+        e.finish_identification();
+        assert!(!e.identified());
+        assert_eq!((e.viscous(), e.coulomb()), (Fx::lit("0.02"), Fx::ZERO));
+    }
+
+    #[test]
+    fn torque_chain_is_the_steps_force_for_its_power() {
+        let h = Fx::lit("0.05");
+        let mut e = Estimator::new(&settings(), h);
+        let _ = e.step(&signals(Fx::const_from_int(80), Fx::const_from_int(3)));
+        let est = e.step(&signals(Fx::const_from_int(82), Fx::const_from_int(12)));
+        assert_eq!(est.d_omega, Fx::const_from_int(2));
+        let chain = e.torque_chain(est.p_used, est.signals.omega, est.d_omega);
+        assert_eq!(
+            (chain.t_e, chain.t_t, chain.t_c, chain.force),
+            (est.t_e, est.t_t, est.t_c, est.force)
         );
     }
 

@@ -123,45 +123,76 @@ fn viscous_friction_and_the_load_dependent_terms() {
     );
 }
 
-/// A no-load period at speed `omega` whose identification torque
-/// `y = P_g/ω − (J/h)·Δω` is `y` (slip gain 1, R_s = 0, I = 1 A, P_g = 1.5·V).
-fn no_load(e: &mut Estimator, omega: f64, d_omega: f64, y: f64) {
-    let p_g = omega * (y + 8.0 * d_omega);
+/// A no-load period at speed `omega` (rad/s) with air-gap power `p_g` (W) and P_o = P_g
+/// (F9 stays on P_o); R_s = 0 and I = 1 A, so P_g = 1.5·V. The identification torque is
+/// `y = P_g/ω − (J/h)·Δω` with J/h = 8, and the slip gain (1/2 in [`settings`]) is not
+/// applied to it.
+fn no_load(e: &mut Estimator, omega: f64, p_g: f64) {
     e.step(&signals(omega, 1.0, p_g / 1.5, 0.0, p_g));
 }
 
 fn no_load_settings(viscous: f64) -> EstimatorSettings {
     EstimatorSettings {
         stator_resistance: Fx::ZERO,
-        slip_gain: Fx::ONE,
         viscous_nominal: fx(viscous),
         ..settings()
     }
 }
 
 #[test]
-fn identification_solves_b_and_coulomb_from_three_periods() {
-    // y = ω/4 + 1 at ω = 8, 16, 24: least squares gives B = 96/384 = 1/4, T_fco = 1.
+fn identification_solves_b_and_coulomb_from_steady_periods() {
     let mut e = Estimator::new(&no_load_settings(0.0), fx(H));
     assert!(!e.identifying());
     e.start_identification();
     assert!(e.identifying());
-    no_load(&mut e, 8.0, 0.0, 3.0);
-    no_load(&mut e, 16.0, 8.0, 5.0);
-    no_load(&mut e, 24.0, 8.0, 7.0);
+    // ω = 8, P_g = 24: first period, Δω = 0 but no steady period before it: not collected.
+    no_load(&mut e, 8.0, 24.0);
+    // Steady again: collected, y = 24/8 = 3.
+    no_load(&mut e, 8.0, 24.0);
+    // ω = 16 (Δω = 8): inertia torque 8·8 = 64, P_g/ω = 1104/16 = 69; 16·64 > 69: not
+    // steady, not collected; the next period at 16 follows it: not collected either.
+    no_load(&mut e, 16.0, 1104.0);
+    no_load(&mut e, 16.0, 72.0);
+    // Collected: y = 72/16 = 4.5.
+    no_load(&mut e, 16.0, 72.0);
+    // The same at ω = 24 (P_g/ω = 2016/24 = 84 after the jump): y = 144/24 = 6.
+    no_load(&mut e, 24.0, 2016.0);
+    no_load(&mut e, 24.0, 144.0);
+    no_load(&mut e, 24.0, 144.0);
     e.finish_identification();
     assert!(!e.identifying());
     assert!(e.identified());
-    assert_eq!((e.viscous(), e.coulomb()), (fx(0.25), fx(1.0)));
+    // Points (8, 3), (16, 4.5), (24, 6): n = 3, Σω = 48, Σω² = 896, Σy = 13.5,
+    // Σωy = 24 + 72 + 144 = 240; B = (3·240 − 48·13.5) / (3·896 − 48²) = 72/384 = 3/16,
+    // T_fco = (13.5 − 48·3/16)/3 = 1.5.
+    assert_eq!((e.viscous(), e.coulomb()), (fx(0.1875), fx(1.5)));
+}
+
+#[test]
+fn a_period_is_steady_up_to_an_inertia_torque_of_a_sixteenth() {
+    let mut e = Estimator::new(&no_load_settings(0.0), fx(H));
+    e.start_identification();
+    no_load(&mut e, 8.0, 24.0);
+    no_load(&mut e, 8.0, 24.0); // collected: (8, 3)
+                                // Δω = 3/8: inertia torque 8·3/8 = 3; P_g/ω = 402/8.375 = 48 = 16·3: steady,
+                                // collected, y = 48 − 3 = 45.
+    no_load(&mut e, 8.375, 402.0);
+    // Δω = 3/8 again, P_g/ω = 210/8.75 = 24 < 48: not steady, not collected.
+    no_load(&mut e, 8.75, 210.0);
+    e.finish_identification();
+    // Speeds 8 and 8.375: n·Σω² − (Σω)² = 2·134.140625 − 16.375² = 0.140625, below
+    // n²·1 (rad/s)²: B stays 0 and T_fco = mean(y) = (3 + 45)/2 = 24.
+    assert_eq!((e.viscous(), e.coulomb()), (Fx::ZERO, fx(24.0)));
 }
 
 #[test]
 fn identification_at_constant_speed_keeps_b() {
-    // ω = 8 throughout, no variance: B stays 1/4, T_fco = mean(y) − B·8 = 3 − 2 = 1.
+    // ω = 8 throughout, no variance: B stays 1/4; the second and third periods are
+    // collected, T_fco = mean(y) − B·8 = 3 − 2 = 1.
     let mut e = Estimator::new(&no_load_settings(0.25), fx(H));
     e.start_identification();
     for _ in 0..3 {
-        no_load(&mut e, 8.0, 0.0, 3.0);
+        no_load(&mut e, 8.0, 24.0);
     }
     e.finish_identification();
     assert_eq!((e.viscous(), e.coulomb()), (fx(0.25), fx(1.0)));
@@ -177,10 +208,11 @@ fn identification_without_periods_or_start_changes_nothing() {
     e.finish_identification();
     assert!(!e.identified());
     assert_eq!((e.viscous(), e.coulomb()), (fx(0.25), fx(8.0)));
-    // Periods outside an identification are not collected.
-    no_load(&mut e, 8.0, 0.0, 100.0);
+    // Periods outside an identification are not collected (y = 768/8 = 96 here), but
+    // they count as the steady period before the first one inside it.
+    no_load(&mut e, 8.0, 768.0);
     e.start_identification();
-    no_load(&mut e, 8.0, 0.0, 3.0);
+    no_load(&mut e, 8.0, 24.0);
     e.finish_identification();
     assert_eq!(e.coulomb(), fx(1.0), "3 − 0.25·8");
 }
