@@ -7,7 +7,7 @@
 //! part of `cargo xtask test` (a full run takes hours on two cores): run it per file while
 //! writing tests, and record the last run in docs/mutants.md. Mutants that no test can
 //! kill are listed with their reason in docs/mutants.md and skipped by
-//! `.cargo/mutants.toml` (model) and `firmware/.cargo/mutants.toml` (handlers).
+//! `.cargo/mutants.toml` (the handlers have none: every one is caught).
 //!
 //! The model's mutants are built in cargo-mutants' scratch copy of the workspace; the
 //! firmware is its own workspace with a path dependency on `../model`, which a copy of
@@ -68,7 +68,7 @@ pub fn run(args: &[String]) -> Result<()> {
             argv.push((*f).clone());
         }
         argv.extend(MODEL_TEST_ARGS.iter().map(|s| s.to_string()));
-        cargo_mutants(&root, &argv)?;
+        cargo_mutants(&root, &argv, &out)?;
         tally(&out.join("mutants.out"), "", &mut scores)?;
     }
     if everything || !firmware.is_empty() {
@@ -87,7 +87,7 @@ pub fn run(args: &[String]) -> Result<()> {
             "--output".into(),
             out.display().to_string(),
         ];
-        cargo_mutants(&root.join("firmware"), &argv)?;
+        cargo_mutants(&root.join("firmware"), &argv, &out)?;
         tally(&out.join("mutants.out"), "firmware/", &mut scores)?;
     }
     print_scores(&scores);
@@ -107,9 +107,11 @@ fn ensure_installed() -> Result<()> {
     Ok(())
 }
 
-/// Runs `cargo mutants` in `dir`. Its exit status is 2 when mutants were missed and 3 on
+/// Runs `cargo mutants` in `dir`, its results in `out` (created with its parents). Its exit status is 2 when mutants were missed and 3 on
 /// timeouts: results, not failures; anything else non-zero is.
-fn cargo_mutants(dir: &Path, argv: &[String]) -> Result<()> {
+fn cargo_mutants(dir: &Path, argv: &[String], out: &Path) -> Result<()> {
+    // cargo-mutants creates `out` itself but not its parents (`target/mutants/`).
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     println!("$ (cd {}) cargo {}", dir.display(), argv.join(" "));
     let status = Command::new("cargo")
         .args(argv)

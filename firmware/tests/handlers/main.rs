@@ -308,6 +308,40 @@ fn the_compare_interrupt_fires_every_fold_limit_pulses() {
     }
 }
 
+/// A scale edge with no deciding pulse counted does not fold (scale edges change no count,
+/// and they are the most frequent edge): its task drives nothing and leaves the compare
+/// where the last fold set it, so the fold-limit interrupt still fires [`FES_FOLD_LIMIT`]
+/// pulses after that fold, not after the scale edge.
+#[test]
+fn a_scale_edge_folds_only_when_a_counted_pulse_may_decide() {
+    for (name, irqs) in BOARDS {
+        // Armed without contact: no pulse can decide, the compare is the fold limit.
+        let mut sim = Sim::new(name, irqs, &counter_config(8), 7);
+        sim.replay(Burst::edge(MeasureEvent::Arm(true)));
+        let limit = sim.count().wrapping_add(FES_FOLD_LIMIT);
+        assert_eq!(sim.compare(), limit, "{name}");
+        sim.take_actions();
+        sim.replay(Burst::edge(MeasureEvent::Scale { a: true, b: false }).after_pulses(10));
+        assert_eq!(
+            sim.take_actions(),
+            [Action::Taken(irqs.scale)],
+            "{name}: the scale task only steps the decoder"
+        );
+        assert_eq!(sim.compare(), limit, "{name}: the compare is not moved");
+        for k in 11..=FES_FOLD_LIMIT {
+            sim.replay(Burst::pulses(1));
+            let fired = taken(&sim.take_actions()).contains(&irqs.fes_compare);
+            assert_eq!(
+                fired,
+                k == FES_FOLD_LIMIT,
+                "{name}: pulse {k} since the fold"
+            );
+        }
+        sim.replay(Burst::pulses(0).observed());
+        assert_eq!(sim.model().outputs().position, 1, "{name}");
+    }
+}
+
 /// The index closes the counting window after the pulses counted before it, whether they
 /// came in the same burst or earlier without an interrupt.
 #[test]
