@@ -261,3 +261,27 @@ fn the_sticky_bit_lives_until_the_next_pulse() {
     assert_eq!(m.density().charge(), 64, "the default linear step");
     assert_eq!(m.scale().position(), 0);
 }
+
+#[test]
+fn a_repeated_arm_level_is_no_edge() {
+    // Only a rising edge of the arm line starts a cycle: arm, 3 contact pulses.
+    let mut m = measurement(DecisionMethod::Counter);
+    m.on_arm(true);
+    m.on_contact(true);
+    m.on_fes_run(3);
+    // Arm high again while armed: no rising edge, the count 3 stays.
+    m.on_arm(true);
+    let o = m.outputs();
+    assert_eq!(
+        (o.armed, o.count, o.pulses, o.first_contact),
+        (true, 3, 3, true)
+    );
+    // Disarm, and low again while disarmed: the results are held both times.
+    m.on_arm(false);
+    m.on_arm(false);
+    let o = m.outputs();
+    assert_eq!(
+        (o.armed, o.count, o.pulses, o.first_contact),
+        (false, 3, 3, true)
+    );
+}

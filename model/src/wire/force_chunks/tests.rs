@@ -286,3 +286,24 @@ fn error_messages_name_what_is_wrong() {
         ForceChunkError::BadEncoding { at: 9 }
     );
 }
+
+/// The announced total's bounds: 1 to 512 bytes (`FORCE_CONFIG_MAX`) are accepted, 513 is
+/// not.
+#[test]
+fn totals_from_one_to_512_bytes_are_accepted() {
+    let mut a = ForceConfigAssembler::new();
+    assert_eq!(
+        a.push(force_config_chunk(0, 512, 0, &[7; 44]).payload()),
+        Ok(false)
+    );
+    let mut a = ForceConfigAssembler::new();
+    assert_eq!(
+        a.push(force_config_chunk(0, 1, 0, &[7]).payload()),
+        Ok(true)
+    );
+    let mut a = ForceConfigAssembler::new();
+    assert_eq!(
+        a.push(force_config_chunk(0, 513, 0, &[7; 44]).payload()),
+        Err(ForceChunkError::Oversized { total: 513 })
+    );
+}
