@@ -153,4 +153,24 @@ mod tests {
         // proportional part alone saturates: the integrator stayed where it was
         assert_eq!(c.integral(), Fx::const_from_int(100));
     }
+
+    /// The integrator's lower clamp lies in 0..=254 % (one override step below the
+    /// 255 % top), the upper one above it up to 255 %.
+    #[test]
+    fn the_integrator_clamps_are_checked_against_their_ranges() {
+        let field = |min: i32, max: i32| {
+            PiSettings {
+                integrator_min: Fx::from_num(min),
+                integrator_max: Fx::from_num(max),
+                ..DEFAULT_PI
+            }
+            .validate()
+            .map_err(|e| e.field)
+        };
+        assert_eq!(field(254, 255), Ok(()));
+        assert_eq!(field(255, 255), Err("pi.integrator_min"));
+        assert_eq!(field(-1, 255), Err("pi.integrator_min"));
+        assert_eq!(field(10, 10), Err("pi.integrator_max"));
+        assert_eq!(field(10, 256), Err("pi.integrator_max"));
+    }
 }
