@@ -154,6 +154,34 @@ mod tests {
         assert_eq!(c.integral(), Fx::const_from_int(100));
     }
 
+    /// Anti-windup holds the integrator only when the demand is *beyond* the override's
+    /// range: a demand of exactly 255 % (or exactly 0 %) is not saturated, so the period
+    /// integrates even though the error pushes outwards. K_p = 0.5 %/N, K_i = 1 %/(N·s),
+    /// h = 0.5 s (all exact in I32F32), so K_i·h = 0.5 %/N:
+    /// - I = 250 %, e = +10 N: demand = 0.5·10 + 250 = 255 %, I becomes 250 + 0.5·10 = 255 %;
+    /// - I = 5 %, e = −10 N: demand = 0.5·(−10) + 5 = 0 %, I becomes 5 − 0.5·10 = 0 %.
+    #[test]
+    fn a_demand_exactly_at_the_range_ends_still_integrates() {
+        let settings = PiSettings {
+            kp: Fx::lit("0.5"),
+            ki: Fx::const_from_int(1),
+            integrator_min: Fx::ZERO,
+            integrator_max: OVERRIDE_MAX_FX,
+        };
+        let half = Fx::lit("0.5");
+        let f = |n: i64| Fx::const_from_int(n);
+
+        let mut top = Pi::new(&settings, half, 250);
+        let o = top.step(f(510), f(500));
+        assert_eq!((o.override_pct, o.saturated), (255, false));
+        assert_eq!(top.integral(), f(255));
+
+        let mut bottom = Pi::new(&settings, half, 5);
+        let o = bottom.step(f(490), f(500));
+        assert_eq!((o.override_pct, o.saturated), (0, false));
+        assert_eq!(bottom.integral(), Fx::ZERO);
+    }
+
     /// The integrator's lower clamp lies in 0..=254 % (one override step below the
     /// 255 % top), the upper one above it up to 255 %.
     #[test]
