@@ -852,7 +852,7 @@ mod tests {
         let wide = format!("11{}", "01".repeat(49));
         let v = parse_value(&wide, 100);
         assert_eq!(v.bits.len(), 100);
-        assert_eq!(v.hex_digits(), format!("f{}", "5".repeat(24)));
+        assert_eq!(v.hex_digits(), format!("d{}", "5".repeat(24)));
         let zeros = format!("{}101", "0".repeat(90));
         assert_eq!(parse_value(&zeros, 100), Value::known(5));
     }
