@@ -3,7 +3,7 @@
 //! force-control gain point) and `pareto.svg` (diameter error against logic cells, each
 //! method's Pareto front highlighted).
 
-use super::{Results, Row};
+use super::Results;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::Path;
