@@ -27,7 +27,7 @@ pub mod interrupts;
 mod panic;
 #[cfg(all(feature = "qemu", target_os = "none"))]
 pub mod semihosting;
-#[cfg(target_os = "none")]
+#[cfg(all(feature = "qemu", target_os = "none"))]
 pub mod stack;
 
 pub use tooltouch_model as model;

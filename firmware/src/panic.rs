@@ -20,9 +20,7 @@ mod check {
 #[cfg(all(feature = "qemu", not(feature = "panic-check")))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
-    loop {
-        cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
-    }
+    semihosting::process::exit(1)
 }
 
 /// Hardware: panic-probe prints the message over defmt and stops the probe run.

@@ -1,14 +1,13 @@
 //! Semihosting file I/O for the co-simulation under QEMU: the event stream comes in and the
 //! output trace goes out through the host's file system (`-semihosting-config
-//! enable=on,target=native`).
-//!
-//! cortex-m-semihosting 0.5 has no public `open`, so this uses its raw `syscall!`: OPEN's
-//! length excludes the terminating NUL; READ and WRITE return the number of bytes *not*
-//! transferred. Messages go to the host's console (`:tt`), and the run ends with
-//! SYS_EXIT_EXTENDED, whose subcode QEMU makes its exit status ([`exit_code`]).
+//! enable=on,target=native`), with the `semihosting` crate's `fs` and `stdio`. Messages go to
+//! the host's console, and the run ends with SYS_EXIT_EXTENDED (the crate's
+//! `process::exit`), whose subcode QEMU makes its exit status ([`exit_code`]).
 
 use crate::cosim::{IoError, Port};
-use cortex_m_semihosting::{nr, syscall};
+use core::ffi::CStr;
+use semihosting::fd::{AsFd, BorrowedFd, OwnedFd};
+use semihosting::fs::File;
 
 /// QEMU's exit status at the end of a run (docs/firmware.md lists them).
 pub mod exit_code {
@@ -26,80 +25,31 @@ pub mod exit_code {
     pub const BAD_BAKED_CONFIG: u8 = 5;
 }
 
-/// `SYS_EXIT_EXTENDED`: exit with a reason and a subcode.
-const SYS_EXIT_EXTENDED: usize = 0x20;
-/// The reason of a normal application exit; the subcode is then the exit status.
-const ADP_STOPPED_APPLICATION_EXIT: usize = 0x2_0026;
-
-/// Ends the QEMU run with exit status `code`.
+/// Ends the QEMU run with exit status `code` (SYS_EXIT_EXTENDED, reason
+/// ADP_Stopped_ApplicationExit, subcode `code`).
 pub fn exit(code: u8) -> ! {
-    let block = [ADP_STOPPED_APPLICATION_EXIT, usize::from(code)];
-    loop {
-        // SAFETY: the parameter block is two live words, as SYS_EXIT_EXTENDED reads them.
-        unsafe {
-            cortex_m_semihosting::syscall(SYS_EXIT_EXTENDED, &block);
-        }
-    }
+    semihosting::process::exit(i32::from(code))
 }
 
 /// Writes `bytes` to the host's console; a console the host refuses is skipped (a
 /// message is best effort).
 pub fn print(bytes: &[u8]) {
-    if let Some(mut console) = File::open(b":tt\0", nr::open::W_TRUNC) {
-        let _ = console.write(bytes);
-        let _ = console.close();
+    if let Ok(console) = File::create(CONSOLE) {
+        let _ = write_all(&OwnedFd::from(console), bytes);
     }
 }
 
+/// The host's console (`:tt` opened for writing is its standard output).
+const CONSOLE: &CStr = c":tt";
 /// Input file, relative to QEMU's working directory.
-pub const EVENTS_FILE: &[u8] = b"tooltouch-events.bin\0";
+pub const EVENTS_FILE: &CStr = c"tooltouch-events.bin";
 /// Output file, relative to QEMU's working directory.
-pub const OUTPUTS_FILE: &[u8] = b"tooltouch-outputs.bin\0";
-
-/// An open host file.
-pub struct File {
-    handle: usize,
-}
-
-impl File {
-    /// Opens `path` (NUL-terminated) with a semihosting `mode` ([`nr::open`]); `None`
-    /// when the host refuses.
-    pub fn open(path: &[u8], mode: usize) -> Option<File> {
-        let len = path.len().saturating_sub(1);
-        // SAFETY: `path` is a live NUL-terminated buffer of `len + 1` bytes.
-        let handle = unsafe { syscall!(OPEN, path.as_ptr(), mode, len) };
-        if handle == usize::MAX {
-            None
-        } else {
-            Some(File { handle })
-        }
-    }
-
-    /// Reads up to `buf.len()` bytes; 0 at the end of the file.
-    pub fn read(&mut self, buf: &mut [u8]) -> usize {
-        // SAFETY: the host writes at most `buf.len()` bytes into `buf`.
-        let not_read = unsafe { syscall!(READ, self.handle, buf.as_mut_ptr(), buf.len()) };
-        buf.len().saturating_sub(not_read)
-    }
-
-    /// Writes all of `bytes`; false if the host wrote fewer.
-    pub fn write(&mut self, bytes: &[u8]) -> bool {
-        // SAFETY: the host reads `bytes.len()` bytes from `bytes`.
-        let not_written = unsafe { syscall!(WRITE, self.handle, bytes.as_ptr(), bytes.len()) };
-        not_written == 0
-    }
-
-    /// Closes the file; false if the host reports an error.
-    pub fn close(self) -> bool {
-        // SAFETY: the handle came from OPEN and is closed once (self is consumed).
-        unsafe { syscall!(CLOSE, self.handle) == 0 }
-    }
-}
+pub const OUTPUTS_FILE: &CStr = c"tooltouch-outputs.bin";
 
 /// The co-simulation's two files.
 pub struct Files {
-    input: File,
-    output: File,
+    input: OwnedFd,
+    output: OwnedFd,
 }
 
 /// Which of the co-simulation's files could not be opened.
@@ -114,31 +64,64 @@ pub enum OpenError {
 impl Files {
     /// Opens [`EVENTS_FILE`] for reading and [`OUTPUTS_FILE`] for writing (truncated).
     pub fn open() -> Result<Files, OpenError> {
-        let input = File::open(EVENTS_FILE, nr::open::R_BINARY).ok_or(OpenError::Events)?;
-        let output = match File::open(OUTPUTS_FILE, nr::open::W_TRUNC_BINARY) {
-            Some(f) => f,
-            None => {
-                let _ = input.close();
-                return Err(OpenError::Outputs);
-            }
-        };
-        Ok(Files { input, output })
+        let input = File::open(EVENTS_FILE).map_err(|_| OpenError::Events)?;
+        let output = File::create(OUTPUTS_FILE).map_err(|_| OpenError::Outputs)?;
+        Ok(Files {
+            input: input.into(),
+            output: output.into(),
+        })
     }
 
-    /// Closes both files; false if either close failed.
+    /// Closes both files; false if the host reported an error closing either (a dropped
+    /// file is closed too, without a report).
     pub fn close(self) -> bool {
-        let a = self.input.close();
-        let b = self.output.close();
+        let a = close(self.input);
+        let b = close(self.output);
         a && b
     }
 }
 
+/// Closes `fd`: true if the host closed it.
+fn close(fd: OwnedFd) -> bool {
+    let raw = fd.into_raw_fd();
+    // SAFETY: `raw` comes from the descriptor just consumed, so it is open and closed only
+    // here.
+    unsafe { semihosting::sys::close(raw) }.is_ok()
+}
+
+/// `fd` borrowed for a call. The crate asserts that a borrowed descriptor is not -1; the
+/// test here, on the same value, lets the optimiser drop that assertion's panic path (the
+/// `panic-check` build links none). An open descriptor is never -1, so this is never `None`.
+fn borrow(fd: &OwnedFd) -> Option<BorrowedFd<'_>> {
+    (fd.as_raw_fd() != -1).then(|| fd.as_fd())
+}
+
+/// Writes all of `bytes` to `fd`: false on an error or a host that writes nothing.
+fn write_all(fd: &OwnedFd, bytes: &[u8]) -> bool {
+    let mut rest = bytes;
+    while !rest.is_empty() {
+        let Some(fd) = borrow(fd) else {
+            return false;
+        };
+        match semihosting::sys::write(fd, rest) {
+            Ok(n) if n > 0 => match rest.get(n..) {
+                Some(r) => rest = r,
+                None => return false,
+            },
+            _ => return false,
+        }
+    }
+    true
+}
+
 impl Port for Files {
     fn read(&mut self, buf: &mut [u8]) -> Result<usize, IoError> {
-        Ok(self.input.read(buf))
+        let fd = borrow(&self.input).ok_or(IoError)?;
+        let n = semihosting::sys::read(fd, buf).map_err(|_| IoError)?;
+        Ok(n.min(buf.len()))
     }
     fn write(&mut self, bytes: &[u8]) -> Result<(), IoError> {
-        if self.output.write(bytes) {
+        if write_all(&self.output, bytes) {
             Ok(())
         } else {
             Err(IoError)

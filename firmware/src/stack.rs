@@ -1,31 +1,16 @@
-//! Stack watermark: paint the free stack with a pattern at start-up, later find the
-//! deepest word that was overwritten. Measures the worst case that actually happened
-//! (every handler preempting every other as often as the run made them).
+//! Stack watermark: cortex-m-rt's `paint-stack` fills the whole stack region with
+//! [`cortex_m_rt::STACK_PAINT_VALUE`] before `main`; [`used`] finds the deepest word that was
+//! overwritten since. Measures the worst case that actually happened (every handler
+//! preempting every other as often as the run made them). QEMU image only: the feature is
+//! turned on by the `qemu` feature.
 
-/// Pattern written into the unused stack.
-const PAINT: u32 = 0xC0FF_EE55;
+use cortex_m_rt::STACK_PAINT_VALUE;
 
 extern "C" {
     /// Lowest address of the stack region (cortex-m-rt's link.x).
     static mut _stack_end: u32;
     /// Initial stack pointer, one past the highest stack word (cortex-m-rt's link.x).
     static mut _stack_start: u32;
-}
-
-/// Fills the stack from its lowest word up to `margin` bytes below the current stack
-/// pointer with [`PAINT`]. Call once, early, with interrupts disabled (RTIC's `init`).
-#[inline(never)]
-pub fn paint(margin: usize) {
-    let sp = current_sp();
-    let low = core::ptr::addr_of_mut!(_stack_end) as usize;
-    let high = sp.saturating_sub(margin) & !3;
-    let mut p = low;
-    while p < high {
-        // SAFETY: [low, sp - margin) is inside the stack region (link.x) and below the
-        // current stack pointer, so nothing live is stored there.
-        unsafe { core::ptr::write_volatile(p as *mut u32, PAINT) };
-        p = p.wrapping_add(4);
-    }
 }
 
 /// Bytes of stack used so far: from the top down to the deepest overwritten word.
@@ -35,14 +20,10 @@ pub fn used() -> u32 {
     let mut p = low;
     while p < high {
         // SAFETY: reads inside the stack region, word aligned (link.x aligns both ends).
-        if unsafe { core::ptr::read_volatile(p as *const u32) } != PAINT {
+        if unsafe { core::ptr::read_volatile(p as *const u32) } != STACK_PAINT_VALUE {
             break;
         }
         p = p.wrapping_add(4);
     }
     high.saturating_sub(p) as u32
-}
-
-fn current_sp() -> usize {
-    cortex_m::register::msp::read() as usize
 }

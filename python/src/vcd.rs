@@ -130,16 +130,16 @@ impl VcdReader {
                 }
                 Some(Item::Time(t)) => self.time_fs = t,
                 Some(Item::Change(code, value)) => {
-                    if value.wide {
+                    let Some(number) = value.to_u64() else {
                         return Err(PyValueError::new_err(format!(
                             "{}: line {}: a value wider than 64 bits",
                             self.inner.file(),
                             self.inner.line()
                         )));
-                    }
+                    };
                     times.push(self.time_fs);
                     codes.push(u32::try_from(code).unwrap_or(u32::MAX));
-                    bits.push(value.bits);
+                    bits.push(number);
                     unknown.push(value.unknown);
                 }
             }

@@ -4,6 +4,7 @@
 
 use super::{HdlError, Result};
 use crate::stimulus::{Segment, Stimulus};
+use bitvec::prelude::*;
 use std::fmt::Write as _;
 use tooltouch_hdl_gen::{output_fields, output_values, outputs_width, MAX_CYCLES, STIM_WORD_BITS};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
@@ -28,41 +29,38 @@ pub struct Vectors {
     pub final_outputs: MeasureOutputs,
 }
 
-/// A big-endian bit string built field by field, printed as hex digits.
-struct BitString {
-    /// Bits, most significant first.
-    bits: Vec<bool>,
+/// A `$readmemh` word built field by field, most significant bit first (the order of the
+/// testbench's `{cycle, fields…}` concatenation), printed as hex digits.
+struct Word {
+    bits: BitVec<u8, Msb0>,
 }
 
-impl BitString {
+impl Word {
     fn with_capacity(n: u32) -> Self {
-        BitString {
-            bits: Vec::with_capacity(n as usize),
+        Word {
+            bits: BitVec::with_capacity(n as usize),
         }
     }
-    /// Appends the `width` low bits of `value`, most significant first (`width <= 64`).
+    /// Appends the `width` low bits of `value` (`width <= 64`).
     fn push(&mut self, value: u64, width: u32) {
-        for i in (0..width).rev() {
-            self.bits.push((value >> i) & 1 == 1);
+        let start = self.bits.len();
+        self.bits.resize(start + width as usize, false);
+        if width > 0 {
+            self.bits[start..].store_be(value);
         }
     }
     /// Appends `width` zero bits.
     fn zeros(&mut self, width: u32) {
-        self.bits.extend(std::iter::repeat_n(false, width as usize));
+        let len = self.bits.len() + width as usize;
+        self.bits.resize(len, false);
     }
-    /// Hex digits, left-padded to whole digits, then a newline.
+    /// Hex digits, zeros on the left up to a whole digit, then a newline.
     fn write_hex(&self, out: &mut String) {
         let pad = (4 - self.bits.len() % 4) % 4;
-        let mut nibble = 0u32;
-        let mut n = pad;
-        for &b in &self.bits {
-            nibble = (nibble << 1) | u32::from(b);
-            n += 1;
-            if n == 4 {
-                out.push(char::from_digit(nibble, 16).unwrap_or('0'));
-                nibble = 0;
-                n = 0;
-            }
+        let mut padded: BitVec<u8, Msb0> = BitVec::repeat(false, pad);
+        padded.extend_from_bitslice(&self.bits);
+        for digit in padded.chunks(4) {
+            out.push(char::from_digit(digit.load_be::<u32>(), 16).unwrap_or('0'));
         }
         out.push('\n');
     }
@@ -110,12 +108,12 @@ fn golden_vectors_with(
     // Stimulus: one word per segment.
     let segments: Vec<&Segment> = stimulus.segments.iter().filter(|s| s.cycles > 0).collect();
     let mut stim_hex = String::with_capacity((segments.len() + 1) * 11);
-    let mut word = BitString::with_capacity(STIM_WORD_BITS);
+    let mut word = Word::with_capacity(STIM_WORD_BITS);
     word.push(0, STIM_WORD_BITS - 32);
     word.push(segments.len() as u64, 32);
     word.write_hex(&mut stim_hex);
     for s in &segments {
-        let mut word = BitString::with_capacity(STIM_WORD_BITS);
+        let mut word = Word::with_capacity(STIM_WORD_BITS);
         word.push(u64::from(s.pins.0), STIM_WORD_BITS - 32);
         word.push(u64::from(s.cycles), 32);
         word.write_hex(&mut stim_hex);
@@ -126,12 +124,12 @@ fn golden_vectors_with(
     let width = outputs_width(config);
     let (entries, fe) = response(config, &segments);
     let mut expect_hex = String::with_capacity((entries.len() + 1) * (width as usize / 4 + 10));
-    let mut header = BitString::with_capacity(width + 32);
+    let mut header = Word::with_capacity(width + 32);
     header.push(entries.len() as u64, 32);
     header.zeros(width);
     header.write_hex(&mut expect_hex);
     for (cycle, values) in &entries {
-        let mut word = BitString::with_capacity(width + 32);
+        let mut word = Word::with_capacity(width + 32);
         word.push(*cycle, 32);
         for (v, f) in values.iter().zip(fields.iter()) {
             word.push(*v, f.width);
@@ -196,18 +194,20 @@ pub fn describe_word(config: &MeasureConfig, word_hex: &str) -> Option<String> {
     if word_hex.len() != digits {
         return None;
     }
-    let mut bits = Vec::with_capacity(digits * 4);
+    let mut bits: BitVec<u8, Msb0> = BitVec::with_capacity(digits * 4);
     for c in word_hex.chars() {
-        let d = c.to_digit(16)?;
-        for i in (0..4).rev() {
-            bits.push((d >> i) & 1 == 1);
-        }
+        let at = bits.len();
+        bits.resize(at + 4, false);
+        bits[at..].store_be(c.to_digit(16)?);
     }
     let bits = &bits[bits.len() - width as usize..];
     let take = |from: usize, w: u32| -> u64 {
-        bits[from..from + w as usize]
-            .iter()
-            .fold(0u64, |acc, &b| (acc << 1) | u64::from(b))
+        let field = &bits[from..from + w as usize];
+        if field.is_empty() {
+            0
+        } else {
+            field.load_be()
+        }
     };
     let mut out = format!("cycle {}", take(0, 32));
     let mut at = 32usize;

@@ -20,6 +20,7 @@ pub mod verilator;
 use crate::lathe::LatheScenario;
 use crate::stimulus::Stimulus;
 use std::time::Instant;
+use tooltouch_model::fnv::{fnv1a_continue, FNV_OFFSET};
 use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
 use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
@@ -45,16 +46,11 @@ pub struct Trace {
     pub outputs: MeasureOutputs,
 }
 
-const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
-
+/// Continues the digest `h` over one clock with edges: `k` (little-endian), then the edges'
+/// `changed` and `levels` bytes (the model's FNV-1a, the same hash as the contract hashes).
 #[inline]
 fn fold(h: u64, k: u64, e: Edges) -> u64 {
-    let mut h = h;
-    for b in k.to_le_bytes().iter().chain(&[e.changed, e.levels]) {
-        h ^= u64::from(*b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
+    fnv1a_continue(fnv1a_continue(h, &k.to_le_bytes()), &[e.changed, e.levels])
 }
 
 /// Cycle level, one [`FrontEnd::clock`] per clock of `stimulus`.

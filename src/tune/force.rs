@@ -57,7 +57,7 @@ pub struct ForcePoint {
 }
 
 /// Results of one force point.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ForceRow {
     /// The point's index in the whole sweep (after the measurement points).
     pub index: usize,

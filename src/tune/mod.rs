@@ -33,7 +33,7 @@ use tooltouch_model::measure::config::ChargeLaw;
 pub const FORMAT: &str = "tooltouch-tune-1";
 
 /// One sweep point's results.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Row {
     /// The point's index in the sweep.
     pub index: usize,

@@ -3,9 +3,9 @@
 //! force-control gain point) and `pareto.svg` (diameter error against logic cells, each
 //! method's Pareto front highlighted).
 
-use super::{Results, Row};
+use super::Results;
 use anyhow::{Context, Result};
-use std::fmt::Write as _;
+use serde::Serialize;
 use std::path::Path;
 
 /// `results.json`.
@@ -17,69 +17,24 @@ pub const SVG: &str = "pareto.svg";
 /// `force.csv`.
 pub const FORCE_CSV: &str = "force.csv";
 
-/// The CSV text of the force rows.
-pub fn force_csv(rows: &[super::force::ForceRow]) -> String {
-    let mut out = String::from(
-        "index,controller,force_source,kp_percent,ki_percent,iae_model,iae_reference,iae_error,overshoot_pct\n",
-    );
-    for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{:.4},{:.4},{:.4},{:.2}",
-            r.index,
-            r.controller,
-            r.force_source,
-            r.kp_percent,
-            r.ki_percent,
-            r.iae_model,
-            r.iae_reference,
-            r.iae_error,
-            r.overshoot_pct
-        );
+/// The CSV text of a table: a header of `T`'s field names (from its `Serialize`, so the
+/// columns are typed once, in the struct), then one record per row. Numbers are written
+/// exactly (shortest round-trip form, as in `results.json`), `None` as an empty field. An
+/// empty table is its header alone (the columns of `T::default()`).
+pub fn csv_table<T: Serialize + Default>(rows: &[T]) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    if rows.is_empty() {
+        let mut sample = csv::Writer::from_writer(Vec::new());
+        sample.serialize(T::default())?;
+        let text = sample.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?;
+        let header = text.split_inclusive(|&b| b == b'\n').next().unwrap_or(&[]);
+        return Ok(String::from_utf8_lossy(header).into_owned());
     }
-    out
-}
-
-const COLUMNS: &str = "index,method,contact_rule,charge_bits,scale_bits,glitch_cycles,i_def,\
-window_revs,law,charge,discharge,fire_threshold,rearm_threshold,flip_flops,logic_cells,\
-decided,misses,diameter_error_um,max_diameter_error_um,revolution_error,pareto";
-
-fn opt(v: Option<f64>) -> String {
-    v.map_or(String::new(), |x| format!("{x:.4}"))
-}
-
-/// The CSV text of `rows`.
-pub fn csv(rows: &[Row]) -> String {
-    let mut out = String::from(COLUMNS);
-    out.push('\n');
     for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            r.index,
-            r.method,
-            r.contact_rule,
-            r.charge_bits,
-            r.scale_bits,
-            r.glitch_cycles,
-            r.i_def,
-            r.window_revs,
-            r.law,
-            r.charge,
-            r.discharge,
-            r.fire_threshold,
-            r.rearm_threshold,
-            r.flip_flops,
-            r.logic_cells,
-            r.decided,
-            r.misses,
-            opt(r.diameter_error_um),
-            opt(r.max_diameter_error_um),
-            opt(r.revolution_error),
-            r.pareto
-        );
+        w.serialize(r)?;
     }
-    out
+    let bytes = w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))?;
+    String::from_utf8(bytes).context("CSV text")
 }
 
 /// Writes `results.json`, `results.csv` and (for a whole sweep) `pareto.svg` into `dir`.
@@ -89,9 +44,10 @@ pub fn write(results: &Results, dir: &Path) -> Result<()> {
     let p = dir.join(JSON);
     std::fs::write(&p, json + "\n").with_context(|| format!("writing {}", p.display()))?;
     let p = dir.join(CSV);
-    std::fs::write(&p, csv(&results.rows)).with_context(|| format!("writing {}", p.display()))?;
+    std::fs::write(&p, csv_table(&results.rows)?)
+        .with_context(|| format!("writing {}", p.display()))?;
     let p = dir.join(FORCE_CSV);
-    std::fs::write(&p, force_csv(&results.force))
+    std::fs::write(&p, csv_table(&results.force)?)
         .with_context(|| format!("writing {}", p.display()))?;
     if results.shard.is_none() {
         crate::plot::pareto::pareto(&results.rows, &dir.join(SVG))?;

@@ -45,18 +45,9 @@ impl From<binary::BinaryError> for BadInput {
     }
 }
 
-fn hex(v: Option<Value>) -> String {
+fn hex(v: Option<&Value>) -> String {
     match v {
-        Some(Value {
-            unknown: false,
-            wide: false,
-            bits,
-        }) => format!("0x{bits:x}"),
-        Some(Value {
-            unknown: false,
-            wide: true,
-            bits,
-        }) => format!("a value wider than 64 bits (low 64 bits 0x{bits:016x})"),
+        Some(v) if !v.unknown => format!("0x{}", v.hex_digits()),
         Some(_) => "x".to_string(),
         None => "x (no value yet)".to_string(),
     }
@@ -102,13 +93,14 @@ fn apply_at(
     touched: &mut Vec<usize>,
     slots: &[Vec<usize>],
 ) -> Result<(), BadInput> {
-    while let Some((time, code, value)) = cursor.next {
+    while let Some((time, code, value)) = cursor.next.take() {
         if time != t {
+            cursor.next = Some((time, code, value));
             break;
         }
         if let Some(values) = values.as_deref_mut() {
             for &slot in &slots[code] {
-                values[slot] = Some(value);
+                values[slot] = Some(value.clone());
                 touched.push(slot);
             }
         }
@@ -151,10 +143,10 @@ pub fn compare_vcd_sides(
         .iter()
         .filter(|s| s.scope.last().is_some_and(|l| l == "outputs"))
         .map(|s| {
-            if s.width == 0 || s.width > 64 {
+            if s.width == 0 {
                 return Err(BadInput(format!(
-                    "{en}: line {}: golden signal `{}` is {} bits wide (1..=64 can be compared)",
-                    s.line, s.name, s.width
+                    "{en}: line {}: golden signal `{}` is 0 bits wide",
+                    s.line, s.name
                 )));
             }
             Ok(Compared { golden: s })
@@ -205,7 +197,7 @@ pub fn compare_vcd_sides(
     dc.advance()?;
     let mut now = 0u64;
     loop {
-        let next_time = match (ec.next, dc.next) {
+        let next_time = match (&ec.next, &dc.next) {
             (Some(a), Some(b)) => Some(a.0.min(b.0)),
             (Some(a), None) => Some(a.0),
             (None, Some(b)) => Some(b.0),
@@ -224,7 +216,7 @@ pub fn compare_vcd_sides(
             let inside = next_time.is_none_or(|t| k * period_fs + half < t);
             if inside && k <= limit {
                 if let Some(slot) = differs.iter().position(|&x| x) {
-                    first = Some((k, slot, ev[slot], dv[slot]));
+                    first = Some((k, slot, ev[slot].clone(), dv[slot].clone()));
                 }
             }
         }
@@ -249,9 +241,9 @@ pub fn compare_vcd_sides(
         )?;
         if first.is_none() {
             for &slot in &touched {
-                // Exact: a DUT value with a 1 above the golden width (or above bit 63)
-                // differs (the reader refuses a value wider than its own signal).
-                let same = matches!((ev[slot], dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a == b);
+                // Exact, at any width: a DUT value with a 1 above the golden width differs
+                // (the reader refuses a value wider than its own signal).
+                let same = matches!((&ev[slot], &dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a == b);
                 if differs[slot] == same {
                     differs[slot] = !same;
                     if same {
@@ -287,8 +279,8 @@ pub fn compare_vcd_sides(
             "cycle {k} (time {} ns): signal {} expected {} got {}",
             k * period_fs / 1_000_000,
             outputs[slot].golden.name,
-            hex(a),
-            hex(b)
+            hex(a.as_ref()),
+            hex(b.as_ref())
         )));
     }
     let (e_last, d_last) = (cycles - 1, d_end / period_fs);
@@ -588,4 +580,54 @@ pub fn compare_output_sources<E: Read, D: Read>(
         summary.push_str(&format!(" of {en} match {dn}"));
     }
     Ok(Verdict::Match(summary))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vectors::vcd::Dump;
+
+    /// A golden dump of one 100-bit output `wide` over 3 clocks at 1 MHz, with `values`
+    /// (binary digits) at clocks 0 and 2.
+    fn golden_wide(values: [&str; 2]) -> String {
+        format!(
+            "$comment tooltouch measure_hash=00000000000000aa clock_hz=1000000 $end\n\
+             $timescale 1ns $end\n$scope module tooltouch $end\n$scope module outputs $end\n\
+             $var wire 100 ! wide [99:0] $end\n$upscope $end\n$upscope $end\n\
+             $enddefinitions $end\n#0\nb{} !\n#2000\nb{} !\n\
+             $comment tooltouch end cycles=3 $end\n",
+            values[0], values[1]
+        )
+    }
+
+    fn compare(golden: &str, dut: &str) -> Verdict {
+        let e = Dump::parse(golden, "e.vcd").unwrap();
+        let d = Dump::parse(dut, "d.vcd").unwrap();
+        compare_vcd(&e, "e.vcd", &d, "d.vcd").unwrap()
+    }
+
+    #[test]
+    fn values_wider_than_64_bits_are_read_and_compared_whole() {
+        let top = format!("1{}1", "0".repeat(98)); // bits 99 and 0
+        let golden = golden_wide(["101", &top]);
+        // The same values, the first written with leading zeros: a match.
+        let padded = golden_wide([&format!("{}101", "0".repeat(97)), &top]);
+        assert_eq!(
+            compare(&golden, &padded),
+            Verdict::Match("OK: 3 cycles × 1 signals of e.vcd match d.vcd".into())
+        );
+        // Bit 99 missing at clock 2 (the low 64 bits agree): a mismatch naming both whole
+        // values.
+        let low_only = golden_wide(["101", "1"]);
+        let Verdict::Mismatch(m) = compare(&golden, &low_only) else {
+            panic!("bit 99 was not compared");
+        };
+        assert_eq!(
+            m,
+            format!(
+                "cycle 2 (time 2000 ns): signal wide expected 0x8{}1 got 0x1",
+                "0".repeat(23)
+            )
+        );
+    }
 }

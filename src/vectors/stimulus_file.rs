@@ -23,6 +23,7 @@
 use super::binary::{self, InputStream};
 use super::vcd::{Declarations, Item, Signal, VcdReader};
 use crate::stimulus::Stimulus;
+use bitvec::prelude::*;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 use tooltouch_model::measure::frontend::{pin, Pins};
@@ -150,6 +151,10 @@ pub fn find_pin<'a>(d: &'a Declarations, name: &str) -> Option<&'a Signal> {
         })
 }
 
+/// The six pins as a bit array, bit `i` = pin `i` of `pin::NAMES`: the layout of the model's
+/// [`Pins`] byte, which stays a plain `u8` in the `no_std` model (the FPGA's pin register).
+type PinBundle = BitArr!(for pin::COUNT, in u8, Lsb0);
+
 /// One pin's level while reading a VCD: value, whether x/z, the line of its last change.
 #[derive(Clone, Copy, Debug, Default)]
 struct Level {
@@ -171,7 +176,8 @@ fn read_vcd_pins<R: BufRead>(
     let clock_hz = settle_clock(stated, own, &file)?;
     let period_fs = 1_000_000_000_000_000 / u64::from(clock_hz);
     // Pin bits per code index.
-    let mut bits_of: Vec<u8> = vec![0; d.codes().len()];
+    // The pins each identifier code drives (a bundle: bit i is pin i of `pin::NAMES`).
+    let mut bits_of: Vec<PinBundle> = vec![PinBundle::ZERO; d.codes().len()];
     let mut signals: Vec<&Signal> = Vec::with_capacity(pin::COUNT);
     for (i, name) in pin::NAMES.iter().enumerate() {
         let s = find_pin(&d, name).ok_or_else(|| {
@@ -194,7 +200,7 @@ fn read_vcd_pins<R: BufRead>(
             )));
         }
         if let Some(c) = d.code_index(&s.id) {
-            bits_of[c] |= 1 << i;
+            bits_of[c].set(i, true);
         }
         signals.push(s);
     }
@@ -206,7 +212,7 @@ fn read_vcd_pins<R: BufRead>(
         if end <= next_k {
             return Ok(());
         }
-        let mut pins = Pins(0);
+        let mut bundle = PinBundle::ZERO;
         for (i, l) in levels.iter().enumerate() {
             let name = pin::NAMES[i];
             let time_ns = next_k * period_fs / 1_000_000;
@@ -223,9 +229,9 @@ fn read_vcd_pins<R: BufRead>(
                     l.line
                 )));
             }
-            pins = pins.with(1 << i, l.high);
+            bundle.set(i, l.high);
         }
-        stimulus.push(pins, end - next_k);
+        stimulus.push(Pins(bundle.into_inner()[0]), end - next_k);
         next_k = end;
         Ok(())
     };
@@ -240,18 +246,13 @@ fn read_vcd_pins<R: BufRead>(
                 emit(t.div_ceil(period_fs), &levels, &mut stimulus)?;
             }
             Some(Item::Change(code, v)) => {
-                let bits = bits_of[code];
-                if bits != 0 {
-                    for (i, l) in levels.iter_mut().enumerate() {
-                        if bits & (1 << i) != 0 {
-                            *l = Level {
-                                high: v.bits & 1 == 1,
-                                unknown: v.unknown,
-                                known: true,
-                                line: reader.line(),
-                            };
-                        }
-                    }
+                for i in bits_of[code].iter_ones() {
+                    levels[i] = Level {
+                        high: v.bit(0),
+                        unknown: v.unknown,
+                        known: true,
+                        line: reader.line(),
+                    };
                 }
             }
         }
@@ -286,7 +287,9 @@ fn read_hex_pins<R: BufRead>(
                      (no TTVX magic) either"
                 ))
             })?;
-        let (pins, cycles) = ((word >> 32) as u8, word & 0xffff_ffff);
+        // The word's fields, as the testbench slices them: {pins[7:0], cycles[31:0]}.
+        let fields = word.view_bits::<Lsb0>();
+        let (pins, cycles): (u8, u64) = (fields[32..40].load_le(), fields[..32].load_le());
         match segments {
             None => {
                 if pins != 0 {
@@ -303,7 +306,7 @@ fn read_hex_pins<R: BufRead>(
                         "{file}: line {n}: more segments than the {count} of the header (line {header_line})"
                     )));
                 }
-                if u32::from(pins) >= 1 << pin::COUNT {
+                if pins.view_bits::<Lsb0>()[pin::COUNT..].any() {
                     return Err(StimulusError(format!(
                         "{file}: line {n}: pins 0x{pins:02x} set bits beyond the six pins ({})",
                         pin::NAMES.join(", ")

@@ -7,6 +7,7 @@
 
 use super::clock_through;
 use crate::stimulus::Stimulus;
+use bitvec::prelude::*;
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
 use std::io::{self, Write};
@@ -114,9 +115,11 @@ pub fn write_golden<W: Write>(
     // start is skipped by `clock_through`): the pins of the first segment and the reset
     // outputs, which are the outputs after clock 0 (no edge can be detected at clock 0).
     if let (true, Some(first)) = (end > 0, stimulus.segments.first()) {
-        for (i, _) in pin::NAMES.iter().enumerate() {
-            let bit = 1u8 << i;
-            buffer.push_str(&value_text(first.pins.get(bit).into(), 1, &id_code(i)));
+        for (i, level) in first.pins.0.view_bits::<Lsb0>()[..pin::COUNT]
+            .iter()
+            .enumerate()
+        {
+            buffer.push_str(&value_text((*level).into(), 1, &id_code(i)));
         }
         let values = output_values(&FrontEnd::new(config).outputs(), config);
         for (i, (_, width)) in outputs.iter().enumerate() {
@@ -137,10 +140,11 @@ pub fn write_golden<W: Write>(
         }
         buffer.clear();
         if last_pins != Some(pins) {
-            for (i, _) in pin::NAMES.iter().enumerate() {
-                let bit = 1u8 << i;
-                if last_pins.is_none_or(|l| l.get(bit) != pins.get(bit)) {
-                    buffer.push_str(&value_text(pins.get(bit).into(), 1, &id_code(i)));
+            let levels = &pins.0.view_bits::<Lsb0>()[..pin::COUNT];
+            let before = last_pins.map(|l| l.0);
+            for (i, level) in levels.iter().enumerate() {
+                if before.is_none_or(|b| b.view_bits::<Lsb0>()[i] != *level) {
+                    buffer.push_str(&value_text((*level).into(), 1, &id_code(i)));
                 }
             }
             last_pins = Some(pins);
@@ -181,26 +185,57 @@ pub fn write_golden<W: Write>(
 /// can tell a whole golden file from one cut short.
 pub const END_COMMENT: &str = "tooltouch end";
 
-/// A value in a dump: its bits exactly (the low 64, and whether any bit above them is 1),
-/// and whether any bit was x or z.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// A value in a dump, of any width: its bits exactly, and whether any bit was x or z.
+///
+/// The bits are kept without their high zeros, so two values are equal exactly when their
+/// numbers are, whatever widths they were written at (a DUT may declare a wider port than
+/// the golden signal).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Value {
-    /// The bits (x/z read as 0), low 64 bits of the vector.
-    pub bits: u64,
+    /// The bits, least significant first, x and z read as 0, no zero above the highest 1.
+    pub bits: BitVec<u64, Lsb0>,
     /// Some bit was x or z.
     pub unknown: bool,
-    /// Some bit above bit 63 is 1 (a signal wider than 64 bits): the value is not `bits`.
-    pub wide: bool,
 }
 
 impl Value {
-    /// A known value that fits 64 bits.
-    pub fn known(bits: u64) -> Value {
-        Value {
-            bits,
-            unknown: false,
-            wide: false,
+    /// A known value.
+    pub fn known(number: u64) -> Value {
+        Value::from_bits(number.view_bits::<Lsb0>().to_bitvec(), false)
+    }
+
+    /// A value of `bits` (least significant first), high zeros dropped.
+    fn from_bits(mut bits: BitVec<u64, Lsb0>, unknown: bool) -> Value {
+        bits.truncate(bits.last_one().map_or(0, |top| top + 1));
+        Value { bits, unknown }
+    }
+
+    /// The number when it fits 64 bits (x and z read as 0).
+    pub fn to_u64(&self) -> Option<u64> {
+        match self.bits.len() {
+            0 => Some(0),
+            1..=64 => Some(self.bits.load_le()),
+            _ => None,
         }
+    }
+
+    /// Bit `index` (x and z read as 0).
+    pub fn bit(&self, index: usize) -> bool {
+        self.bits.get(index).is_some_and(|b| *b)
+    }
+
+    /// Hexadecimal digits of the number, most significant first, no leading zeros (`0` for
+    /// zero); x and z read as 0.
+    pub fn hex_digits(&self) -> String {
+        if self.bits.is_empty() {
+            return "0".into();
+        }
+        let digits: Vec<char> = self
+            .bits
+            .chunks(4)
+            .map(|d| char::from_digit(d.load_le::<u32>(), 16).unwrap_or('0'))
+            .collect();
+        digits.into_iter().rev().collect()
     }
 }
 
@@ -244,20 +279,13 @@ fn parse_value(text: &str, width: u32) -> Value {
 /// bits wide: fewer digits than the width extend to the left with 0, or with x when the
 /// first digit is x or z (the VCD rule).
 fn vector_value(digits: &[vcd::Value], width: u32) -> Value {
-    let mut v = Value::known(0);
-    let n = digits.len();
-    for (i, d) in digits.iter().enumerate() {
-        let position = n - 1 - i;
-        match d {
-            vcd::Value::V1 if position < 64 => v.bits |= 1 << position,
-            vcd::Value::V1 => v.wide = true,
-            vcd::Value::V0 => {}
-            _ => v.unknown = true,
-        }
-    }
+    let bits: BitVec<u64, Lsb0> = digits.iter().rev().map(|d| *d == vcd::Value::V1).collect();
+    let some_unknown = digits
+        .iter()
+        .any(|d| matches!(d, vcd::Value::X | vcd::Value::Z));
     let pads_unknown = matches!(digits.first(), Some(vcd::Value::X | vcd::Value::Z));
-    v.unknown |= pads_unknown && (n as u64) < u64::from(width);
-    v
+    let extends_unknown = pads_unknown && (digits.len() as u64) < u64::from(width);
+    Value::from_bits(bits, some_unknown || extends_unknown)
 }
 
 /// The declarations of a dump: timescale, variables, the comments before
@@ -394,7 +422,7 @@ pub fn golden_end(comments: &[String]) -> Option<u64> {
 }
 
 /// One step of a dump's body.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Item {
     /// A `#` time, femtoseconds.
     Time(u64),
@@ -609,11 +637,10 @@ impl<R: std::io::BufRead> VcdReader<R> {
                 }
                 C::ChangeScalar(code, v) => {
                     let index = self.index_of(code)?;
-                    let value = Value {
-                        bits: u64::from(v == vcd::Value::V1),
-                        unknown: matches!(v, vcd::Value::X | vcd::Value::Z),
-                        wide: false,
-                    };
+                    let value = Value::from_bits(
+                        BitVec::repeat(v == vcd::Value::V1, 1),
+                        matches!(v, vcd::Value::X | vcd::Value::Z),
+                    );
                     return Ok(Some(Item::Change(index, value)));
                 }
                 C::ChangeVector(code, digits) => {
@@ -739,8 +766,8 @@ impl Dump {
         let d = self.declarations();
         let mut all: Vec<(u64, usize, Value)> = Vec::new();
         for (i, code) in d.codes.iter().enumerate() {
-            for &(t, v) in self.changes.get(code).into_iter().flatten() {
-                all.push((t, i, v));
+            for (t, v) in self.changes.get(code).into_iter().flatten() {
+                all.push((*t, i, v.clone()));
             }
         }
         // Stable: one code's changes at one time keep their order (the last one holds).
@@ -756,7 +783,7 @@ impl Dump {
     pub fn value_at(&self, id: &str, fs: u64) -> Option<Value> {
         let ch = self.changes.get(id)?;
         let i = ch.partition_point(|&(t, _)| t <= fs);
-        (i > 0).then(|| ch[i - 1].1)
+        (i > 0).then(|| ch[i - 1].1.clone())
     }
 
     /// The signal named `name` in the scope path ending with `scope_suffix`.
@@ -819,7 +846,13 @@ mod tests {
         assert_eq!(parse_value(&low, 100), Value::known(1 << 63));
         let above = format!("1{}", "0".repeat(64));
         let v = parse_value(&above, 100);
-        assert!(v.wide && v.bits == 0 && !v.unknown, "{v:?}");
+        assert!(v.bit(64) && v.bits.count_ones() == 1 && !v.unknown, "{v:?}");
+        assert_eq!(v.to_u64(), None);
+        assert_eq!(v.hex_digits(), format!("1{}", "0".repeat(16)));
+        let wide = format!("11{}", "01".repeat(49));
+        let v = parse_value(&wide, 100);
+        assert_eq!(v.bits.len(), 100);
+        assert_eq!(v.hex_digits(), format!("d{}", "5".repeat(24)));
         let zeros = format!("{}101", "0".repeat(90));
         assert_eq!(parse_value(&zeros, 100), Value::known(5));
     }

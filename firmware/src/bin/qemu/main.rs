@@ -68,7 +68,7 @@ mod app {
     use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureOutputs, Measurement};
     use tooltouch_firmware::semihosting::{self, exit_code, print, OpenError};
-    use tooltouch_firmware::{baked, cosim, stack};
+    use tooltouch_firmware::{baked, cosim};
 
     #[shared]
     struct Shared {
@@ -98,7 +98,6 @@ mod app {
         snapshots: Snapshots = Snapshots::new(),
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        stack::paint(256);
         // QEMU's lm3s6965evb derives the system clock (and so SysTick) from RCC.SYSDIV:
         // a period of 5 ns × (SYSDIV + 1), 80 ns at reset. SYSDIV = 0 gives 5 ns, i.e.
         // 5 instructions per tick under `-icount shift=0`, for a finer profile.

@@ -5,7 +5,7 @@
 //! ([`crate::force::sampling::DriveSignals`]):
 //!
 //! 1. line voltage and current `V = √(Σv²/3)`, `I = √(Σi²/3)` by an exact integer square
-//!    root ([`sqrt_fx`], `u128::isqrt`: the floor of the true root, in I32F32);
+//!    root ([`sqrt_fx`], `fixed`'s square root: the floor of the true root, in I32F32);
 //! 2. input power `P_i = √3·I·V·cos(π/6) = (3/2)·I·V` (F3; the constant is exact), stator
 //!    loss `P_s = R_s·Σi²` (= 3·R_s·I²), air-gap power `P_g = P_i − P_s` (F2);
 //! 3. synthesized power (F9): the measured power P_o (smooth, lagging ~0.3 s) unless
@@ -57,17 +57,13 @@ use crate::units::{Fx, NewtonMetres, Newtons, NmsPerRad, RadPerSec, Seconds, Wat
 /// 0.3 rad/s² rms).
 pub const STEADY_SHIFT: u32 = 4;
 
-/// Square root of a non-negative I32F32 value, I32F32, by the exact integer square root of
-/// the raw bits shifted by 32 (the floor of the true root in the last bit). Negative
-/// inputs give 0.
+/// Square root of a non-negative I32F32 value, I32F32: `fixed`'s own square root, the floor
+/// of the true root in the last bit (tests/force_sqrt.rs proves it equal to the exact
+/// integer square root of the raw bits shifted by 32). Negative inputs give 0.
 pub fn sqrt_fx(x: Fx) -> Fx {
-    let bits = x.to_bits();
-    if bits <= 0 {
-        return Fx::ZERO;
-    }
-    let root = ((bits as u128) << 32).isqrt();
-    // root < 2^48: always fits.
-    Fx::from_bits(i64::try_from(root).unwrap_or(i64::MAX))
+    // `checked_sqrt` is `None` only for a negative input (I32F32 has integer bits, so the
+    // root never overflows).
+    x.checked_sqrt().unwrap_or(Fx::ZERO)
 }
 
 /// One period's estimate.
