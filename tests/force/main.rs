@@ -4,7 +4,9 @@
 //! (`cargo test --release --test force <topic>::`).
 
 mod config;
+mod estimator;
 mod properties;
 mod scenario;
+mod sqrt;
 mod vectors;
 mod wear_scenario;

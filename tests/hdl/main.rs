@@ -8,6 +8,8 @@ mod common;
 
 mod cosim;
 mod faults;
+mod formal;
 mod lathe;
 mod lint;
+mod reference;
 mod testbench_tools;

@@ -5,13 +5,13 @@
 //! the injected faults, each of which must fail with a counterexample that `tooltouch
 //! check` replays (docs/formal.md).
 //!
-//! The proofs are the tests of `tests/hdl_formal.rs`, run with the ignored one included;
+//! The proofs are the tests of `tests/hdl/formal.rs`, run with the ignored one included;
 //! `cargo xtask test` runs the same binary without it (the default configuration and the
 //! faults). yosys is the only tool (its own SAT solver): `cargo xtask setup` installs it.
 
 use anyhow::Result;
 
-/// Runs every proof of `tests/hdl_formal.rs` and prints each verdict with its induction
+/// Runs every proof of `tests/hdl/formal.rs` and prints each verdict with its induction
 /// length and wall time.
 pub fn run() -> Result<()> {
     crate::process::run(
@@ -21,7 +21,8 @@ pub fn run() -> Result<()> {
             "test",
             "--release",
             "--test",
-            "hdl_formal",
+            "hdl",
+            "formal::",
             "--",
             "--include-ignored",
             "--nocapture",

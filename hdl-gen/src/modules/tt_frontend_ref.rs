@@ -11,7 +11,7 @@
 //! It exists to be the other side of the formal equivalence proof ([`crate::formal`]):
 //! the optimized `tt_frontend` must equal it on every input sequence. It has the same
 //! ports as `tt_frontend`, so the co-simulation can run it against the model exactly as
-//! it runs the optimized design (`tests/hdl_reference.rs`). The module name is the
+//! it runs the optimized design (`tests/hdl/reference.rs`). The module name is the
 //! caller's: `tt_frontend` when it stands in for the design in the testbench,
 //! [`REFERENCE_TOP`] beside the design in the miter. Faults are never injected here.
 

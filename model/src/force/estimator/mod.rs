@@ -58,7 +58,7 @@ use crate::units::{Fx, NewtonMetres, Newtons, NmsPerRad, RadPerSec, Seconds, Wat
 pub const STEADY_SHIFT: u32 = 4;
 
 /// Square root of a non-negative I32F32 value, I32F32: `fixed`'s own square root, the floor
-/// of the true root in the last bit (tests/force_sqrt.rs proves it equal to the exact
+/// of the true root in the last bit (tests/force/sqrt.rs proves it equal to the exact
 /// integer square root of the raw bits shifted by 32). Negative inputs give 0.
 pub fn sqrt_fx(x: Fx) -> Fx {
     // `checked_sqrt` is `None` only for a negative input (I32F32 has integer bits, so the

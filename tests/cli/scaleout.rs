@@ -5,8 +5,7 @@
 //! and checks that the recipe starts N tasks and that the merge is byte-identical to the
 //! unsharded sweep of the same spec.
 
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

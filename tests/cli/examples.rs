@@ -3,8 +3,7 @@
 //! order in a fresh folder holding a copy of `examples/`, and requires each to succeed
 //! (a `check` to pass).
 
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,8 +3,7 @@
 //! both, the columns named in the header, a row per run and per sample, and the values
 //! the terminal table prints.
 
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::{s, text, tooltouch};
 use std::path::Path;

@@ -4,8 +4,7 @@
 //! it. The wear plot's alarm markers must be at the alarm's real power (the one
 //! `wear.csv` records), not at a fixed height.
 
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::{s, text, tooltouch, FAST_LATHE};
 use std::path::Path;

@@ -4,8 +4,7 @@
 //! result, and warns on standard error naming the new one. Every sweep flag's help shows
 //! its syntax.
 
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::{s, text, tooltouch, FAST_LATHE};
 use std::path::Path;

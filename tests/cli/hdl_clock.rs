@@ -2,8 +2,7 @@
 //! clock_hz`, as `tooltouch measure` does, so a testbench and the golden VCD share one
 //! period; a `--clock-hz` that contradicts the file is refused.
 
-#[path = "common/mod.rs"]
-mod common;
+use crate::common;
 
 use common::{s, text, tooltouch, FAST_LATHE};
 use std::path::Path;
