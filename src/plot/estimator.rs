@@ -32,7 +32,10 @@ fn panel<DB: DrawingBackend>(
             .filter(|(t, _)| within(**t))
             .map(|(_, v)| *v)
     });
-    let (lo, hi) = values.fold((0.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 1.0) };
     let pad = 0.05 * (hi - lo).max(1.0);
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 18))

@@ -9,105 +9,41 @@ use tooltouch::hdl::random::random_config;
 use tooltouch::hdl::runner::{lint_verilator, yosys_check};
 use tooltouch::hdl::write_design;
 use tooltouch_hdl_gen::{generate, Options};
-use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
-use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_model::MeasureConfig;
 
-fn variants() -> Vec<MeasureConfig> {
-    let mut out = vec![MeasureConfig::default()];
-    for method in [
-        DecisionMethod::SinglePulse,
-        DecisionMethod::Counter,
-        DecisionMethod::Density,
-    ] {
-        for (law, glitch, rearm, i_def, rule) in [
-            (
-                ChargeLaw::Exponential {
-                    charge_shift: 0,
-                    discharge_shift: 16,
-                },
-                0,
-                0,
-                0,
-                ContactRule::Sampled,
-            ),
-            (
-                ChargeLaw::Linear {
-                    charge_step: 65535,
-                    discharge_step: 1,
-                },
-                255,
-                100,
-                1023,
-                ContactRule::Sticky,
-            ),
-            (
-                ChargeLaw::Exponential {
-                    charge_shift: 5,
-                    discharge_shift: 3,
-                },
-                1,
-                16384,
-                7,
-                ContactRule::Sticky,
-            ),
-        ] {
-            out.push(
-                MeasureSettings {
-                    method,
-                    charge_law: law,
-                    glitch_cycles: glitch,
-                    rearm_threshold: rearm,
-                    i_def,
-                    contact_rule: rule,
-                    ..Default::default()
-                }
-                .validate()
-                .expect("valid variant"),
-            );
-        }
-    }
-    // Extreme widths.
-    for (ppr, revs, charge_bits, scale_bits) in [(16, 1, 4, 8), (16384, 16, 24, 32)] {
-        let full = (1u32 << charge_bits) - 1;
-        out.push(
-            MeasureSettings {
-                pulses_per_rev: ppr,
-                window_revs: revs,
-                i_def: 3,
-                charge_bits,
-                charge_law: ChargeLaw::Linear {
-                    charge_step: full,
-                    discharge_step: full,
-                },
-                fire_threshold: full,
-                rearm_threshold: full - 1,
-                scale_bits,
-                ..Default::default()
-            }
-            .validate()
-            .expect("valid extreme"),
-        );
-    }
+/// The structural variants the formal proof also covers (`tooltouch_hdl_gen::formal::variants`:
+/// the default, the MCU diagnostics, each decision method under three charge laws, glitch
+/// filters and rules, the narrowest and widest registers), then random configurations.
+fn variants() -> Vec<(String, MeasureConfig, Options)> {
+    let mut out = tooltouch_hdl_gen::formal::variants();
     let mut rng = ChaCha8Rng::seed_from_u64(0x11_17);
-    out.extend((0..8).map(|_| random_config(&mut rng)));
+    out.extend((0..8).map(|i| {
+        (
+            format!("random {i}"),
+            random_config(&mut rng),
+            Options::default(),
+        )
+    }));
     out
 }
 
 #[test]
 fn hdl_lint_verilator_wall_and_yosys_check_are_clean() {
     let work = tempfile::tempdir().expect("temporary folder");
-    for (i, config) in variants().iter().enumerate() {
+    let variants = variants();
+    assert!(variants.len() >= 21, "the structural variants went missing");
+    for (i, (name, config, options)) in variants.iter().enumerate() {
         let dir = work.path().join(format!("v{i}"));
-        let files = write_design(&dir, &generate(config, &Options::default()), None)
-            .expect("writing the design");
+        let files =
+            write_design(&dir, &generate(config, options), None).expect("writing the design");
         if let Err(e) = lint_verilator(&files) {
-            panic!("variant {i} {:?}: {e}", config.settings());
+            panic!("variant {i} ({name}) {:?}: {e}", config.settings());
         }
         match yosys_check(&files, &dir) {
-            Err(e) => panic!("variant {i} {:?}: {e}", config.settings()),
+            Err(e) => panic!("variant {i} ({name}) {:?}: {e}", config.settings()),
             Ok(check) => assert!(
                 check.dff_cells > 0,
-                "variant {i}: yosys found no flip-flop at all:\n{}",
+                "variant {i} ({name}): yosys found no flip-flop at all:\n{}",
                 check.log
             ),
         }
