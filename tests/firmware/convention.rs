@@ -151,7 +151,7 @@ fn cosim_firmware_checks_an_image_on_a_stream() {
         "cosim",
         "firmware",
         "--stimulus",
-        s(&w.path().join("ctl/pi_estimated.events.bin")),
+        s(&w.path().join("ctl/pi_estimated.events.ttv")),
         "--image",
         s(&image),
     ]);

@@ -97,8 +97,8 @@ fn written_vectors_replay_bit_for_bit() {
         stdout.contains("fuzzy") && stdout.contains("estimated"),
         "{stdout}"
     );
-    let events = std::fs::read(dir.path().join("fuzzy_estimated.events.bin")).unwrap();
-    let outputs = std::fs::read(dir.path().join("fuzzy_estimated.outputs.bin")).unwrap();
+    let events = std::fs::read(dir.path().join("fuzzy_estimated.events.ttv")).unwrap();
+    let outputs = std::fs::read(dir.path().join("fuzzy_estimated.outputs.ttv")).unwrap();
     assert!(dir.path().join("fuzzy_estimated.svg").exists());
     let n = replay(&events, &outputs).unwrap();
     // 13 s at 20 Hz plus the three commands

@@ -44,7 +44,7 @@ pub const TARGETS: [&str; 8] = [
 ];
 
 /// Seconds per target of the short pass that `cargo xtask test` runs.
-pub const CI_SECONDS: u64 = 5;
+pub const CI_SECONDS: u64 = 3;
 
 /// Coverage instrumentation for libFuzzer, all stable `-C` flags; `--cfg fuzzing` as
 /// cargo-fuzz sets it.
