@@ -296,6 +296,28 @@ mod tests {
         assert_eq!(s.validate().unwrap_err().field, "rearm_threshold");
     }
 
+    /// The re-arm level may come as close as one LSB below the fire level, no closer
+    /// (docs/domain.md §2.4: the hysteresis needs two distinct levels).
+    #[test]
+    fn rearm_may_be_one_below_fire_and_no_closer() {
+        let fire = MeasureSettings::default().fire_threshold;
+        let with_rearm = |rearm_threshold| MeasureSettings {
+            rearm_threshold,
+            ..Default::default()
+        };
+        assert!(with_rearm(fire - 1).validate().is_ok());
+        let e = with_rearm(fire).validate().unwrap_err();
+        assert_eq!(e.field, "rearm_threshold");
+        assert_eq!((e.min, e.max), (0, u64::from(fire) - 1));
+    }
+
+    /// The panic-free fallback of `Default` is itself a valid configuration.
+    #[test]
+    fn the_unreachable_fallback_is_valid() {
+        let c = unreachable_default();
+        assert_eq!(c.settings().validate(), Ok(c));
+    }
+
     #[test]
     fn zero_step_is_rejected() {
         let s = MeasureSettings {
