@@ -330,6 +330,31 @@ mod tests {
         assert_eq!(s.validate().unwrap_err().field, "charge_step");
     }
 
+    /// Register widths worked out by hand: a stability counter holding 0..=glitch_cycles,
+    /// a revolution counter holding 0..=window_revs − 1.
+    #[test]
+    fn counter_widths_hold_their_ranges() {
+        let config = |glitch_cycles, window_revs| {
+            MeasureSettings {
+                glitch_cycles,
+                window_revs,
+                ..Default::default()
+            }
+            .validate()
+            .unwrap()
+        };
+        // 0 cycles still needs a 1-bit register; 2 → 2 bits (10b); 255 → 8 bits.
+        assert_eq!(config(0, 1).glitch_bits(), 1);
+        assert_eq!(config(2, 1).glitch_bits(), 2);
+        assert_eq!(config(255, 1).glitch_bits(), 8);
+        // window of 1 revolution: the counter only holds 0 (1 bit); 3 → 0..=2, 2 bits;
+        // 4 → 0..=3, 2 bits; 5 → 0..=4, 3 bits.
+        assert_eq!(config(0, 1).window_rev_bits(), 1);
+        assert_eq!(config(0, 3).window_rev_bits(), 2);
+        assert_eq!(config(0, 4).window_rev_bits(), 2);
+        assert_eq!(config(0, 5).window_rev_bits(), 3);
+    }
+
     #[test]
     fn bits_for_counts() {
         assert_eq!(bits_for(0), 1);

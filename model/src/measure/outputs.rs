@@ -110,3 +110,51 @@ impl MeasureOutputs {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A set of outputs with a distinct value in every field, listed by hand in the
+    /// documented order (the order of the struct, the VCD signals and the Verilog ports).
+    #[test]
+    fn fields_name_every_output_in_declaration_order() {
+        let outputs = MeasureOutputs {
+            armed: true,
+            contact: false,
+            register_now: true,
+            decision_position: -5,
+            first_contact: true,
+            first_contact_position: 7,
+            position: -1,
+            scale_errors: 255,
+            count: 9,
+            last_window_count: 10,
+            charge: 65535,
+            density_armed: false,
+            density_fired: true,
+            revolutions: 65535,
+            pulses: u32::MAX,
+        };
+        assert_eq!(
+            outputs.fields(),
+            [
+                ("armed", 1),
+                ("contact", 0),
+                ("register_now", 1),
+                ("decision_position", -5),
+                ("first_contact", 1),
+                ("first_contact_position", 7),
+                ("position", -1),
+                ("scale_errors", 255),
+                ("count", 9),
+                ("last_window_count", 10),
+                ("charge", 65535),
+                ("density_armed", 0),
+                ("density_fired", 1),
+                ("revolutions", 65535),
+                ("pulses", 4_294_967_295),
+            ]
+        );
+    }
+}
