@@ -152,4 +152,18 @@ mod tests {
             "{ib}"
         );
     }
+
+    /// Every term of the series at x = Bh/J = 1 (B = 1 N·m·s/rad, J = 1 kg·m², h = 1 s, so
+    /// J/h = 1): 1 + 1/2 + 1/12 − 1/720 = (720 + 360 + 60 − 1)/720 = 1139/720 ≈ 1.581944,
+    /// close to the exact x/(1 − e^−x) = 1.581977 the series stands for.
+    #[test]
+    fn inverse_b_series_at_x_equal_one() {
+        let one = Fx::ONE;
+        let ib = inverse_b(one, one, one);
+        let expected = Fx::const_from_int(1139) / 720;
+        assert!(
+            (ib - expected).abs() < Fx::lit("0.000000004"),
+            "{ib} against 1139/720 = {expected}"
+        );
+    }
 }
