@@ -21,9 +21,11 @@ use std::process::Command;
 
 use crate::process::root;
 
-/// Arguments of `cargo test` for the model's mutants: its unit tests, without the test
-/// kit's slow profile sweep (the kit itself is not mutated).
+/// The tail of the model's `cargo mutants` command: after the first `--`, the arguments of
+/// `cargo test` (its unit tests only), after the second those of the test binary (without
+/// the test kit's slow profile sweep; the kit itself is not mutated).
 const MODEL_TEST_ARGS: &[&str] = &[
+    "--",
     "--lib",
     "--",
     "--skip",
@@ -52,22 +54,7 @@ pub fn run(args: &[String]) -> Result<()> {
     let mut scores = BTreeMap::new();
     if everything || !model.is_empty() {
         let out = root.join("target/mutants/model");
-        let mut argv: Vec<String> = [
-            "mutants",
-            "--package",
-            "tooltouch-model",
-            "--features",
-            "testing",
-            "--output",
-        ]
-        .map(String::from)
-        .to_vec();
-        argv.push(out.display().to_string());
-        for f in &model {
-            argv.push("--file".into());
-            argv.push((*f).clone());
-        }
-        argv.extend(MODEL_TEST_ARGS.iter().map(|s| s.to_string()));
+        let argv = model_argv(&out, &model);
         cargo_mutants(&root, &argv, &out)?;
         tally(&out.join("mutants.out"), "", &mut scores)?;
     }
@@ -92,6 +79,28 @@ pub fn run(args: &[String]) -> Result<()> {
     }
     print_scores(&scores);
     Ok(())
+}
+
+/// `cargo mutants …` for the model's mutants of `files` (every file when empty), results
+/// in `out`.
+fn model_argv(out: &Path, files: &[&String]) -> Vec<String> {
+    let mut argv: Vec<String> = [
+        "mutants",
+        "--package",
+        "tooltouch-model",
+        "--features",
+        "testing",
+        "--output",
+    ]
+    .map(String::from)
+    .to_vec();
+    argv.push(out.display().to_string());
+    for f in files {
+        argv.push("--file".into());
+        argv.push((*f).clone());
+    }
+    argv.extend(MODEL_TEST_ARGS.iter().map(|s| s.to_string()));
+    argv
 }
 
 /// Installs cargo-mutants with `cargo install --locked` unless `cargo mutants --version`
@@ -188,6 +197,20 @@ fn row(file: &str, s: &Score) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_model_test_arguments_follow_the_separator() {
+        let file = "model/src/measure/density.rs".to_string();
+        let argv = model_argv(Path::new("out"), &[&file]);
+        let tail: Vec<&str> = argv.iter().map(String::as_str).collect();
+        // cargo-mutants' own options, then `--` and cargo test's, then `--` and the binary's.
+        let first = tail.iter().position(|a| *a == "--").unwrap();
+        assert_eq!(&tail[first..first + 3], ["--", "--lib", "--"]);
+        assert!(tail[..first]
+            .windows(2)
+            .any(|w| w == ["--file", file.as_str()]));
+        assert!(tail[..first].windows(2).any(|w| w == ["--output", "out"]));
+    }
 
     #[test]
     fn outcomes_are_tallied_per_file() {
