@@ -40,6 +40,24 @@ pub const MCU_REGISTERS: [McuRegister; 12] = [
     McuRegister { addr: 11, name: "CONFIG_HASH_HI", what: "configuration hash, bits 63..32", diagnostic: false },
 ];
 
+/// The arms of the MCU read mux's `case (mcu_addr)`, one per register of
+/// [`MCU_REGISTERS`] (`<addr>: mcu_rdata = <word>;  // <name>`, 12 spaces indented) over the
+/// output signals themselves; the design and the reference share them.
+pub(crate) fn mcu_read_cases(config: &MeasureConfig, diagnostics: bool) -> String {
+    let words = mcu_words(config, "", diagnostics);
+    MCU_REGISTERS
+        .iter()
+        .zip(words.iter())
+        .map(|(reg, word)| {
+            format!(
+                "            {}: mcu_rdata = {word};  // {}\n",
+                crate::emit::lit(MCU_ADDR_BITS, reg.addr.into()),
+                reg.name
+            )
+        })
+        .collect()
+}
+
 /// Verilog expressions of the MCU register words, indexed like [`MCU_REGISTERS`], over
 /// signals named as [`crate::output_fields`] with `prefix` prepended (a diagnostic word is a zero
 /// constant unless `diagnostics`). The DUT's read mux and the testbench's reference use

@@ -4,8 +4,6 @@
 
 use crate::design::{VerilogFile, TOP};
 use crate::emit::{fill, lit, pin_index, Context};
-use crate::mcu::mcu_words;
-use crate::mcu::MCU_REGISTERS;
 use crate::outputs::output_fields;
 use tooltouch_model::measure::frontend::pin;
 
@@ -24,15 +22,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
         conns.push_str(&format!("        .{0}({0}),\n", f.name));
     }
     let conns = conns.trim_end_matches(",\n").to_string();
-    let words = mcu_words(&ctx.config, "", ctx.mcu_diagnostics);
-    let mut cases = String::new();
-    for (reg, word) in MCU_REGISTERS.iter().zip(words.iter()) {
-        cases.push_str(&format!(
-            "            {}: mcu_rdata = {word};  // {}\n",
-            lit(crate::mcu::MCU_ADDR_BITS, reg.addr.into()),
-            reg.name
-        ));
-    }
+    let cases = crate::mcu::mcu_read_cases(&ctx.config, ctx.mcu_diagnostics);
     let pins: Vec<String> = pin::NAMES
         .iter()
         .rev()

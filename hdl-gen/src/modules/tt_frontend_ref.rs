@@ -17,7 +17,7 @@
 
 use crate::design::{Options, VerilogFile};
 use crate::emit::{fill, lit, pin_index, Context};
-use crate::mcu::{mcu_words, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
+use crate::mcu::{MCU_ADDR_BITS, MCU_DATA_BITS};
 use crate::outputs::output_fields;
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::pin;
@@ -122,15 +122,7 @@ fn emit(ctx: &Context, module: &str) -> VerilogFile {
         .rev()
         .map(|n| format!("pin_{n}"))
         .collect();
-    let words = mcu_words(c, "", ctx.mcu_diagnostics);
-    let mut cases = String::new();
-    for (reg, word) in MCU_REGISTERS.iter().zip(words.iter()) {
-        cases.push_str(&format!(
-            "            {}: mcu_rdata = {word};  // {}\n",
-            lit(MCU_ADDR_BITS, reg.addr.into()),
-            reg.name
-        ));
-    }
+    let cases = crate::mcu::mcu_read_cases(&ctx.config, ctx.mcu_diagnostics);
     let bit = match s.contact_rule {
         ContactRule::Sampled => "contact_n",
         ContactRule::Sticky => "sticky_n",
