@@ -33,7 +33,7 @@ use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
 
 /// Induction length tried before a proof is given up as undecided. The invariants make
-/// the generated designs inductive at length 1; the bound leaves room for a change that
+/// the generated designs inductive at length 1 or 2; the bound leaves room for a change that
 /// needs a few more clocks, and bounds the base case that looks for a counterexample.
 pub const MAX_INDUCTION: u32 = 12;
 
@@ -305,16 +305,27 @@ pub fn prove(
     dir: &Path,
     max_induction: u32,
 ) -> Result<Proof, FormalError> {
+    prove_miter(config, options, &miter(config, options), dir, max_induction)
+}
+
+/// [`prove`] with a given miter (e.g. one whose property was edited, to show that the proof
+/// notices).
+pub fn prove_miter(
+    config: &MeasureConfig,
+    options: &Options,
+    m: &Miter,
+    dir: &Path,
+    max_induction: u32,
+) -> Result<Proof, FormalError> {
     std::fs::create_dir_all(dir).map_err(io(dir))?;
-    let m = miter(config, options);
     let mut names = Vec::new();
-    for f in files(config, options, &m) {
+    for f in files(config, options, m) {
         let p = dir.join(&f.name);
         std::fs::write(&p, &f.text).map_err(io(&p))?;
         names.push(f.name);
     }
     let script_path = dir.join("proof.ys");
-    std::fs::write(&script_path, script(config, &m, &names, max_induction))
+    std::fs::write(&script_path, script(config, m, &names, max_induction))
         .map_err(io(&script_path))?;
     let vcd = dir.join(YOSYS_VCD);
     let _ = std::fs::remove_file(&vcd);
@@ -362,7 +373,7 @@ pub fn prove(
     } else if log.contains("model found for base case: FAIL!") {
         let text = std::fs::read_to_string(&vcd).map_err(io(&vcd))?;
         Verdict::Counterexample(
-            read_yosys_trace(&text, &m, config)
+            read_yosys_trace(&text, m, config)
                 .ok_or_else(|| yosys_error("the counterexample VCD could not be read"))?,
         )
     } else if log.contains("Reached maximum number of time steps -> proof failed.") {

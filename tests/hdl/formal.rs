@@ -16,7 +16,9 @@ use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::process::Command;
 use tooltouch::hdl::random::random_config;
-use tooltouch_hdl_gen::formal::{prove, write_counterexample_vcd, Verdict, MAX_INDUCTION};
+use tooltouch_hdl_gen::formal::{
+    miter, prove, prove_miter, write_counterexample_vcd, Verdict, MAX_INDUCTION,
+};
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureSettings};
@@ -206,6 +208,84 @@ fn hdl_formal_every_fault_fails_with_a_counterexample_that_tooltouch_check_repla
             );
             assert!(out.contains("MISMATCH"), "{fault:?}: {out}");
         }
+    }
+}
+
+/// The latency and arithmetic properties are not vacuous: each one, stated one clock or one
+/// sign off, fails with a counterexample that names it (in the small configuration with a
+/// one-clock glitch filter, where each shows within the base case's 12 clocks).
+#[test]
+fn hdl_formal_properties_stated_wrongly_fail() {
+    let config = MeasureSettings {
+        glitch_cycles: 1,
+        ..small_config()
+    }
+    .validate()
+    .expect("valid configuration");
+    let options = Options::default();
+    let work = tempfile::tempdir().expect("temporary folder");
+    let wrong = [
+        (
+            "the armed output one clock early",
+            "(hist[6 * (gj + 2) + 0] != ref_armed)",
+            "(hist[6 * (gj + 1) + 0] != ref_armed)",
+            "ok_latency_levels",
+        ),
+        (
+            "the armed output changing one clock late",
+            "(hist[6 * (gj + 2) + 0] == ref_armed)",
+            "(hist[6 * (gj + 3) + 0] == ref_armed)",
+            "ok_latency_levels",
+        ),
+        (
+            "the filter passing a level one clock early",
+            "(hist[6 * (gj + 1) + 1] != probe_r_filtered[1])",
+            "(hist[6 * (gj + 0) + 1] != probe_r_filtered[1])",
+            "ok_latency_filter",
+        ),
+        (
+            "the position stepping the other way",
+            "ref_position == held_position + held_position_step",
+            "ref_position == held_position - held_position_step",
+            "ok_model_position",
+        ),
+        (
+            "a contact pulse lowering the charge",
+            "ref_charge >= held_charge_base",
+            "ref_charge < held_charge_base",
+            "ok_model_charge",
+        ),
+    ];
+    for (i, (what, from, to, assertion)) in wrong.iter().enumerate() {
+        let mut m = miter(&config, &options);
+        assert!(
+            m.file.text.contains(from),
+            "{what}: `{from}` is not in the miter:\n{}",
+            m.file.text
+        );
+        m.file.text = m.file.text.replace(from, to);
+        let proof = prove_miter(
+            &config,
+            &options,
+            &m,
+            &work.path().join(format!("wrong{i}")),
+            MAX_INDUCTION,
+        )
+        .expect("the proof runs");
+        let Verdict::Counterexample(trace) = proof.verdict else {
+            panic!("{what}: expected a counterexample, got {:?}", proof.verdict)
+        };
+        println!(
+            "formal, {what}: a counterexample of {} clocks failing {:?} in {:.1} s",
+            trace.pins.len(),
+            trace.failed,
+            proof.seconds
+        );
+        assert!(
+            trace.failed.iter().any(|a| a == assertion),
+            "{what}: expected {assertion} to fail, failed: {:?}",
+            trace.failed
+        );
     }
 }
 

@@ -23,7 +23,12 @@
 //! - *the model's invariants* (`ok_model_*`), proven on the reference: counts never above
 //!   `window_pulses`, a disarmed capacitor has fired and holds at least the re-arm charge,
 //!   `register_now` once raised holds with its position until the clock that acts on the
-//!   next arm rising edge.
+//!   next arm rising edge, the position wraps at `scale_bits`, the charge saturates;
+//! - *the latency* `3 + glitch_cycles` (`ok_latency_*`): against the pins of the last
+//!   `glitch_cycles + 4` clocks kept in the miter (`hist`), the synchronizer holds the last
+//!   two, the stability counters count the clocks a level has differed, the armed and
+//!   contact outputs follow their pins exactly that many clocks later, and no output changes
+//!   but in the clock after a filtered level did.
 //!
 //! The internal registers are not ports: the miter declares an undriven `probe_*` wire
 //! for each, and the proof script connects it to the flattened register
@@ -35,7 +40,7 @@ use crate::emit::{fill, lit, pin_index, Context};
 use crate::mcu::{MCU_ADDR_BITS, MCU_DATA_BITS};
 use crate::modules::tt_frontend_ref::REFERENCE_TOP;
 use crate::outputs::output_fields;
-use tooltouch_model::measure::config::DecisionMethod;
+use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::pin;
 
 /// Name of the miter module (and of its file, `tt_formal_miter.v`).
@@ -288,6 +293,63 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
          the clock that acts on the next arm rising edge",
     );
 
+    // The model's invariants on the arithmetic: the position wraps at scale_bits, the
+    // charge saturates in its register instead of wrapping.
+    add(
+        "model_position",
+        "!held_valid || ref_position == held_position + held_position_step".into(),
+        "model: the position moves by the scale step of the clock before, modulo 2^scale_bits",
+    );
+    add(
+        "model_charge",
+        "!held_valid ||\n\
+         \x20       (held_counted_pulse ? (held_pulse_bit ? ref_charge >= held_charge_base\n\
+         \x20                                             : ref_charge <= held_charge_base)\n\
+         \x20                           : ref_charge == held_charge_base)"
+            .into(),
+        "model: the charge changes only on a counted FES pulse (from 0 after an arm rising edge), \
+         up with contact and down without, saturating in its register instead of wrapping",
+    );
+    // Latency: pin levels `glitch_cycles + 1` clocks long pass the filter, and the outputs
+    // follow one clock later, `3 + glitch_cycles` clocks after the pin was sampled.
+    let pin_runs: Vec<String> = (0..pin::COUNT)
+        .map(|i| {
+            let stable = if glitch > 0 {
+                format!("probe_r_stable{i}")
+            } else {
+                "0".to_string()
+            };
+            format!("filter_run{i}[{stable}] && !filter_run{i}[{stable} + 1]")
+        })
+        .collect();
+    add(
+        "latency_sync",
+        "probe_r_sync1 == tap1 && probe_r_sync2 == tap2".into(),
+        "latency: the synchronizer holds the pins of the last two clocks",
+    );
+    add(
+        "latency_filter",
+        pin_runs.join(" &&\n        "),
+        "latency: each stability counter counts the clocks the synchronized level has differed \
+         from the filtered one, and no level has differed for glitch_cycles + 1 clocks (it would \
+         have passed)",
+    );
+    add(
+        "latency_levels",
+        "!armed_differs[GLITCH_CYCLES + 1] && !contact_differs[GLITCH_CYCLES + 1] &&\n\
+         \x20       (!held_valid || (ref_armed == held_armed || armed_same[GLITCH_CYCLES + 1]) &&\n\
+         \x20                       (ref_contact == held_contact || contact_same[GLITCH_CYCLES + 1]))"
+            .into(),
+        "latency: the armed and contact outputs show the arm and contact pin levels sampled \
+         3 + glitch_cycles clocks before once held glitch_cycles + 1 clocks, and change only then",
+    );
+    add(
+        "latency_outputs",
+        "!held_valid || held_outputs == outputs_now || held_edge".into(),
+        "latency: an output changes only in the clock after a filtered level changed (never \
+         before 3 + glitch_cycles clocks from a pin)",
+    );
+
     let mut decls = String::new();
     for p in &probes {
         let range = if p.width == 1 {
@@ -373,6 +435,7 @@ ${DECLS}
         held_decision_position <= ref_decision_position;
     end
 
+${LATENCY}
 ${OK_DECLS}
     always @* begin
 ${OK_ASSERTS}    end
@@ -404,6 +467,7 @@ endmodule
             ("SA", sa),
             ("SBP", sbp),
             ("OK_DECLS", ok_decls),
+            ("LATENCY", history(ctx, &fields)),
             ("OK_ASSERTS", ok_asserts),
         ],
     );
@@ -415,4 +479,134 @@ endmodule
             .map(|(name, _, what)| (name, what))
             .collect(),
     }
+}
+
+/// The miter's record of the past for the latency and arithmetic properties: the pins of
+/// the last `glitch_cycles + 4` clocks (`hist`, tap `j` = the pins `j` clocks before, as
+/// if every pin had been low before power-on and `rst`), the runs of clocks a tap has
+/// differed from (or equalled) a level, and the previous clock's outputs, edges, position
+/// step and charge (`held_*`, checked only when `held_valid`).
+fn history(ctx: &Context, fields: &[crate::outputs::OutputField]) -> String {
+    let c = &ctx.config;
+    let s = c.settings();
+    let n = pin::COUNT as u32;
+    let glitch = u32::from(s.glitch_cycles);
+    let depth = glitch + 4;
+    let (arm, contact, fes) = (
+        pin_index(pin::ARM),
+        pin_index(pin::CONTACT),
+        pin_index(pin::FES),
+    );
+    // A run `name[j]`: taps `first .. first + j - 1` all `op` the level `against`.
+    let run = |name: &str, first: u32, bit: &str, op: &str, against: &str| {
+        fill(
+            "    wire [${LEN}:0] ${NAME};\n\
+             \x20   assign ${NAME}[0] = 1'b1;\n\
+             \x20   generate for (gj = 1; gj <= ${LEN}; gj = gj + 1) begin : g_${NAME}\n\
+             \x20       assign ${NAME}[gj] = ${NAME}[gj - 1] && (hist[${N} * (gj + ${OFF}) + ${BIT}] ${OP} ${AGAINST});\n\
+             \x20   end endgenerate\n",
+            &[
+                ("LEN", (glitch + 1).to_string()),
+                ("NAME", name.to_string()),
+                ("N", n.to_string()),
+                ("OFF", (first - 2).to_string()),
+                ("BIT", bit.to_string()),
+                ("OP", op.to_string()),
+                ("AGAINST", against.to_string()),
+            ],
+        )
+    };
+    let mut runs = String::new();
+    for i in 0..pin::COUNT {
+        runs.push_str(&run(
+            &format!("filter_run{i}"),
+            3,
+            &i.to_string(),
+            "!=",
+            &format!("probe_r_filtered[{i}]"),
+        ));
+    }
+    for (level, bit) in [("armed", &arm), ("contact", &contact)] {
+        runs.push_str(&run(
+            &format!("{level}_differs"),
+            4,
+            bit,
+            "!=",
+            &format!("ref_{level}"),
+        ));
+        runs.push_str(&run(
+            &format!("{level}_same"),
+            4,
+            bit,
+            "==",
+            &format!("ref_{level}"),
+        ));
+    }
+    let outputs_width: u32 = fields.iter().map(|f| f.width).sum();
+    let outputs_now: Vec<String> = fields.iter().map(|f| format!("ref_{}", f.name)).collect();
+    let pulse_bit = match s.contact_rule {
+        ContactRule::Sampled => format!("probe_r_filtered[{contact}]"),
+        ContactRule::Sticky => format!("probe_r_sticky || rise[{contact}]"),
+    };
+    let (sb, qb) = (ctx.scale_bits(), ctx.charge_bits());
+    fill(
+        r#"    // The pins of the last ${DEPTH} clocks: tap j (bits [${N}j-1:${N}(j-1)]) = the pins j clocks
+    // before; power-on and rst read as pins low for ever.
+    reg [${HB1}:0] hist = ${HZERO};
+    always @(posedge clk) hist <= rst ? ${HZERO} : {hist[${HB1M}:0], pins};
+    wire [${N1}:0] tap1 = hist[${N1}:0];
+    wire [${N1}:0] tap2 = hist[${N2M}:${N}];
+
+    // Runs: name[j] = taps first .. first + j - 1 all differ from (or equal) a level.
+    genvar gj;
+${RUNS}
+    // The previous clock, for the properties that relate two clocks; held_valid is low
+    // after power-on and after rst.
+    wire [${OW1}:0] outputs_now = {${OUTPUTS_NOW}};
+    reg         held_valid         = 1'b0;
+    reg [${OW1}:0] held_outputs       = ${OWZERO};
+    reg         held_edge          = 1'b0;
+    reg         held_armed         = 1'b0;
+    reg         held_contact       = 1'b0;
+    reg [${SB1}:0] held_position      = ${SZERO};
+    reg [${SB1}:0] held_position_step = ${SZERO};
+    reg [${QB1}:0] held_charge_base   = ${QZERO};
+    reg         held_counted_pulse = 1'b0;
+    reg         held_pulse_bit     = 1'b0;
+    always @(posedge clk) begin
+        held_valid         <= !rst;
+        held_outputs       <= outputs_now;
+        held_edge          <= probe_r_filtered != probe_r_previous;
+        held_armed         <= ref_armed;
+        held_contact       <= ref_contact;
+        held_position      <= ref_position;
+        held_position_step <= (step == 2'd1) ? ${SONE} : (step == 2'd3) ? ${SMINUS} : ${SZERO};
+        held_charge_base   <= rise[${ARM}] ? ${QZERO} : ref_charge;   // an arm rising edge resets
+        held_counted_pulse <= rise[${FES}] && probe_r_filtered[${ARM}];
+        held_pulse_bit     <= ${PULSE_BIT};
+    end
+"#,
+        &[
+            ("DEPTH", depth.to_string()),
+            ("N", n.to_string()),
+            ("N1", (n - 1).to_string()),
+            ("N2M", (2 * n - 1).to_string()),
+            ("HB1", (n * depth - 1).to_string()),
+            ("HB1M", (n * depth - n - 1).to_string()),
+            ("HZERO", lit(n * depth, 0)),
+            ("RUNS", runs),
+            ("OW1", (outputs_width - 1).to_string()),
+            ("OWZERO", lit(outputs_width, 0)),
+            ("OUTPUTS_NOW", outputs_now.join(", ")),
+            ("SB1", (sb - 1).to_string()),
+            ("SZERO", lit(sb, 0)),
+            ("SONE", lit(sb, 1)),
+            ("SMINUS", lit(sb, crate::outputs::mask(sb))),
+            ("QB1", (qb - 1).to_string()),
+            ("QZERO", lit(qb, 0)),
+            ("ARM", arm),
+            ("FES", fes),
+            ("PULSE_BIT", pulse_bit),
+        ],
+    )
 }
