@@ -18,12 +18,19 @@
 //! and [`remove_staging_on_signal`] installs a handler that removes them and exits with
 //! 130. A commit holds that list's lock while it renames, so a signal never lands between
 //! two renames of one commit.
+//!
+//! A command that writes one file instead of a folder (`tune point`, `cosim config`,
+//! `cosim firmware --trace`) goes through [`write_file`]: the same promise for one file. It
+//! writes a hidden temporary file beside the final one and renames it into place, so the
+//! path holds the old file or the whole new one, never a cut one; a failed write removes
+//! the temporary file, and so does the signal handler.
 
 use anyhow::Context;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-/// Staging folders not yet committed or dropped, removed by the signal handler.
+/// Staging folders not yet committed or dropped, and [`write_file`]'s temporary files not
+/// yet renamed: removed by the signal handler.
 static OPEN_STAGING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 /// Exit code after a signal stopped the run (128 + SIGINT, as shells report Ctrl-C).
@@ -43,7 +50,12 @@ pub fn remove_staging_on_signal() {
         for dir in open.iter() {
             // A writer thread may still create a file in the folder: retry a few times.
             for _ in 0..5 {
-                if std::fs::remove_dir_all(dir).is_ok() || !dir.exists() {
+                let removed = if dir.is_dir() {
+                    std::fs::remove_dir_all(dir).is_ok()
+                } else {
+                    std::fs::remove_file(dir).is_ok()
+                };
+                if removed || !dir.exists() {
                     break;
                 }
             }
@@ -51,6 +63,67 @@ pub fn remove_staging_on_signal() {
         eprintln!("interrupted: no output written");
         std::process::exit(INTERRUPTED);
     });
+}
+
+/// The hidden temporary name beside `path` that [`write_file`] writes before its rename
+/// (same folder, so same file system: the rename is atomic).
+fn partial_file(path: &Path) -> PathBuf {
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    path.with_file_name(format!(".{name}.tooltouch-partial-{}", std::process::id()))
+}
+
+/// Checks that the file `path` can be written, before a long run makes its contents: it
+/// is not a folder, its folder exists, and a file can be created there (a temporary one,
+/// removed at once). Errors name `path`.
+pub fn check_output_file(path: &Path) -> anyhow::Result<()> {
+    if path.is_dir() {
+        anyhow::bail!(
+            "output file {}: is a folder, not a file (give a file path)",
+            path.display()
+        );
+    }
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        anyhow::bail!(
+            "output file {}: its folder {} {}",
+            path.display(),
+            folder.display(),
+            if folder.exists() {
+                "is a file, not a folder"
+            } else {
+                "does not exist (create it first)"
+            }
+        );
+    }
+    let probe = partial_file(path);
+    std::fs::File::create(&probe).with_context(|| {
+        format!(
+            "output file {}: cannot write in its folder {}",
+            path.display(),
+            folder.display()
+        )
+    })?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}
+
+/// Writes the file `path` whole or not at all (module documentation): an existing file is
+/// replaced only once the new one is complete, and a failed write leaves nothing behind.
+pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    check_output_file(path)?;
+    let partial = partial_file(path);
+    open_staging().push(partial.clone());
+    let written = std::fs::write(&partial, bytes).and_then(|()| std::fs::rename(&partial, path));
+    let mut open = open_staging();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&partial);
+    }
+    open.retain(|p| *p != partial);
+    drop(open);
+    written.with_context(|| format!("writing {}", path.display()))
 }
 
 /// The output folder of one run. See the module documentation.
@@ -221,5 +294,33 @@ mod tests {
         }
         assert_eq!(std::fs::read_to_string(d.join("a.txt")).unwrap(), "old");
         assert_eq!(std::fs::read_dir(d).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn a_file_is_written_whole_and_a_failed_write_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let file = d.join("settings.toml");
+        std::fs::write(&file, "old").unwrap();
+        write_file(&file, b"new").unwrap();
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "new");
+        let folder = d.join("a-folder");
+        std::fs::create_dir(&folder).unwrap();
+        let e = write_file(&folder, b"x").unwrap_err().to_string();
+        assert!(e.contains("is a folder"), "{e}");
+        let e = write_file(&d.join("missing/x.toml"), b"x").unwrap_err();
+        assert!(e.to_string().contains("does not exist"), "{e}");
+        let e = write_file(&file.join("x.toml"), b"x").unwrap_err();
+        assert!(e.to_string().contains("is a file"), "{e}");
+        let mut left: Vec<_> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        left.sort();
+        assert_eq!(
+            left,
+            ["a-folder", "settings.toml"],
+            "no temporary file left"
+        );
     }
 }

@@ -14,8 +14,7 @@ use crate::cosim::firmware_config::{FirmwareConfig, CONFIG_VAR};
 use crate::cosim::{qemu, trace, CosimError};
 use crate::vectors::binary;
 use crate::vectors::check::{compare_binary, Verdict};
-use anyhow::Context;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Arguments of `tooltouch cosim`.
@@ -54,8 +53,11 @@ struct FirmwareArgs {
     /// FPGA clock of a pin stimulus, Hz (as `tooltouch vectors --clock-hz`).
     #[arg(long)]
     clock_hz: Option<u32>,
-    /// Also write the firmware's trace here (for `tooltouch check` or a closer look).
-    #[arg(long)]
+    /// Also write the firmware's trace here (for `tooltouch check` or a closer look). Its
+    /// folder is checked before the image is built; a failed run leaves an existing file
+    /// as it was.
+    // `FilePath`: a file this command writes (the hostile-input test reads the hint).
+    #[arg(long, value_hint = clap::ValueHint::FilePath)]
     trace: Option<PathBuf>,
 }
 
@@ -65,8 +67,10 @@ struct ConfigArgs {
     /// Settings TOML: `[measure]` and `[force]` tables (defaults where absent).
     #[arg(long)]
     config: Option<PathBuf>,
-    /// The configuration file to write.
-    #[arg(long)]
+    /// The configuration file to write (whole or not at all: a failed run leaves an
+    /// existing file as it was).
+    // `FilePath`: a file this command writes (the hostile-input test reads the hint).
+    #[arg(long, value_hint = clap::ValueHint::FilePath)]
     out: PathBuf,
 }
 
@@ -80,7 +84,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
 fn config(a: &ConfigArgs) -> anyhow::Result<ExitCode> {
     let config = FirmwareConfig::load(a.config.as_deref())?;
-    write_whole(&a.out, &config.baked_bytes())?;
+    crate::output::write_file(&a.out, &config.baked_bytes())?;
     outln!(
         "{}: wrote {} (build with {CONFIG_VAR}={})",
         config.hashes(),
@@ -88,15 +92,6 @@ fn config(a: &ConfigArgs) -> anyhow::Result<ExitCode> {
         a.out.display()
     );
     Ok(ExitCode::SUCCESS)
-}
-
-/// Writes `bytes` to a temporary name beside `path` and renames it: no partial file.
-fn write_whole(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".partial");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
 }
 
 /// How `cosim firmware` ended.
@@ -152,6 +147,13 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
             wanted.force.hash()
         ));
     }
+    // Every input is read and the trace's folder checked before the image is built and
+    // booted (minutes on a cold build), so a typo costs no build.
+    if let Some(path) = &a.trace {
+        if let Err(e) = crate::output::check_output_file(path) {
+            return bad(e);
+        }
+    }
     let image = match &a.image {
         Some(p) => match std::fs::read(p) {
             Ok(bytes) if bytes.starts_with(b"\x7fELF") => p.clone(),
@@ -182,7 +184,7 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         Err(e) => return Outcome::Mismatch(format!("{}: {e}", image.display())),
     };
     if let Some(path) = &a.trace {
-        if let Err(e) = write_whole(path, &trace_bytes) {
+        if let Err(e) = crate::output::write_file(path, &trace_bytes) {
             return bad(e);
         }
     }

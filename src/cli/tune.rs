@@ -45,8 +45,10 @@ enum Command {
         results: PathBuf,
         /// The point's index (the `index` column of results.csv / force.csv).
         index: usize,
-        /// The settings file to write.
-        #[arg(long)]
+        /// The settings file to write (whole or not at all: a failed run leaves an
+        /// existing file as it was).
+        // `FilePath`: a file this command writes (the hostile-input test reads the hint).
+        #[arg(long, value_hint = clap::ValueHint::FilePath)]
         out: PathBuf,
     },
 }
@@ -405,10 +407,7 @@ fn merge(dirs: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
 fn point(results: &std::path::Path, index: usize, out: &std::path::Path) -> Result<ExitCode> {
     let r = output::read(results)?;
     let text = tune::point_settings::settings_toml(&r, index)?;
-    let mut tmp = out.as_os_str().to_owned();
-    tmp.push(".partial");
-    std::fs::write(&tmp, &text).with_context(|| format!("writing {}", out.display()))?;
-    std::fs::rename(&tmp, out).with_context(|| format!("writing {}", out.display()))?;
+    crate::output::write_file(out, text.as_bytes())?;
     outln!(
         "{} → {}",
         text.lines().next().unwrap_or("").trim_start_matches("# "),
