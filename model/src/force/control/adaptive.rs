@@ -118,6 +118,11 @@ impl Adaptive {
     pub fn controller_gain(&self) -> Fx {
         self.controller_gain
     }
+
+    /// The override state f (the last period's clamped demand, before rounding), %, I32F32.
+    pub fn override_state(&self) -> Percent {
+        self.feed
+    }
 }
 
 impl ForceController for Adaptive {

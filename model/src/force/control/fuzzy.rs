@@ -190,6 +190,17 @@ impl Fuzzy {
         f.reset(override_pct);
         f
     }
+
+    /// The override state (the last period's clamped demand, before rounding), %, I32F32.
+    pub fn override_state(&self) -> Percent {
+        self.u
+    }
+
+    /// The previous period's error F_r − F̂_c, N, I32F32; `None` before the first period
+    /// after a reset.
+    pub fn previous_error(&self) -> Option<Newtons> {
+        self.e_prev
+    }
 }
 
 impl ForceController for Fuzzy {
