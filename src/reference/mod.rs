@@ -13,7 +13,7 @@ pub mod design;
 
 use tooltouch_model::force::config::{ForceSettings, ForceSource};
 use tooltouch_model::force::control::fuzzy::{NO_RULE, SETS};
-use tooltouch_model::force::control::ControllerSettings;
+use tooltouch_model::force::control::{Controller, ControllerSettings};
 use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
 use tooltouch_model::force::wear::{Threshold, WearSettings};
 use tooltouch_model::units::Fx;
@@ -243,6 +243,64 @@ pub trait ControllerF {
     fn step(&mut self, reference: f64, force: f64) -> (f64, u8, bool);
     /// Restart at an override.
     fn reset(&mut self, override_pct: u8);
+    /// The unclamped demand, %, that [`ControllerF::step`] would clamp and round for these
+    /// inputs (N) from the present state; the state is left as it is.
+    fn demand(&self, reference: f64, force: f64) -> f64;
+    /// The state.
+    fn state(&self) -> ControllerStateF;
+    /// Re-synchronizes the state, e.g. to a fixed-point kernel's ([`state_of`]), so the two
+    /// can be compared one period at a time; a state of another kind of controller is
+    /// refused and the state left as it is.
+    fn set_state(&mut self, state: &ControllerStateF) -> Result<(), WrongController>;
+}
+
+/// The state of a controller, as f64s: what a float reference and a fixed-point kernel
+/// carry from one period to the next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ControllerStateF {
+    /// PI.
+    Pi {
+        /// Integrator, %.
+        integral: f64,
+    },
+    /// Adaptive F11.
+    Adaptive {
+        /// Override state f (the clamped demand before rounding), %.
+        feed: f64,
+        /// Process-gain estimate K̂, N/%.
+        gain_estimate: f64,
+        /// Controller gain K̄_c for the next period, %/(N·s).
+        controller_gain: f64,
+    },
+    /// Fuzzy PI.
+    Fuzzy {
+        /// Override state (the clamped demand before rounding), %.
+        override_state: f64,
+        /// The previous period's error, N; `None` before the first period.
+        previous_error: Option<f64>,
+    },
+}
+
+/// [`ControllerF::set_state`] was given the state of another kind of controller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WrongController;
+
+/// The state of a fixed-point kernel, converted exactly (every I32F32 value is an f64).
+pub fn state_of(c: &Controller) -> ControllerStateF {
+    match c {
+        Controller::Pi(p) => ControllerStateF::Pi {
+            integral: f(p.integral()),
+        },
+        Controller::Adaptive(a) => ControllerStateF::Adaptive {
+            feed: f(a.override_state()),
+            gain_estimate: f(a.gain_estimate()),
+            controller_gain: f(a.controller_gain()),
+        },
+        Controller::Fuzzy(z) => ControllerStateF::Fuzzy {
+            override_state: f(z.override_state()),
+            previous_error: z.previous_error().map(f),
+        },
+    }
 }
 
 fn out(demand: f64) -> (f64, u8, bool) {
@@ -264,7 +322,7 @@ pub struct PiF {
 impl ControllerF for PiF {
     fn step(&mut self, r: f64, force: f64) -> (f64, u8, bool) {
         let e = r - force;
-        let demand = self.kp * e + self.integral;
+        let demand = self.demand(r, force);
         if !((demand > 255.0 && e > 0.0) || (demand < 0.0 && e < 0.0)) {
             self.integral = (self.integral + self.ki_h * e).clamp(self.lo, self.hi);
         }
@@ -272,6 +330,21 @@ impl ControllerF for PiF {
     }
     fn reset(&mut self, o: u8) {
         self.integral = f64::from(o).clamp(self.lo, self.hi);
+    }
+    fn demand(&self, r: f64, force: f64) -> f64 {
+        self.kp * (r - force) + self.integral
+    }
+    fn state(&self) -> ControllerStateF {
+        ControllerStateF::Pi {
+            integral: self.integral,
+        }
+    }
+    fn set_state(&mut self, state: &ControllerStateF) -> Result<(), WrongController> {
+        let ControllerStateF::Pi { integral } = *state else {
+            return Err(WrongController);
+        };
+        self.integral = integral;
+        Ok(())
     }
 }
 
@@ -294,9 +367,7 @@ impl AdaptiveF {
 
 impl ControllerF for AdaptiveF {
     fn step(&mut self, r: f64, force: f64) -> (f64, u8, bool) {
-        let e = r - force;
-        let demand = self.feed + self.gain * self.h * e;
-        let (u, q, sat) = out(demand);
+        let (u, q, sat) = out(self.demand(r, force));
         if self.feed >= f(self.s.min_override) && force >= f(self.s.min_force) {
             let (lo, hi) = (f(self.s.gain_min), f(self.s.gain_max));
             let raw = (force / self.feed).clamp(lo, hi);
@@ -310,6 +381,30 @@ impl ControllerF for AdaptiveF {
     }
     fn reset(&mut self, o: u8) {
         self.feed = f64::from(o);
+    }
+    fn demand(&self, r: f64, force: f64) -> f64 {
+        self.feed + self.gain * self.h * (r - force)
+    }
+    fn state(&self) -> ControllerStateF {
+        ControllerStateF::Adaptive {
+            feed: self.feed,
+            gain_estimate: self.gain_estimate,
+            controller_gain: self.gain,
+        }
+    }
+    fn set_state(&mut self, state: &ControllerStateF) -> Result<(), WrongController> {
+        let ControllerStateF::Adaptive {
+            feed,
+            gain_estimate,
+            controller_gain,
+        } = *state
+        else {
+            return Err(WrongController);
+        };
+        self.feed = feed;
+        self.gain_estimate = gain_estimate;
+        self.gain = controller_gain;
+        Ok(())
     }
 }
 
@@ -369,18 +464,39 @@ pub fn infer_f(rules: &[[i8; SETS]; SETS], e: f64, de: f64) -> f64 {
 
 impl ControllerF for FuzzyF {
     fn step(&mut self, r: f64, force: f64) -> (f64, u8, bool) {
-        let span = f64::from(tooltouch_model::force::control::fuzzy::SPAN);
-        let e = r - force;
-        let de = e - self.e_prev.unwrap_or(e);
-        self.e_prev = Some(e);
-        let du = infer_f(&self.rules, self.ge * e / span, self.gde * de / span) * span;
-        let (u, q, sat) = out(self.u + self.gdu * du);
+        let (u, q, sat) = out(self.demand(r, force));
+        self.e_prev = Some(r - force);
         self.u = u;
         (u, q, sat)
     }
     fn reset(&mut self, o: u8) {
         self.u = f64::from(o);
         self.e_prev = None;
+    }
+    fn demand(&self, r: f64, force: f64) -> f64 {
+        let span = f64::from(tooltouch_model::force::control::fuzzy::SPAN);
+        let e = r - force;
+        let de = e - self.e_prev.unwrap_or(e);
+        let du = infer_f(&self.rules, self.ge * e / span, self.gde * de / span) * span;
+        self.u + self.gdu * du
+    }
+    fn state(&self) -> ControllerStateF {
+        ControllerStateF::Fuzzy {
+            override_state: self.u,
+            previous_error: self.e_prev,
+        }
+    }
+    fn set_state(&mut self, state: &ControllerStateF) -> Result<(), WrongController> {
+        let ControllerStateF::Fuzzy {
+            override_state,
+            previous_error,
+        } = *state
+        else {
+            return Err(WrongController);
+        };
+        self.u = override_state;
+        self.e_prev = previous_error;
+        Ok(())
     }
 }
 
