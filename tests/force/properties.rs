@@ -427,6 +427,39 @@ fn one_step_agrees(
     }
 }
 
+/// The one-period exception is real: a shared integrator of 100 % and an error just past
+/// (255 − 100) % / K_p, so that K_p·e exceeds 155 % by less than one LSB. The fixed-point
+/// product drops that excess, its demand is exactly 255 % and it integrates (a demand at the
+/// range's end is not saturated); the float demand is past 255 % and its PI holds. The
+/// integrators part by K_i·h·e ≈ 31 % after one period, as [`one_step_agrees`] allows.
+#[test]
+fn the_pi_anti_windup_decision_may_flip_within_one_lsb_of_its_switch() {
+    let kp_bits = i128::from(DEFAULT_PI.kp.to_bits());
+    let e_bits = ((155i128 << 64) + kp_bits - 1) / kp_bits;
+    let e = Fx::from_bits(i64::try_from(e_bits).unwrap());
+    let force = Fx::from_num(500) - e;
+    let settings = ControllerSettings::Pi(DEFAULT_PI);
+    let mut fx = Controller::new(&settings, h(), 100);
+    let mut fl = controller_f(&settings, 0.05, 100);
+    fl.set_state(&state_of(&fx)).unwrap();
+    let demand = fl.demand(500.0, f(force));
+    assert!(
+        demand > 255.0,
+        "the float demand {demand} is past the switch"
+    );
+    one_step_agrees(&mut fx, fl.as_mut(), force).unwrap();
+    let (ControllerStateF::Pi { integral: fixed }, ControllerStateF::Pi { integral: float }) =
+        (state_of(&fx), fl.state())
+    else {
+        unreachable!("both are PIs")
+    };
+    assert_eq!(float, 100.0, "the float PI held");
+    assert!(
+        fixed - float > 30.0,
+        "the fixed-point PI integrated: {fixed}"
+    );
+}
+
 #[test]
 fn clamp_reports_saturation() {
     assert_eq!(clamp_override(Fx::from_num(300)), (Fx::from_num(255), true));
