@@ -107,10 +107,17 @@ fn adaptive_periods_by_hand() {
     let mut c = adaptive(4.0, 4.0, 0);
     assert_eq!(c.controller_gain(), fx(1.0), "4 / 4");
     // e = 300: f = 100 + 1·(1/16)·300 = 118.75 → 119; K̂ = 200 / 100 = 2, K̄_c = 2.
+    assert_eq!(c.override_state(), fx(100.0));
     assert_eq!(c.step(fx(500.0), fx(200.0)), out(119, false));
+    assert_eq!(
+        c.override_state(),
+        fx(118.75),
+        "the state keeps what the output rounds"
+    );
     assert_eq!((c.gain_estimate(), c.controller_gain()), (fx(2.0), fx(2.0)));
     // F̂_c = 30 < 50 N: K̂ holds; f = 118.75 + 2·(1/16)·470 = 177.5 → 178.
     assert_eq!(c.step(fx(500.0), fx(30.0)), out(178, false));
+    assert_eq!(c.override_state(), fx(177.5));
     assert_eq!(c.gain_estimate(), fx(2.0));
     // e = −3500: f = 177.5 − 437.5 < 0 → 0; K̂ = 4000 / 177.5 > 16 → 16, K̄_c = 1/4.
     assert_eq!(c.step(fx(500.0), fx(4000.0)), out(0, true));
@@ -128,6 +135,7 @@ fn adaptive_periods_by_hand() {
     assert_eq!((c.gain_estimate(), c.controller_gain()), (fx(4.0), fx(1.0)));
     // A reset moves the override and keeps the estimate.
     c.reset(40);
+    assert_eq!(c.override_state(), fx(40.0));
     assert_eq!(c.gain_estimate(), fx(4.0));
     assert_eq!(c.step(fx(0.0), fx(0.0)), out(40, false));
 }
@@ -195,14 +203,20 @@ fn fuzzy_periods_by_hand() {
         rules: STANDARD_RULES,
     };
     let mut c = Fuzzy::new(&s, 100);
+    assert_eq!((c.override_state(), c.previous_error()), (fx(100.0), None));
     // First period: Δe = 0; PS, ZE → PS: +16.
     assert_eq!(c.step(fx(600.0), fx(88.0)), out(116, false));
+    assert_eq!(
+        (c.override_state(), c.previous_error()),
+        (fx(116.0), Some(fx(512.0)))
+    );
     assert_eq!(c.step(fx(600.0), fx(88.0)), out(132, false));
     // e = 0, Δe = −512: ZE, half ZE half NS → centroid −512: −8.
     assert_eq!(c.step(fx(600.0), fx(600.0)), out(124, false));
     assert_eq!(c.step(fx(600.0), fx(600.0)), out(124, false));
     // A reset forgets the previous error: Δe = 0 again.
     c.reset(50);
+    assert_eq!((c.override_state(), c.previous_error()), (fx(50.0), None));
     assert_eq!(c.step(fx(600.0), fx(88.0)), out(66, false));
     // Saturation: from 250, +16 → 255, flagged.
     c.reset(250);
