@@ -40,12 +40,12 @@ pub const MCU_REGISTERS: [McuRegister; 12] = [
     McuRegister { addr: 11, name: "CONFIG_HASH_HI", what: "configuration hash, bits 63..32", diagnostic: false },
 ];
 
-/// The arms of the MCU read mux's `case (mcu_addr)`, one per register of
-/// [`MCU_REGISTERS`] (`<addr>: mcu_rdata = <word>;  // <name>`, 12 spaces indented) over the
-/// output signals themselves; the design and the reference share them.
-pub(crate) fn mcu_read_cases(config: &MeasureConfig, diagnostics: bool) -> String {
+/// The MCU read mux: an `always @*` block with one `case (mcu_addr)` arm per register of
+/// [`MCU_REGISTERS`] (`<addr>: mcu_rdata = <word>;  // <name>`) over the output signals
+/// themselves, 0 at any other address. The design and the reference share it.
+pub(crate) fn mcu_read_mux(config: &MeasureConfig, diagnostics: bool) -> String {
     let words = mcu_words(config, "", diagnostics);
-    MCU_REGISTERS
+    let arms: String = MCU_REGISTERS
         .iter()
         .zip(words.iter())
         .map(|(reg, word)| {
@@ -55,7 +55,11 @@ pub(crate) fn mcu_read_cases(config: &MeasureConfig, diagnostics: bool) -> Strin
                 reg.name
             )
         })
-        .collect()
+        .collect();
+    format!(
+        "    always @* begin\n        case (mcu_addr)\n{arms}            default: mcu_rdata = {};\n        endcase\n    end\n",
+        crate::emit::lit(MCU_DATA_BITS, 0)
+    )
 }
 
 /// Verilog expressions of the MCU register words, indexed like [`MCU_REGISTERS`], over

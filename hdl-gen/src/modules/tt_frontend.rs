@@ -3,7 +3,7 @@
 //! the MCU register file's combinational read mux ([`crate::MCU_REGISTERS`]).
 
 use crate::design::{VerilogFile, TOP};
-use crate::emit::{fill, lit, pin_index, Context};
+use crate::emit::{fill, pin_index, Context};
 use crate::outputs::output_fields;
 use tooltouch_model::measure::frontend::pin;
 
@@ -22,7 +22,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
         conns.push_str(&format!("        .{0}({0}),\n", f.name));
     }
     let conns = conns.trim_end_matches(",\n").to_string();
-    let cases = crate::mcu::mcu_read_cases(&ctx.config, ctx.mcu_diagnostics);
+    let mcu_read_mux = crate::mcu::mcu_read_mux(&ctx.config, ctx.mcu_diagnostics);
     let pins: Vec<String> = pin::NAMES
         .iter()
         .rev()
@@ -76,12 +76,7 @@ ${CONNS}
 
     assign irq = register_now;
 
-    always @* begin
-        case (mcu_addr)
-${CASES}            default: mcu_rdata = ${DZERO};
-        endcase
-    end
-endmodule
+${MCU_READ_MUX}endmodule
 "#,
         &[
             ("TOP", TOP.to_string()),
@@ -95,8 +90,7 @@ endmodule
             ("ARM", pin_index(pin::ARM)),
             ("CONTACT", pin_index(pin::CONTACT)),
             ("CONNS", conns),
-            ("CASES", cases),
-            ("DZERO", lit(crate::mcu::MCU_DATA_BITS, 0)),
+            ("MCU_READ_MUX", mcu_read_mux),
         ],
     );
     ctx.file(TOP, "top of the FPGA measurement front end", &body)

@@ -122,7 +122,7 @@ fn emit(ctx: &Context, module: &str) -> VerilogFile {
         .rev()
         .map(|n| format!("pin_{n}"))
         .collect();
-    let cases = crate::mcu::mcu_read_cases(&ctx.config, ctx.mcu_diagnostics);
+    let mcu_read_mux = crate::mcu::mcu_read_mux(&ctx.config, ctx.mcu_diagnostics);
     let bit = match s.contact_rule {
         ContactRule::Sampled => "contact_n",
         ContactRule::Sticky => "sticky_n",
@@ -454,12 +454,7 @@ ${STABLE_UPDATE}            armed_q <= armed_n;
     assign pulses                 = pulses_q;
     assign irq                    = decision_valid_q;
 
-    always @* begin
-        case (mcu_addr)
-${CASES}            default: mcu_rdata = ${DZERO};
-        endcase
-    end
-endmodule
+${MCU_READ_MUX}endmodule
 "#,
         &[
             ("MODULE", module.to_string()),
@@ -506,8 +501,7 @@ endmodule
             ("DENSITY", crate::emit::bool_lit(method_density)),
             ("CHARGE_UP", charge_up),
             ("CHARGE_DOWN", charge_down),
-            ("CASES", cases),
-            ("DZERO", lit(MCU_DATA_BITS, 0)),
+            ("MCU_READ_MUX", mcu_read_mux),
         ],
     );
     ctx.file(
