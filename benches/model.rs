@@ -12,11 +12,11 @@
 //! - `closed_loop/full_run`: the lathe simulator and the CNC driver producing the run.
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
-use tooltouch::lathe::LatheScenario;
-use tooltouch::measurement_cycle::{self, slice};
-use tooltouch::stimulus::Stimulus;
-use tooltouch::vectors::{clock_through, events_from_stimulus};
 use tooltouch_model::{FrontEnd, MeasureConfig, Measurement};
+use tooltouch_plant::lathe::LatheScenario;
+use tooltouch_plant::measurement_cycle::{self, slice};
+use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_vectors::{clock_through, events_from_stimulus};
 
 fn full_run(c: &mut Criterion) {
     let config = MeasureConfig::default();

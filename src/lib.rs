@@ -1,19 +1,7 @@
-//! tooltouch: the host side of the co-design workspace — the lathe and spindle-drive
-//! plants, scenarios, vector files, float reference models, tuning sweeps, plots, and the
-//! co-simulation runners. The fixed-point golden model itself is `tooltouch-model`.
+//! tooltouch, the command line: argument parsing, progress, printing and exit codes over the
+//! host libraries (docs/architecture.md) — `tooltouch-plant` (the simulated machines),
+//! `tooltouch-vectors` (files and `check`), `tooltouch-settings` (the configuration),
+//! `tooltouch-cosim` (QEMU and HDL runners), `tooltouch-plot`, `tooltouch-tune`. No domain
+//! logic lives here: a subcommand parses, calls a library, prints, and exits.
 
 pub mod cli;
-pub mod cosim;
-pub mod drive;
-pub mod hdl;
-pub mod lathe;
-pub mod measurement_cycle;
-pub mod milling;
-pub mod output;
-pub mod plot;
-pub mod reference;
-pub mod settings;
-pub mod speed;
-pub mod stimulus;
-pub mod tune;
-pub mod vectors;

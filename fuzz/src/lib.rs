@@ -11,9 +11,9 @@
 //! toolchain with no special flag.
 
 use std::io::Read;
-use tooltouch::vectors::{binary, check, stimulus_file, vcd};
 use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
 use tooltouch_model::MeasureConfig;
+use tooltouch_vectors::{binary, check, stimulus_file, vcd};
 
 /// A target's entry function: any bytes in, nothing out, never a panic.
 pub type Entry = fn(&[u8]);
@@ -152,7 +152,7 @@ pub fn vcd(data: &[u8]) {
 pub fn stimulus(data: &[u8]) {
     let _ = stimulus_file::read_from(data, "fuzz.stim", None);
     if let Ok(word) = std::str::from_utf8(data) {
-        let _ = tooltouch::hdl::hex::describe_word(&MeasureConfig::default(), word.trim());
+        let _ = tooltouch_vectors::hex::describe_word(&MeasureConfig::default(), word.trim());
     }
 }
 
@@ -161,7 +161,7 @@ pub fn settings(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    if let Ok(s) = tooltouch::settings::Settings::parse(text, "fuzz.toml") {
+    if let Ok(s) = tooltouch_settings::Settings::parse(text, "fuzz.toml") {
         let _ = s.resolve();
     }
 }
@@ -171,16 +171,16 @@ pub fn tune_spec(data: &[u8]) {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    if let Ok(spec) = tooltouch::tune::SweepSpec::from_toml(text) {
-        let _ = tooltouch::tune::points_in(&spec, None);
+    if let Ok(spec) = tooltouch_tune::SweepSpec::from_toml(text) {
+        let _ = tooltouch_tune::points_in(&spec, None);
     }
 }
 
 /// A shard's `results.json`, read and merged with itself and alone.
 pub fn tune_merge(data: &[u8]) {
-    let Ok(r) = serde_json::from_slice::<tooltouch::tune::Results>(data) else {
+    let Ok(r) = serde_json::from_slice::<tooltouch_tune::Results>(data) else {
         return;
     };
-    let _ = tooltouch::tune::merge(std::slice::from_ref(&r));
-    let _ = tooltouch::tune::merge(&[r.clone(), r]);
+    let _ = tooltouch_tune::merge(std::slice::from_ref(&r));
+    let _ = tooltouch_tune::merge(&[r.clone(), r]);
 }

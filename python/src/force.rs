@@ -16,8 +16,6 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use std::path::PathBuf;
-use tooltouch::cosim::firmware_config::{FirmwareConfig, ForceDesign};
-use tooltouch::drive::scenario::{self, scenario_settings, ControlScenario, ControllerKind};
 use tooltouch_model::force::config::{
     ForceConfig, ForceSettings as ModelForceSettings, ForceSource,
 };
@@ -29,6 +27,8 @@ use tooltouch_model::force::kernel::{
 use tooltouch_model::force::sampling::AdcCodes;
 use tooltouch_model::units::Fx;
 use tooltouch_model::wire::force_config::decode_force_settings;
+use tooltouch_plant::drive::scenario::{self, scenario_settings, ControlScenario, ControllerKind};
+use tooltouch_settings::firmware_config::{FirmwareConfig, ForceDesign};
 
 /// ADC channels of one sample, in wire order: speed, power, force, v_u, v_v, v_w, i_u, i_v.
 pub(crate) const CHANNELS: usize = 8;

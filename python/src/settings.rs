@@ -1,5 +1,5 @@
 //! `Settings`: the CLI's settings file (`[measure]` and `[lathe]`), read and validated by
-//! the host crate's own `tooltouch::settings`, so a file the CLI refuses is refused here
+//! the host crate's own `tooltouch_settings`, so a file the CLI refuses is refused here
 //! with the same message. A dict is turned into the same TOML value first, so dict and
 //! file take one path.
 
@@ -7,8 +7,8 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use std::path::PathBuf;
-use tooltouch::settings::{Settings as HostSettings, SettingsError};
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
+use tooltouch_settings::{Settings as HostSettings, SettingsError};
 
 /// Validated settings: the model's configuration and the simulated lathe.
 #[pyclass(module = "tooltouch", frozen)]

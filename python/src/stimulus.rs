@@ -1,5 +1,5 @@
 //! Cycle-level stimuli for Python: `Stimulus` (run-length pins, the host crate's
-//! `tooltouch::stimulus::Stimulus`), the lathe scenario that makes one (`lathe_stimulus`,
+//! `tooltouch_plant::stimulus::Stimulus`), the lathe scenario that makes one (`lathe_stimulus`,
 //! what `tooltouch measure` simulates), the stimulus files the CLI reads (`read_stimulus`:
 //! a VCD or a `stim.hex`) and the files it writes from one (the golden VCD, the
 //! `$readmemh` vectors, the event list). Every file is written by the CLI's own code, so
@@ -15,11 +15,11 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use std::io::Write;
 use std::path::PathBuf;
-use tooltouch::hdl::hex::golden_vectors;
-use tooltouch::stimulus::Stimulus as HostStimulus;
-use tooltouch::vectors::stimulus_file::{self, StatedClock, StimulusFile};
-use tooltouch::vectors::{events_from_stimulus, vcd};
 use tooltouch_model::measure::frontend::{pin, Pins};
+use tooltouch_plant::stimulus::Stimulus as HostStimulus;
+use tooltouch_vectors::hex::golden_vectors;
+use tooltouch_vectors::stimulus_file::{self, StatedClock, StimulusFile};
+use tooltouch_vectors::{events_from_stimulus, vcd};
 
 /// Run-length pins at a clock rate: segment `i` holds `pins[i]` for `cycles[i]` clocks.
 #[pyclass(module = "tooltouch", frozen, eq)]
@@ -163,10 +163,10 @@ pub fn lathe_stimulus(
         scenario.seed = seed;
     }
     let config = settings.config;
-    tooltouch::cli::measure::check_run_size(&scenario, &config)
+    tooltouch_plant::measurement_cycle::check_run_size(&scenario, &config)
         .map_err(|e| PyValueError::new_err(format!("{e:#}")))?;
     let run = py
-        .detach(|| tooltouch::measurement_cycle::run(&scenario, &config, &mut |_| {}))
+        .detach(|| tooltouch_plant::measurement_cycle::run(&scenario, &config, &mut |_| {}))
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(Stimulus {
         inner: run.stimulus,

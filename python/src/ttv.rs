@@ -13,7 +13,6 @@ use pyo3::types::{PyBytes, PyDict};
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
-use tooltouch::settings::Settings as HostSettings;
 use tooltouch_model::wire::force_chunks::{force_config_chunks, ForceConfigAssembler};
 use tooltouch_model::wire::force_event::{decode_force_event, encode_force_event};
 use tooltouch_model::wire::force_outputs::{decode_force_outputs, outputs_record};
@@ -24,6 +23,7 @@ use tooltouch_model::wire::{
     kind, Header, Record as WireRecord, StreamKind, WireError, HEADER_LEN, MAX_PAYLOAD,
     RECORD_HEADER_LEN,
 };
+use tooltouch_settings::Settings as HostSettings;
 
 /// The name of a record kind, as in `tooltouch_model::wire::kind` in snake case.
 fn kind_name(k: u8) -> &'static str {
@@ -601,7 +601,7 @@ fn firmware_dict<'py>(py: Python<'py>, k: u8, p: &[u8]) -> PyResult<Bound<'py, P
             d.set_item("field", PyBytes::new(py, p.get(18..).unwrap_or(&[])))?;
             d.set_item(
                 "description",
-                tooltouch::cosim::trace::describe_firmware_error(p),
+                tooltouch_vectors::firmware_error::describe_firmware_error(p),
             )?;
         }
     }

@@ -1,5 +1,5 @@
 //! VCD files for Python: `VcdReader`, the host crate's streaming reader
-//! (`tooltouch::vectors::vcd::VcdReader`, the one `tooltouch check` uses) handing the
+//! (`tooltouch_vectors::vcd::VcdReader`, the one `tooltouch check` uses) handing the
 //! value changes to Python in numpy chunks, so a dump of any length (the golden VCD,
 //! a simulator's `dump.vcd`) is read in constant memory and without a Python call per
 //! change. Writing the golden VCD is `Stimulus.write_vcd`.
@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 use std::fs::File;
 use std::io::BufReader;
 use std::path::PathBuf;
-use tooltouch::vectors::vcd::{golden_end, Item, VcdReader as HostReader};
+use tooltouch_vectors::vcd::{golden_end, Item, VcdReader as HostReader};
 
 /// Reads a VCD's declarations at once and its body chunk by chunk.
 #[pyclass(module = "tooltouch", unsendable)]

@@ -2,51 +2,17 @@
 //! depth 1 mm stepping to 1.5 mm at 8 s — closed through the fixed-point model (or the
 //! float reference), with its metrics, SVG plots and the sample-level vectors.
 
-use crate::drive::scenario::{
-    self, scenario_settings, ControlScenario, ControllerKind, Engine, Run,
-};
-use crate::output::OutputFolder;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use tooltouch_model::force::config::{ForceConfig, ForceSource};
-use tooltouch_model::wire::force_chunks::force_config_chunks;
-use tooltouch_model::wire::force_event::encode_force_event;
-use tooltouch_model::wire::force_outputs::outputs_record;
-use tooltouch_model::wire::{kind, Header, Record, StreamKind};
+use tooltouch_plant::drive::scenario::{
+    self, scenario_settings, ControlScenario, ControllerKind, Engine, Run,
+};
+use tooltouch_vectors::output::OutputFolder;
 
-/// Which controller(s).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Which {
-    /// PI, Ziegler–Nichols on F10.
-    Pi,
-    /// Variable-gain adaptive F11.
-    Adaptive,
-    /// Fuzzy PI.
-    Fuzzy,
-    /// All three.
-    All,
-}
-
-/// Which force feedback.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Source {
-    /// Estimated from the spindle drive (F1–F9).
-    Estimated,
-    /// Dynamometer.
-    Measured,
-    /// Both.
-    Both,
-}
-
-/// Which implementation closes the loop.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EngineArg {
-    /// The fixed-point golden model.
-    Model,
-    /// The float reference.
-    Reference,
-}
+use super::run_settings::ControlFlags;
+pub use super::run_settings::{EngineArg, Source, Which};
 
 /// Arguments of `tooltouch control`.
 #[derive(clap::Args, Debug)]
@@ -83,7 +49,13 @@ pub struct Args {
 
 /// Runs `tooltouch control`.
 pub fn run(args: Args) -> Result<ExitCode> {
-    let chosen = super::run_settings::control(&args)?;
+    let chosen = super::run_settings::control(&ControlFlags {
+        config: args.config.as_deref(),
+        controller: args.controller,
+        force: args.force,
+        engine: args.engine,
+        seed: args.seed,
+    })?;
     let kinds: Vec<ControllerKind> = match chosen.controller {
         Which::Pi => vec![ControllerKind::Pi],
         Which::Adaptive => vec![ControllerKind::Adaptive],
@@ -140,7 +112,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         if let Some(out) = &out {
             let stem = format!("{}_{}", k.name(), source_name(source));
             let reference_n = config.settings().reference.to_num::<f64>();
-            crate::plot::control::control_run(
+            tooltouch_plot::control::control_run(
                 &out.path(&format!("{stem}.svg")),
                 &r,
                 &stem,
@@ -209,7 +181,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
 
 /// `--estimator-report`: the estimator table, and its files into `out`.
 fn estimator_report(seed: u64, out: Option<&OutputFolder>) -> Result<()> {
-    let report = crate::drive::estimator_report::report(seed);
+    let report = tooltouch_plant::drive::estimator_report::report(seed);
     outln!();
     for line in report.table() {
         outln!("{line}");
@@ -221,7 +193,7 @@ fn estimator_report(seed: u64, out: Option<&OutputFolder>) -> Result<()> {
         };
         write(ESTIMATOR_FILES[0], report.csv()?)?;
         write(ESTIMATOR_FILES[1], report.json()? + "\n")?;
-        crate::plot::estimator::estimator(&out.path(ESTIMATOR_FILES[2]), &report)?;
+        tooltouch_plot::estimator::estimator(&out.path(ESTIMATOR_FILES[2]), &report)?;
     }
     Ok(())
 }
@@ -261,10 +233,8 @@ fn source_name(s: ForceSource) -> &'static str {
     }
 }
 
-/// Writes `<stem>.events.ttv` (the force configuration in `FORCE_CONFIG_CHUNK` records at
-/// time 0, then every input event) and `<stem>.outputs.ttv` (the model's outputs after
-/// every non-sample event), each ending with an END record; both headers carry `config`'s
-/// hash.
+/// Writes `<stem>.events.ttv` and `<stem>.outputs.ttv` of a run
+/// ([`tooltouch_vectors::force_run::streams`]) into `dir`.
 pub fn write_vectors(
     dir: &Path,
     stem: &str,
@@ -272,37 +242,8 @@ pub fn write_vectors(
     config: &ForceConfig,
     tick_hz: u32,
 ) -> Result<()> {
-    let force_hash = config.hash();
-    let stream = |kind_: StreamKind, records: &mut dyn Iterator<Item = Record>| {
-        let header = Header {
-            stream: kind_,
-            tick_hz,
-            measure_hash: 0,
-            force_hash,
-        };
-        let mut bytes = header.encode().to_vec();
-        let mut buf = [0u8; 64];
-        let mut last = 0;
-        for rec in records {
-            last = rec.time;
-            let n = rec.encode(&mut buf).unwrap_or(0);
-            bytes.extend_from_slice(&buf[..n]);
-        }
-        let n = Record::new(kind::END, last, &[])
-            .encode(&mut buf)
-            .unwrap_or(0);
-        bytes.extend_from_slice(&buf[..n]);
-        bytes
-    };
-    let events = stream(
-        StreamKind::Events,
-        &mut force_config_chunks(config, 0)
-            .chain(r.events.iter().map(|(t, e)| encode_force_event(*t, e))),
-    );
-    let outputs = stream(
-        StreamKind::Outputs,
-        &mut r.outputs.iter().map(|(t, o)| outputs_record(*t, o)),
-    );
+    let (events, outputs) =
+        tooltouch_vectors::force_run::streams(&r.events, &r.outputs, config, tick_hz);
     for (name, bytes) in [("events", events), ("outputs", outputs)] {
         let path = dir.join(format!("{stem}.{name}.ttv"));
         std::fs::write(&path, bytes).with_context(|| format!("writing {}", path.display()))?;

@@ -9,13 +9,13 @@
 //! - `cosim config` writes the configuration file firmware/build.rs bakes into the images
 //!   (`TOOLTOUCH_FIRMWARE_CONFIG`; `cargo xtask firmware --config` runs it).
 
-use super::vectors::{golden_set_of, load_settings};
-use crate::cosim::firmware_config::{FirmwareConfig, CONFIG_VAR};
-use crate::cosim::{qemu, trace, CosimError};
-use crate::vectors::binary;
-use crate::vectors::check::{compare_binary, Verdict};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use tooltouch_cosim::{qemu, trace, CosimError};
+use tooltouch_settings::firmware_config::{FirmwareConfig, CONFIG_VAR};
+use tooltouch_settings::load::{golden_set_of, load_settings};
+use tooltouch_vectors::binary;
+use tooltouch_vectors::check::{compare_binary, Verdict};
 
 /// Arguments of `tooltouch cosim`.
 #[derive(clap::Args, Debug)]
@@ -84,7 +84,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
 fn config(a: &ConfigArgs) -> anyhow::Result<ExitCode> {
     let config = FirmwareConfig::load(a.config.as_deref())?;
-    crate::output::write_file(&a.out, &config.baked_bytes())?;
+    tooltouch_vectors::output::write_file(&a.out, &config.baked_bytes())?;
     outln!(
         "{}: wrote {} (build with {CONFIG_VAR}={})",
         config.hashes(),
@@ -150,7 +150,7 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
     // Every input is read and the trace's folder checked before the image is built and
     // booted (minutes on a cold build), so a typo costs no build.
     if let Some(path) = &a.trace {
-        if let Err(e) = crate::output::check_output_file(path) {
+        if let Err(e) = tooltouch_vectors::output::check_output_file(path) {
             return bad(e);
         }
     }
@@ -184,7 +184,7 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         Err(e) => return Outcome::Mismatch(format!("{}: {e}", image.display())),
     };
     if let Some(path) = &a.trace {
-        if let Err(e) = crate::output::write_file(path, &trace_bytes) {
+        if let Err(e) = tooltouch_vectors::output::write_file(path, &trace_bytes) {
             return bad(e);
         }
     }

@@ -16,21 +16,22 @@
 //! The hidden `--inject-fault` option generates a deliberately wrong design
 //! ([`tooltouch_hdl_gen::Fault`]) for testing testbenches: a bench that passes it is blind.
 
-use super::vectors::{golden_set_of, load_settings, CLOCK_RULE};
-use crate::hdl::hex::{self, Vectors};
-use crate::hdl::write_design;
-use crate::output::OutputFolder;
-use crate::stimulus::Stimulus;
-use crate::vectors::stimulus_file::{StatedClock, DEFAULT_CLOCK_HZ};
+use super::vectors::CLOCK_RULE;
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use tooltouch_cosim::hdl::write_design;
 use tooltouch_hdl_gen::{
     generate, testbench, Fault, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX, TESTBENCH,
 };
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_settings::load::{golden_set_of, load_settings, LoadedSettings};
+use tooltouch_vectors::hex::{self, Vectors};
+use tooltouch_vectors::output::OutputFolder;
+use tooltouch_vectors::stimulus_file::{StatedClock, DEFAULT_CLOCK_HZ};
 
-pub use crate::hdl::hex::DEFAULT_DEPTH;
+pub use tooltouch_vectors::hex::DEFAULT_DEPTH;
 
 /// Largest `--stim-depth` / `--expect-depth`, words (the generator's limit).
 pub use tooltouch_hdl_gen::MAX_DEPTH;
@@ -103,7 +104,7 @@ pub fn load_config(path: &Path) -> anyhow::Result<MeasureConfig> {
 /// The testbench vectors `--vectors` asks for, with a description of their source.
 fn vectors_for(
     what: &str,
-    settings: &super::vectors::LoadedSettings,
+    settings: &LoadedSettings,
     config_given: bool,
 ) -> anyhow::Result<(Vectors, u32, String)> {
     let config = &settings.config;
@@ -113,13 +114,14 @@ fn vectors_for(
         scenario
             .validate(config)
             .map_err(|e| anyhow::anyhow!("--vectors lathe: [lathe] {e}"))?;
-        super::measure::check_run_size(&scenario, config).context("--vectors lathe")?;
-        let run = crate::measurement_cycle::run(&scenario, config, &mut |_| {})
+        tooltouch_plant::measurement_cycle::check_run_size(&scenario, config)
+            .context("--vectors lathe")?;
+        let run = tooltouch_plant::measurement_cycle::run(&scenario, config, &mut |_| {})
             .map_err(|e| anyhow::anyhow!("--vectors lathe: {e}"))?;
         let end = run.measurements.first().map_or(0, |m| m.end_cycle);
         Stimulus {
             clock_hz: scenario.clock_hz,
-            segments: crate::measurement_cycle::slice(&run.stimulus, 0, end),
+            segments: tooltouch_plant::measurement_cycle::slice(&run.stimulus, 0, end),
         }
     } else {
         let (set, _) = golden_set_of(Path::new(what), settings, config_given)

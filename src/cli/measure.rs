@@ -11,11 +11,6 @@
 //! memory, so settings that would make more than [`MAX_EVENTS`] events (a tiny feed over
 //! a large clearance with many revolutions allowed) are refused with the estimate.
 
-use crate::lathe::RetractAt;
-use crate::measurement_cycle::{self, CycleRun};
-use crate::output::OutputFolder;
-use crate::settings::{Settings, SettingsError};
-use crate::vectors::{self, binary, vcd};
 use anyhow::Context;
 use clap::ValueEnum;
 use std::io::Write;
@@ -24,6 +19,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::lathe::RetractAt;
+use tooltouch_plant::measurement_cycle::{self, check_run_size, CycleRun};
+use tooltouch_settings::{Settings, SettingsError};
+use tooltouch_vectors::output::OutputFolder;
+use tooltouch_vectors::{self as vectors, binary, vcd};
 
 /// Decision method (the values are the settings file's, docs/cli.md).
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -79,14 +79,6 @@ pub enum VcdSpan {
 
 /// Exit code of a run in which some measurement did not decide (its files are written).
 pub const UNDECIDED: u8 = super::NOT_PASSED;
-
-/// Most input events a run may make: about [`BYTES_PER_EVENT`] each in memory across the
-/// stimulus, the event list, the expected outputs and their encodings (measured: 93 MB
-/// peak for 664 000 events), so 16 million events are about 2 GB.
-pub const MAX_EVENTS: f64 = 16e6;
-
-/// Memory a run holds per input event, bytes (see [`MAX_EVENTS`]).
-pub const BYTES_PER_EVENT: f64 = 125.0;
 
 /// Every file `measure` can write into its output folder.
 pub const OUTPUTS: [&str; 6] = [
@@ -293,7 +285,7 @@ impl SettingFlags {
     /// The flag that set the settings field `field` (as a [`ScenarioError`] or
     /// `ConfigError` names it: `rpm`, `cycle.repeats`, `i_def`) and its value as given.
     ///
-    /// [`ScenarioError`]: crate::lathe::ScenarioError
+    /// [`ScenarioError`]: tooltouch_plant::lathe::ScenarioError
     pub fn flag_of(&self, field: &str) -> Option<(String, String)> {
         fn v<T: std::fmt::Display>(x: Option<T>) -> Option<String> {
             x.map(|x| x.to_string())
@@ -386,7 +378,11 @@ impl SettingFlags {
                 Method::Single => {
                     eprintln!(
                         "{}",
-                        crate::settings::old_spelling_warning("--method", "single", "single-pulse")
+                        tooltouch_settings::old_spelling_warning(
+                            "--method",
+                            "single",
+                            "single-pulse"
+                        )
                     );
                     DecisionMethod::SinglePulse
                 }
@@ -501,7 +497,7 @@ impl SettingFlags {
 /// Whether the settings file `path` sets the field of `e` (`field`, dotted, with list
 /// indices `profile[0].amplitude_um`).
 fn file_sets(path: &std::path::Path, e: &SettingsError, field: &str) -> bool {
-    let Ok(text) = crate::settings::read_text_file(path, "settings file") else {
+    let Ok(text) = tooltouch_settings::read_text_file(path, "settings file") else {
         return false;
     };
     let Ok(table) = toml::from_str::<toml::Table>(&text) else {
@@ -526,41 +522,6 @@ fn file_sets(path: &std::path::Path, e: &SettingsError, field: &str) -> bool {
         at.is_some()
     };
     lookup(None) || alt.is_some_and(|a| lookup(Some(a)))
-}
-
-/// Refuses a run whose event vectors would not fit in memory, before it starts: the
-/// estimate is the FES pulses of every measurement's approach (bounded by
-/// `max_approach_revs`), retract and Z dwell, about one input event each.
-pub fn check_run_size(
-    scenario: &crate::lathe::LatheScenario,
-    config: &MeasureConfig,
-) -> anyhow::Result<f64> {
-    let c = &scenario.cycle;
-    let feed_um_per_rev = scenario.feed_mm_per_rev * 1000.0;
-    let window = f64::from(config.settings().window_revs);
-    let approach_revs = (c.clearance_um / feed_um_per_rev + 2.0 * window + 4.0)
-        .min(f64::from(c.max_approach_revs) + 2.0 * window + 4.0);
-    let revs_per_s = scenario.rpm / 60.0;
-    let retract_s = (c.clearance_um * 1e-3 + 0.1) / c.retract_mm_per_s;
-    let other_revs = revs_per_s * (c.z_dwell_ms * 1e-3 + retract_s);
-    let revs = f64::from(c.repeats) * (approach_revs + other_revs);
-    let events = revs * f64::from(config.pulses_per_rev());
-    if events > MAX_EVENTS {
-        anyhow::bail!(
-            "this run would make about {events:.3e} events ({revs:.3e} revolutions × {} pulses_per_rev; \
-             per measurement up to {approach_revs:.0} revolutions of approach: clearance_um {} / feed_mm_per_rev {} \
-             capped by max_approach_revs {}; repeats {}), about {:.1} GB of vectors in memory: \
-             the limit is {MAX_EVENTS:.0} events. Lower --repeats, --max-approach-revs or --clearance-um, \
-             or raise --feed-mm-per-rev",
-            config.pulses_per_rev(),
-            c.clearance_um,
-            scenario.feed_mm_per_rev,
-            c.max_approach_revs,
-            c.repeats,
-            events * BYTES_PER_EVENT / 1e9
-        );
-    }
-    Ok(events)
 }
 
 fn opt(v: Option<f64>, decimals: usize) -> String {
@@ -620,7 +581,7 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
         t.error_vs_largest_um.mean,
         t.error_vs_largest_um.std
     ));
-    let pm = |x: &crate::measurement_cycle::Spread| {
+    let pm = |x: &tooltouch_plant::measurement_cycle::Spread| {
         if x.n == 0 {
             "—".to_string()
         } else {
@@ -660,13 +621,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
     out!("{}", table(&run, &config));
 
-    crate::plot::contact_density(
+    tooltouch_plot::contact_density(
         &out.path("contact_density.svg"),
         &run.measurements,
         config.window_pulses(),
         config.settings().i_def,
     )?;
-    crate::plot::diameters(
+    tooltouch_plot::diameters(
         &out.path("diameters.svg"),
         &run.measurements,
         scenario.diameter_mm,

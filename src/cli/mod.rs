@@ -55,6 +55,8 @@ pub mod tune;
 pub mod vectors;
 pub mod wear;
 
+use tooltouch_vectors::output;
+
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
@@ -133,11 +135,23 @@ impl Cli {
     }
 }
 
+/// Installs the handler of Ctrl-C, SIGTERM and SIGHUP: it removes every staging folder
+/// still open (the output folders are then as they were) and exits with
+/// [`output::INTERRUPTED`]. A second call changes nothing.
+fn remove_staging_on_signal() {
+    // An error here means a handler is already installed (tests call `cli::main` twice).
+    let _ = ctrlc::set_handler(|| {
+        output::remove_open_staging();
+        eprintln!("interrupted: no output written");
+        std::process::exit(output::INTERRUPTED);
+    });
+}
+
 /// Parses the arguments, runs the subcommand, and reports an error with its context.
 pub fn main() -> ExitCode {
     use clap::FromArgMatches;
     let cli = Cli::from_arg_matches(&Cli::definition().get_matches()).unwrap_or_else(|e| e.exit());
-    crate::output::remove_staging_on_signal();
+    remove_staging_on_signal();
     let result = match cli.command {
         Command::Measure(args) => measure::run(args),
         Command::Check(args) => check::run(args),

@@ -4,10 +4,57 @@
 //! (the values are parsed by the flags' own `ValueEnum`s). A flag wins over the file; a
 //! key left out keeps the flag's default. Unknown tables and keys are errors.
 
-use super::control::{EngineArg, Source, Which};
 use anyhow::{Context, Result};
 use serde::Deserialize;
 use std::path::Path;
+
+/// Which controller(s).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Which {
+    /// PI, Ziegler–Nichols on F10.
+    Pi,
+    /// Variable-gain adaptive F11.
+    Adaptive,
+    /// Fuzzy PI.
+    Fuzzy,
+    /// All three.
+    All,
+}
+
+/// Which force feedback.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// Estimated from the spindle drive (F1–F9).
+    Estimated,
+    /// Dynamometer.
+    Measured,
+    /// Both.
+    Both,
+}
+
+/// Which implementation closes the loop.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EngineArg {
+    /// The fixed-point golden model.
+    Model,
+    /// The float reference.
+    Reference,
+}
+
+/// `control`'s flags as given (`None`: not on the command line).
+#[derive(Clone, Copy, Debug)]
+pub struct ControlFlags<'a> {
+    /// `--config`.
+    pub config: Option<&'a Path>,
+    /// `--controller`.
+    pub controller: Option<Which>,
+    /// `--force`.
+    pub force: Option<Source>,
+    /// `--engine`.
+    pub engine: Option<EngineArg>,
+    /// `--seed`.
+    pub seed: Option<u64>,
+}
 
 /// The `[control]` table.
 #[derive(Debug, Default, Deserialize)]
@@ -48,12 +95,12 @@ pub struct ControlChoice {
 
 fn read(path: &Path, table: &str) -> Result<File> {
     let text =
-        crate::settings::read_text_file(path, "settings file").map_err(anyhow::Error::msg)?;
+        tooltouch_settings::read_text_file(path, "settings file").map_err(anyhow::Error::msg)?;
     let file: File = toml::from_str(&text).map_err(|e| {
         anyhow::anyhow!(
             "settings file {}: {}",
             path.display(),
-            crate::settings::toml_error(&text, &e)
+            tooltouch_settings::toml_error(&text, &e)
         )
     })?;
     let other = if table == "control" {
@@ -88,15 +135,15 @@ fn value<T: clap::ValueEnum>(path: &Path, table: &str, key: &str, text: &str) ->
 }
 
 /// Resolves `control`'s choices from its flags and its `--config` file.
-pub fn control(args: &super::control::Args) -> Result<ControlChoice> {
-    let table = match &args.config {
+pub fn control(args: &ControlFlags) -> Result<ControlChoice> {
+    let table = match args.config {
         Some(p) => read(p, "control")
             .with_context(|| "reading the control settings")?
             .control
             .unwrap_or_default(),
         None => ControlTable::default(),
     };
-    let path = args.config.as_deref().unwrap_or(Path::new(""));
+    let path = args.config.unwrap_or(Path::new(""));
     Ok(ControlChoice {
         controller: match (args.controller, &table.controller) {
             (Some(v), _) => v,

@@ -5,11 +5,11 @@
 //! `serde_json` (an array of objects with the same names) — so the columns are typed once.
 //! Kept apart from the subcommands so that each adds only a call.
 
-use crate::drive::scenario::{Metrics, Run};
-use crate::milling::WearRun;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::Path;
+use tooltouch_plant::drive::scenario::{Metrics, Run};
+use tooltouch_plant::milling::WearRun;
 
 /// Writes `rows` as `<stem>.csv` and `<stem>.json` into `dir`.
 pub fn write_table<T: Serialize>(dir: &Path, stem: &str, rows: &[T]) -> Result<()> {

@@ -2,13 +2,13 @@
 //! error against the float reference and its FPGA cost, the Pareto front, CSV/JSON/SVG in
 //! `--out DIR`; `--shard K/N` runs one slice, `tooltouch tune merge DIR...` joins slices.
 
-use crate::output::OutputFolder;
-use crate::tune::{self, output, Overrides, Shard, SweepSpec};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
+use tooltouch_tune::{self as tune, output, Overrides, Shard, SweepSpec};
+use tooltouch_vectors::output::OutputFolder;
 
 /// Arguments of `tooltouch tune`.
 #[derive(clap::Args, Debug)]
@@ -194,11 +194,11 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
     let mut spec = match &a.spec {
         Some(p) => {
             let text =
-                crate::settings::read_text_file(p, "sweep spec").map_err(anyhow::Error::msg)?;
+                tooltouch_settings::read_text_file(p, "sweep spec").map_err(anyhow::Error::msg)?;
             let spec = SweepSpec::from_toml(&text)
                 .with_context(|| format!("sweep spec {}", p.display()))?;
             let file = format!("sweep spec {}", p.display());
-            for warning in crate::settings::old_spellings_in_toml(&text, &file) {
+            for warning in tooltouch_settings::old_spellings_in_toml(&text, &file) {
                 eprintln!("{warning}");
             }
             spec
@@ -252,14 +252,14 @@ fn sweep(a: &SweepArgs) -> Result<ExitCode> {
 fn warn_old_spellings(overrides: &Overrides) {
     for (key, text) in &overrides.values {
         for piece in text.split(',').map(str::trim) {
-            if let Some(new) = crate::settings::renamed_value(piece) {
+            if let Some(new) = tooltouch_settings::renamed_value(piece) {
                 let flag = match key.as_str() {
                     "force.controller" => "--force-controller".to_string(),
                     k => format!("--{}", k.rsplit('.').next().unwrap_or(k).replace('_', "-")),
                 };
                 eprintln!(
                     "{}",
-                    crate::settings::old_spelling_warning(&flag, piece, new)
+                    tooltouch_settings::old_spelling_warning(&flag, piece, new)
                 );
             }
         }
@@ -407,7 +407,7 @@ fn merge(dirs: &[PathBuf], out: &std::path::Path) -> Result<ExitCode> {
 fn point(results: &std::path::Path, index: usize, out: &std::path::Path) -> Result<ExitCode> {
     let r = output::read(results)?;
     let text = tune::point_settings::settings_toml(&r, index)?;
-    crate::output::write_file(out, text.as_bytes())?;
+    tooltouch_vectors::output::write_file(out, text.as_bytes())?;
     outln!(
         "{} → {}",
         text.lines().next().unwrap_or("").trim_start_matches("# "),

@@ -1,18 +1,15 @@
 //! `tooltouch vectors`: the golden response to the user's own stimulus — a VCD of the six
 //! input pins (a bench recording, a simulation), an input event stream, or run-length pins
-//! — as every file a device under test is checked with ([`GoldenSet`]).
+//! — as every file a device under test is checked with ([`GoldenSet`](tooltouch_vectors::golden_set::GoldenSet)).
 //!
 //! The settings file is the one `tooltouch measure` and `tooltouch hdl` take
 //! ([`load_settings`]).
 
-use crate::lathe::LatheScenario;
-use crate::output::OutputFolder;
-use crate::vectors::golden_set::{self, GoldenSet};
-use crate::vectors::stimulus_file::{self, StatedClock, StimulusFile};
-use anyhow::Context;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
-use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_settings::load::{golden_set_of, load_settings};
+use tooltouch_vectors::golden_set;
+use tooltouch_vectors::output::OutputFolder;
 
 /// The clock rule, shown in `--help` of `vectors` and `hdl`.
 pub const CLOCK_RULE: &str = "\
@@ -46,126 +43,6 @@ pub struct Args {
     /// was.
     #[arg(long)]
     pub out: PathBuf,
-}
-
-/// A settings file as `vectors` and `hdl` read it.
-#[derive(Clone, Debug)]
-pub struct LoadedSettings {
-    /// The golden model's configuration (default without a file).
-    pub config: MeasureConfig,
-    /// The `[lathe]` table (default without one).
-    pub lathe: LatheScenario,
-    /// The clock stated by `--clock-hz` or the file's `[lathe] clock_hz`.
-    pub clock: Option<StatedClock>,
-}
-
-/// Reads the settings file `path`: the `[measure]` table (or, when the file has neither a
-/// `[measure]` nor a `[lathe]` nor a `[force]` table, the measurement fields at top level),
-/// the `[lathe]` table, and the firmware's `[force]` design (checked here, used by the
-/// firmware's configuration, [`crate::cosim::firmware_config`]); any other table or key is
-/// an error. `clock_flag` is `--clock-hz`, which wins over the
-/// file's `[lathe] clock_hz`.
-pub fn load_settings(
-    path: Option<&Path>,
-    clock_flag: Option<u32>,
-) -> anyhow::Result<LoadedSettings> {
-    let mut loaded = LoadedSettings {
-        config: MeasureConfig::default(),
-        lathe: LatheScenario::default(),
-        clock: clock_flag.map(|hz| StatedClock {
-            hz,
-            source: "--clock-hz".into(),
-        }),
-    };
-    let Some(path) = path else {
-        return Ok(loaded);
-    };
-    let text =
-        crate::settings::read_text_file(path, "settings file").map_err(anyhow::Error::msg)?;
-    let table: toml::Table = toml::from_str(&text).map_err(|e| {
-        anyhow::anyhow!(
-            "settings file {}: not valid TOML: {}",
-            path.display(),
-            crate::settings::toml_error(&text, &e)
-        )
-    })?;
-    let file = format!("settings file {}", path.display());
-    for warning in crate::settings::old_spellings_in_toml(&text, &file) {
-        eprintln!("{warning}");
-    }
-    let tables = ["measure", "lathe", "force"];
-    if tables.iter().any(|t| table.contains_key(*t)) {
-        if let Some(unknown) = table.keys().find(|k| !tables.contains(&k.as_str())) {
-            anyhow::bail!(
-                "settings file {}: unknown table or key `{unknown}`: allowed `[measure]`, `[lathe]` and `[force]`",
-                path.display()
-            );
-        }
-    }
-    if let Some(force) = table.get("force") {
-        crate::cosim::firmware_config::ForceDesign::from_table(force)
-            .map_err(|e| anyhow::anyhow!("settings file {}: [force] {e:#}", path.display()))?;
-    }
-    // A `[force]` table alone marks a file of tables too.
-    let other_tables = table.get("lathe").or_else(|| table.get("force"));
-    let settings: MeasureSettings = match (table.get("measure"), other_tables) {
-        (Some(measure), _) => measure
-            .clone()
-            .try_into()
-            .with_context(|| format!("{}: [measure]", path.display()))?,
-        (None, Some(_)) => MeasureSettings::default(),
-        (None, None) => toml::from_str(&text).map_err(|e| {
-            anyhow::anyhow!(
-                "settings file {}: {}",
-                path.display(),
-                crate::settings::toml_error(&text, &e)
-            )
-        })?,
-    };
-    loaded.config = settings
-        .validate()
-        .map_err(|e| anyhow::anyhow!("{}: [measure] {e}", path.display()))?;
-    if let Some(lathe) = table.get("lathe") {
-        loaded.lathe = lathe
-            .clone()
-            .try_into()
-            .with_context(|| format!("{}: [lathe]", path.display()))?;
-        if loaded.clock.is_none() && lathe.get("clock_hz").is_some() {
-            loaded.clock = Some(StatedClock {
-                hz: loaded.lathe.clock_hz,
-                source: format!("[lathe] clock_hz of {}", path.display()),
-            });
-        }
-    }
-    Ok(loaded)
-}
-
-/// The golden set of the stimulus file `path` under `settings` (see the module
-/// documentation of [`stimulus_file`]). An event stream's measurement configuration must
-/// be the settings' when a settings file was given.
-pub fn golden_set_of(
-    path: &Path,
-    settings: &LoadedSettings,
-    config_given: bool,
-) -> anyhow::Result<(GoldenSet, &'static str)> {
-    let file = path.display().to_string();
-    Ok(match stimulus_file::read(path, settings.clock.as_ref())? {
-        StimulusFile::Pins { stimulus, format } => {
-            (GoldenSet::from_pins(&settings.config, stimulus), format)
-        }
-        StimulusFile::Events(stream) => {
-            if let Some(c) = &stream.measure {
-                if config_given && c.hash() != settings.config.hash() {
-                    anyhow::bail!(
-                        "{file}: made with configuration {:016x}, the settings give {:016x}",
-                        c.hash(),
-                        settings.config.hash()
-                    );
-                }
-            }
-            (GoldenSet::from_events(*stream, &file), "events")
-        }
-    })
 }
 
 /// Runs `tooltouch vectors`.
@@ -213,7 +90,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     v.stim_words,
                     v.expect_words
                 );
-                if v.stim_words.max(v.expect_words) > crate::hdl::hex::DEFAULT_DEPTH {
+                if v.stim_words.max(v.expect_words) > tooltouch_vectors::hex::DEFAULT_DEPTH {
                     outln!(
                         "  (more than a default testbench holds: `tooltouch hdl --vectors {}` sizes it, \
                          or give `--stim-depth {} --expect-depth {}`)",

@@ -2,11 +2,11 @@
 //! depth 2 mm then 3 mm, with a new and a worn tool, each watched with the constant and
 //! with the updating threshold, through the fixed-point model's wear monitor.
 
-use crate::milling::{WearScenario, NEW_TOOL, WORN_TOOL};
-use crate::output::OutputFolder;
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use tooltouch_plant::milling::{WearScenario, NEW_TOOL, WORN_TOOL};
+use tooltouch_vectors::output::OutputFolder;
 
 /// Arguments of `tooltouch wear`.
 #[derive(clap::Args, Debug)]
@@ -111,7 +111,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 tool: tool.name,
                 threshold: name,
                 alarm_at_s: r.alarm_at,
-                alarm_power_w: crate::plot::wear::alarm_power(&r).map(|(_, p)| p),
+                alarm_power_w: tooltouch_plot::wear::alarm_power(&r).map(|(_, p)| p),
                 alarm_cut: r
                     .alarm_at
                     .map(|t| if t < sc.idle_s + sc.segment_s { 1 } else { 2 }),
@@ -125,7 +125,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         }
         if let Some(out) = &out {
             let name = format!("wear_{}.svg", tool.name);
-            crate::plot::wear::wear_runs(&out.path(&name), tool.name, &runs)
+            tooltouch_plot::wear::wear_runs(&out.path(&name), tool.name, &runs)
                 .with_context(|| format!("plotting {}", out.final_path(&name).display()))?;
             if let [(_, constant), (_, updating)] = &runs[..] {
                 let series = super::run_tables::wear_series(constant, updating);

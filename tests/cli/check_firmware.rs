@@ -9,7 +9,7 @@
 
 use std::path::Path;
 use std::process::Output;
-use tooltouch::cosim::{self, Fault};
+use tooltouch_cosim::{self as cosim, Fault};
 
 use crate::common;
 use common::{s, text, tooltouch};

@@ -78,7 +78,7 @@ fn check_exit_codes_for_mismatch_and_bad_input() {
     let e = dir.path().join("measure.vcd");
     // Flip the first register_now rise into a 0.
     let golden = std::fs::read_to_string(&e).unwrap();
-    let dump = tooltouch::vectors::vcd::Dump::parse(&golden, "e").unwrap();
+    let dump = tooltouch_vectors::vcd::Dump::parse(&golden, "e").unwrap();
     let id = &dump.find_in_scope("outputs", "register_now").unwrap().id;
     let flipped = golden.replacen(&format!("\n1{id}\n"), &format!("\n0{id}\n"), 1);
     assert_ne!(flipped, golden);

@@ -10,7 +10,7 @@
 
 use std::path::Path;
 use std::process::{Command, Output};
-use tooltouch::cosim::qemu::{self, exit_code};
+use tooltouch_cosim::qemu::{self, exit_code};
 
 use crate::common;
 use common::{s, text, tooltouch};
@@ -61,7 +61,7 @@ fn cargo_run_boots_the_qemu_image_on_the_demo_stream() {
         .env_remove("RUSTFLAGS")
         .env_remove("CARGO_ENCODED_RUSTFLAGS")
         .env_remove("CARGO_BUILD_TARGET")
-        .env_remove(tooltouch::cosim::firmware_config::CONFIG_VAR)
+        .env_remove(tooltouch_settings::firmware_config::CONFIG_VAR)
         .output()
         .expect("cargo runs");
     let trace = w.path().join("demo-outputs.ttv");
@@ -117,7 +117,7 @@ fn a_missing_or_malformed_events_file_has_its_message_and_exit_status() {
     );
     // The trace ends with the error record, which the host explains.
     let trace = std::fs::read(w.path().join(qemu::OUTPUTS_FILE)).unwrap();
-    let e = tooltouch::cosim::trace::parse(&trace)
+    let e = tooltouch_cosim::trace::parse(&trace)
         .unwrap_err()
         .to_string();
     assert!(e.contains("truncated record"), "{e}");

@@ -12,7 +12,7 @@ use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, TestRunner};
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use tooltouch::cosim::{self, trace::EVENT_KIND_NAMES, Case, CosimError, Fault, Observe};
+use tooltouch_cosim::{self as cosim, trace::EVENT_KIND_NAMES, Case, CosimError, Fault, Observe};
 use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::wire::force_chunks::{
@@ -318,7 +318,7 @@ fn a_truncated_stream_is_rejected_with_its_offset() {
 /// cycle-level front end extracts their events: the firmware agrees on every event.
 #[test]
 fn firmware_matches_the_golden_model_on_lathe_simulator_streams() {
-    use tooltouch::lathe::LatheScenario;
+    use tooltouch_plant::lathe::LatheScenario;
     let config = tooltouch_model::MeasureConfig::default();
     let cases: Vec<Case> = proptest_seeds(4, "lathe streams")
         .into_iter()
@@ -327,13 +327,14 @@ fn firmware_matches_the_golden_model_on_lathe_simulator_streams() {
                 seed,
                 ..Default::default()
             };
-            let stimulus = tooltouch::measurement_cycle::closed_loop_stimulus(&scenario, &config)
-                .unwrap_or_else(|e| panic!("lathe scenario (seed {seed:#x}): {e}"));
+            let stimulus =
+                tooltouch_plant::measurement_cycle::closed_loop_stimulus(&scenario, &config)
+                    .unwrap_or_else(|e| panic!("lathe scenario (seed {seed:#x}): {e}"));
             Case {
                 name: format!("lathe simulator, seed {seed:#018x}"),
                 config,
                 tick_hz: stimulus.clock_hz,
-                events: tooltouch::vectors::events_from_stimulus(&stimulus, &config),
+                events: tooltouch_vectors::events_from_stimulus(&stimulus, &config),
                 force: None,
                 force_events: Vec::new(),
             }

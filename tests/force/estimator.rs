@@ -8,12 +8,12 @@
 
 use proptest::prelude::*;
 use std::f64::consts::PI;
-use tooltouch::drive::estimator_report::{
+use tooltouch_model::force::sampling::{AdcScales, Sampler, ADC_MID};
+use tooltouch_plant::drive::estimator_report::{
     delay_63, depth_step_scenario, report, run_up_scenario, EstimateKind, DEPTH_LEVELS,
 };
-use tooltouch::drive::scenario::{run, ControlScenario, Engine};
-use tooltouch::drive::{DepthProfile, DriveParams, Plant, ProcessParams};
-use tooltouch_model::force::sampling::{AdcScales, Sampler, ADC_MID};
+use tooltouch_plant::drive::scenario::{run, ControlScenario, Engine};
+use tooltouch_plant::drive::{DepthProfile, DriveParams, Plant, ProcessParams};
 
 /// The plant of `tooltouch control` at 800 rpm, 1 kHz, with a process whose force follows
 /// the feed within a millisecond (τ_p at its floor): a force step at engagement.

@@ -5,9 +5,6 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
-use tooltouch::reference::{
-    controller_f, f, state_of, ControllerF, ControllerStateF, ReferenceStack,
-};
 use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
 use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
@@ -20,6 +17,9 @@ use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::AdcCodes;
 use tooltouch_model::testing;
 use tooltouch_model::units::Fx;
+use tooltouch_plant::reference::{
+    controller_f, f, state_of, ControllerF, ControllerStateF, ReferenceStack,
+};
 
 fn h() -> Fx {
     Fx::lit("0.05")

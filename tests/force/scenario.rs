@@ -2,8 +2,10 @@
 //! with each controller, on measured and on estimated force, closed through the fixed-point
 //! model; and the estimator against the plant's truth.
 
-use tooltouch::drive::scenario::{run, scenario_settings, ControlScenario, ControllerKind, Engine};
 use tooltouch_model::force::config::ForceSource;
+use tooltouch_plant::drive::scenario::{
+    run, scenario_settings, ControlScenario, ControllerKind, Engine,
+};
 
 fn scenario(kind: ControllerKind, source: ForceSource) -> ControlScenario {
     let config = scenario_settings(kind, source)

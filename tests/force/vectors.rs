@@ -3,7 +3,6 @@
 //! from the events alone; broken files are clear errors.
 
 use std::process::Command;
-use tooltouch::drive::scenario::{scenario_settings, ControllerKind};
 use tooltouch_model::force::config::ForceSource;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
@@ -11,6 +10,7 @@ use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
 use tooltouch_model::wire::force_event::decode_force_event;
 use tooltouch_model::wire::force_outputs::decode_force_outputs;
 use tooltouch_model::wire::{kind, Records, StreamKind, WireError};
+use tooltouch_plant::drive::scenario::{scenario_settings, ControllerKind};
 
 fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
     let config = scenario_settings(ControllerKind::Fuzzy, ForceSource::Estimated)

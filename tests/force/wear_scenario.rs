@@ -2,8 +2,8 @@
 //! for the new one at both depths; the constant threshold (set for the first conditions)
 //! raises a false alarm on the new tool when the depth grows — its failure mode.
 
-use tooltouch::milling::{MillingParams, WearScenario, NEW_TOOL, WORN_TOOL};
-use tooltouch::reference::WearF;
+use tooltouch_plant::milling::{MillingParams, WearScenario, NEW_TOOL, WORN_TOOL};
+use tooltouch_plant::reference::WearF;
 
 #[test]
 fn updating_threshold_separates_new_and_worn_tools() {

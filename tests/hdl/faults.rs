@@ -7,12 +7,12 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::process::Command;
-use tooltouch::hdl::cosim::{cosim, CosimPlan};
-use tooltouch::hdl::random::random_stimulus;
-use tooltouch::hdl::runner::Simulator;
-use tooltouch::stimulus::Stimulus;
+use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
+use tooltouch_cosim::hdl::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::random::random_stimulus;
+use tooltouch_plant::stimulus::Stimulus;
 
 fn stimulus(config: &MeasureConfig) -> Stimulus {
     let mut rng = ChaCha8Rng::seed_from_u64(0xfa17);
@@ -119,7 +119,7 @@ fn check(golden: &Path, dut: &Path) -> (bool, String) {
 fn hdl_tooltouch_check_catches_a_broken_verilog_from_its_vcd() {
     let config = MeasureConfig::default();
     let mut s = stimulus(&config);
-    // The golden VCD writer (src/vectors/vcd.rs) skips clock 0 when the stimulus starts
+    // The golden VCD writer (host/vectors/src/vcd.rs) skips clock 0 when the stimulus starts
     // with all pins low (a settled front end), leaving the golden trace without values
     // until the first pin change; start with arm high so clock 0 is written.
     if s.segments.first().is_some_and(|seg| seg.pins.0 == 0) {
@@ -128,7 +128,7 @@ fn hdl_tooltouch_check_catches_a_broken_verilog_from_its_vcd() {
     let work = tempfile::tempdir().expect("temporary folder");
     let golden = work.path().join("golden.vcd");
     let mut f = std::io::BufWriter::new(std::fs::File::create(&golden).expect("golden.vcd"));
-    tooltouch::vectors::vcd::write_golden(&mut f, &s, &config, None).expect("writing golden");
+    tooltouch_vectors::vcd::write_golden(&mut f, &s, &config, None).expect("writing golden");
     drop(f);
     for fault in [Fault::None, Fault::FesBeforeIndex] {
         let dir = work.path().join(format!("{fault:?}"));

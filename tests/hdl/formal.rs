@@ -15,13 +15,13 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::process::Command;
-use tooltouch::hdl::random::random_config;
 use tooltouch_hdl_gen::formal::{
     miter, prove, prove_miter, write_counterexample_vcd, Verdict, MAX_INDUCTION,
 };
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureSettings};
+use tooltouch_plant::random::random_config;
 
 /// The faults, every variant but `None`. The match fails to compile when a variant is
 /// added, so a new fault cannot be left out of the test.

@@ -12,14 +12,14 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::path::Path;
 use std::process::Command;
-use tooltouch::hdl::hex::{golden_vectors, write_vectors};
-use tooltouch::hdl::random::{random_config, random_stimulus};
-use tooltouch::hdl::runner::{build, run, CxxOpt, Simulator};
-use tooltouch::stimulus::Stimulus;
+use tooltouch_cosim::hdl::runner::{build, run, CxxOpt, Simulator};
 use tooltouch_hdl_gen::{
     reference, testbench, verilator_main, Options, TestbenchSpec, REFERENCE_TOP, TOP,
 };
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::random::{random_config, random_stimulus};
+use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 
 /// Stimuli per configuration and their length, clocks.
 const STIMULI: usize = 2;

@@ -10,15 +10,15 @@
 
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use tooltouch::lathe::{CycleSettings, Harmonic, LatheScenario, RetractAt, SlowHarmonic};
-use tooltouch::measurement_cycle;
-use tooltouch::stimulus::Stimulus;
-use tooltouch::vectors::{
-    clock_every_cycle, clock_through, events_from_stimulus, outputs_after_each_event,
-};
 use tooltouch_model::measure::config::MeasureSettings;
 use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::{testing, MeasureConfig, MeasureOutputs};
+use tooltouch_plant::lathe::{CycleSettings, Harmonic, LatheScenario, RetractAt, SlowHarmonic};
+use tooltouch_plant::measurement_cycle;
+use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_vectors::{
+    clock_every_cycle, clock_through, events_from_stimulus, outputs_after_each_event,
+};
 
 /// Random configurations: the model's test kit, levels profile.
 fn settings() -> impl Strategy<Value = MeasureSettings> {
@@ -91,7 +91,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                         amplitude_jitter: 0.5,
                     }],
                     random_um,
-                    electrics: tooltouch::lathe::ContactElectrics {
+                    electrics: tooltouch_plant::lathe::ContactElectrics {
                         bounce_pulses: bounce,
                         bounce_on_us: 20.0,
                         bounce_off_us: 15.0,

@@ -1,10 +1,10 @@
 //! Physics of the measurement (docs/domain.md §2.1, §2.2, eq. S10) on the default lathe (D = 40 mm,
 //! 800 rpm, f_r = 0.001 mm/rev, 0.1 µm scale, 50 MHz), 10 measurements each.
 
-use tooltouch::lathe::{LatheScenario, RetractAt};
-use tooltouch::measurement_cycle::{self, CycleRun};
 use tooltouch_model::measure::config::DecisionMethod;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_plant::lathe::{LatheScenario, RetractAt};
+use tooltouch_plant::measurement_cycle::{self, CycleRun};
 
 fn config(method: DecisionMethod) -> MeasureConfig {
     MeasureSettings {

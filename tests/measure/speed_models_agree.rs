@@ -2,9 +2,9 @@
 //! event level give identical results on the realistic stimulus and on the tuning
 //! scenarios, and the HDL timing path runs the runner's bit-for-bit testbench.
 
-use tooltouch::speed;
-use tooltouch::tune::scenario::{approach, ApproachSettings};
+use tooltouch_cosim::speed;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_tune::scenario::{approach, ApproachSettings};
 
 #[test]
 fn plain_fast_forward_and_event_level_agree_on_the_realistic_stimulus() {
@@ -77,7 +77,7 @@ fn the_hdl_timing_path_runs_the_bit_for_bit_testbench() {
     let stim = speed::prefix(&speed::realistic_stimulus(&config, 1).unwrap(), 200_000);
     let dir = tempfile::tempdir().unwrap();
     let t = speed::hdl::time_simulator(
-        tooltouch::hdl::runner::Simulator::Icarus,
+        tooltouch_cosim::hdl::runner::Simulator::Icarus,
         &config,
         &stim,
         dir.path(),

@@ -2,17 +2,17 @@
 //! finds a flipped bit and names cycle, signal and both values, and corrupt binary files
 //! give errors that say what is wrong.
 
-use tooltouch::cli::check::{compare_binary, compare_vcd, Verdict};
-use tooltouch::lathe::{CycleSettings, LatheScenario};
-use tooltouch::measurement_cycle;
-use tooltouch::stimulus::Stimulus;
-use tooltouch::vectors::vcd::{output_values, period_ns, write_golden, Dump};
-use tooltouch::vectors::{
-    binary, clock_every_cycle, events_from_stimulus, outputs_after_each_event,
-};
 use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::wire::{self, Header, StreamKind};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_plant::lathe::{CycleSettings, LatheScenario};
+use tooltouch_plant::measurement_cycle;
+use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_vectors::check::{compare_binary, compare_vcd, Verdict};
+use tooltouch_vectors::vcd::{output_values, period_ns, write_golden, Dump};
+use tooltouch_vectors::{
+    binary, clock_every_cycle, events_from_stimulus, outputs_after_each_event,
+};
 
 fn small() -> (MeasureConfig, Stimulus) {
     let config = MeasureSettings {
@@ -54,7 +54,7 @@ fn golden_vcd_reads_back_as_the_model_on_every_clock() {
     let dump = Dump::parse(&text, "golden.vcd").unwrap();
     assert_eq!(dump.golden_stamp(), Some((config.hash(), 1_000_000)));
     let p_fs = period_ns(1_000_000) * 1_000_000;
-    let outs: Vec<_> = tooltouch::vectors::vcd::output_signals(&config)
+    let outs: Vec<_> = tooltouch_vectors::vcd::output_signals(&config)
         .iter()
         .map(|(name, _)| dump.find_in_scope("outputs", name).unwrap().id.clone())
         .collect();

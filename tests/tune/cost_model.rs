@@ -1,19 +1,19 @@
 //! The committed tuning cost model against a fresh yosys synthesis: every calibration
-//! point (`tooltouch::tune::cost::CALIBRATION_POINTS`, all 14: each varies one feature of
+//! point (`tooltouch_tune::cost::CALIBRATION_POINTS`, all 14: each varies one feature of
 //! the model, so a subset would leave a coefficient unchecked) is synthesized with yosys
 //! `synth_ice40`, and each committed measurement must be within 2 % of the fresh one, for
 //! flip-flops and logic cells. The model's coefficients are the least-squares fit of the
-//! committed measurements (checked exactly by `src/tune/cost.rs`'s unit tests), so a
+//! committed measurements (checked exactly by `host/tune/src/cost.rs`'s unit tests), so a
 //! generator change that moves the cost fails here until the model is refitted.
 //!
 //! Run with `TOOLTOUCH_BLESS=1` (as `cargo xtask hdl-report` does) it refits instead:
-//! writes the fresh measurements and their fit to `src/tune/cost_model.json`.
+//! writes the fresh measurements and their fit to `host/tune/src/cost_model.json`.
 //!
 //! yosys is required: without it the test fails naming `cargo xtask setup`.
 
 use std::time::Instant;
-use tooltouch::tune::cost::synthesis::{synthesize_all, yosys_version};
-use tooltouch::tune::cost::{CostModel, CostModelFile, CALIBRATION_POINTS, COST_MODEL_PATH};
+use tooltouch_tune::cost::synthesis::{synthesize_all, yosys_version};
+use tooltouch_tune::cost::{CostModel, CostModelFile, CALIBRATION_POINTS, COST_MODEL_PATH};
 
 /// Largest allowed deviation of a committed measurement from a fresh synthesis, relative
 /// to the fresh one.

@@ -2,8 +2,8 @@
 //! bad sweep specifications are errors naming the parameter.
 
 use std::process::Command;
-use tooltouch::tune::scenario::ApproachSettings;
-use tooltouch::tune::{self, output, Overrides, Shard, SweepSpec};
+use tooltouch_tune::scenario::ApproachSettings;
+use tooltouch_tune::{self as tune, output, Overrides, Shard, SweepSpec};
 
 /// A small sweep: 12 points on 2 short scenarios (64 ppr at 6000 rpm).
 fn small_spec() -> SweepSpec {

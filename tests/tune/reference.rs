@@ -1,10 +1,10 @@
 //! The fixed-point model against the float reference on the tuning scenarios: a fine
 //! configuration follows the reference closely, and coarse choices show up as error.
 
-use tooltouch::tune::evaluate::{evaluate, model_decision, Outcome};
-use tooltouch::tune::reference::{decision_cycle, Intent};
-use tooltouch::tune::scenario::{approach, Approach, ApproachSettings};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
+use tooltouch_tune::evaluate::{evaluate, model_decision, Outcome};
+use tooltouch_tune::reference::{decision_cycle, Intent};
+use tooltouch_tune::scenario::{approach, Approach, ApproachSettings};
 
 fn scenarios() -> Vec<Approach> {
     let s = ApproachSettings {

@@ -6,8 +6,8 @@
 //! nextpnr exits 1 when `--freq` is not met, so fmax is read from its log, and a missed
 //! target is reported, not an error.
 //!
-//! It then refits the tuning cost model (`src/tune/cost.rs`): its calibration points are
-//! synthesized again and `src/tune/cost_model.json` rewritten with the fresh
+//! It then refits the tuning cost model (`host/tune/src/cost.rs`): its calibration points are
+//! synthesized again and `host/tune/src/cost_model.json` rewritten with the fresh
 //! measurements and their least-squares fit, by running the model's check
 //! (`tests/tune/cost_model.rs`) with `TOOLTOUCH_BLESS=1`. Unchanged synthesis, unchanged
 //! file; otherwise `git diff` shows which points moved.
@@ -163,9 +163,9 @@ fn refit_cost_model() -> Result<()> {
     crate::process::run(
         &crate::process::root(),
         "git",
-        &["status", "--short", "--", "src/tune/cost_model.json"],
+        &["status", "--short", "--", "host/tune/src/cost_model.json"],
     )?;
-    println!("review the changes with `git diff src/tune/cost_model.json`");
+    println!("review the changes with `git diff host/tune/src/cost_model.json`");
     Ok(())
 }
 

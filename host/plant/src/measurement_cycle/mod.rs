@@ -1,0 +1,371 @@
+//! The closed-loop measurement cycle (docs/domain.md §2.5): approach at f_r → decide (the golden
+//! model's `register_now`) → latch → retract → step in Z → repeat N times → statistics.
+//!
+//! The driver plays the CNC. It asks the [`Lathe`] for the pins of the next span of clocks
+//! (one revolution during an approach), clocks [`FrontEnd`] through them, and reacts to the
+//! outputs: when "register now" rises it stops the feed `cnc_reaction_us` later (or, with
+//! [`RetractAt::PermanentContact`], once contact has been permanent for a revolution),
+//! retracts, lowers the arm line and steps in Z. The pins of a span are cut at the clock
+//! where the CNC acted, so the returned [`Stimulus`] is exactly what the front end saw.
+//!
+//! Clocks inside long constant segments are skipped exactly with
+//! [`FrontEnd::is_settled`]: a settled front end is unchanged by a clock, so a default run
+//! (about 10^9 clocks) clocks only the few clocks after each pin change.
+
+mod report;
+mod run_size;
+mod stats;
+
+pub use report::MeasurementReport;
+pub use run_size::{check_run_size, RunTooLarge, BYTES_PER_EVENT, MAX_EVENTS};
+pub use stats::{Spread, Summary};
+
+use crate::lathe::{Chunk, Lathe, LatheScenario, Motion, RetractAt, ScenarioError};
+use crate::stimulus::{Segment, Stimulus};
+use tooltouch_model::measure::frontend::Edges;
+use tooltouch_model::{FrontEnd, MeasureConfig};
+
+/// A whole closed-loop run.
+#[derive(Clone, Debug)]
+pub struct CycleRun {
+    /// Every clock's pins, run-length encoded, from power-on to the end of the last
+    /// measurement.
+    pub stimulus: Stimulus,
+    /// One report per measurement.
+    pub measurements: Vec<MeasurementReport>,
+    /// Statistics over the measurements.
+    pub summary: Summary,
+    /// Clocks actually clocked (the rest were skipped as settled).
+    pub clocked_cycles: u64,
+    /// The approach start point's scale count (the count at power-on).
+    pub home_count: i64,
+}
+
+struct Driver {
+    lathe: Lathe,
+    fe: FrontEnd,
+    stimulus: Stimulus,
+    clocked: u64,
+    /// Next clock to simulate.
+    now: u64,
+}
+
+/// What the CNC watches during a span of clocks.
+#[derive(Default)]
+struct Watch {
+    first_contact: Option<u64>,
+    decision: Option<u64>,
+    window_counts: Vec<u32>,
+    /// Last clock to simulate in this span, if the CNC acts before its end.
+    stop_after: Option<u64>,
+    reaction: u64,
+    /// Stop `reaction` clocks after the decision.
+    stop_on_decision: bool,
+}
+
+impl Watch {
+    fn on_edges(&mut self, k: u64, fe: &FrontEnd, edges: Edges) {
+        let m = fe.measurement();
+        if !m.outputs().armed {
+            return;
+        }
+        if self.first_contact.is_none() && m.outputs().first_contact {
+            self.first_contact = Some(k);
+        }
+        if self.decision.is_none() && m.register_now() {
+            self.decision = Some(k);
+            if self.stop_on_decision {
+                self.stop_after = Some(k + self.reaction);
+            }
+        }
+        let index = tooltouch_model::measure::frontend::pin::INDEX;
+        if edges.changed & edges.levels & index != 0 {
+            self.window_counts.push(m.counter().last_window_count());
+        }
+    }
+}
+
+impl Driver {
+    /// Clocks the front end through `chunk` from its start, stopping after the clock
+    /// `watch.stop_after` if that comes first; appends the used pins to the stimulus and
+    /// commits the lathe. Returns one past the last clock used.
+    fn run(&mut self, chunk: &Chunk, watch: &mut Watch) -> u64 {
+        debug_assert_eq!(chunk.start, self.now);
+        let mut k = chunk.start;
+        'segments: for seg in &chunk.segments {
+            let end = k + u64::from(seg.cycles);
+            while k < end {
+                if watch.stop_after.is_some_and(|s| k > s) {
+                    break 'segments;
+                }
+                if self.fe.is_settled(seg.pins) {
+                    let limit = watch.stop_after.map_or(end, |s| end.min(s + 1));
+                    k = limit.max(k + 1);
+                    continue;
+                }
+                let edges = self.fe.clock(seg.pins);
+                self.clocked += 1;
+                if !edges.is_empty() {
+                    watch.on_edges(k, &self.fe, edges);
+                }
+                k += 1;
+            }
+        }
+        let used = k.min(chunk.end);
+        for s in chunk.truncated_segments(used - chunk.start) {
+            self.stimulus.push(s.pins, s.cycles.into());
+        }
+        self.lathe.commit(chunk, used);
+        self.now = used;
+        used
+    }
+
+    /// Holds the slide at `x_um` with the arm at `arm` until clock `until`.
+    fn hold(&mut self, until: u64, x_um: f64, arm: bool) {
+        if until > self.now {
+            let chunk = self
+                .lathe
+                .chunk(self.now, until, &Motion::hold(x_um), arm, false);
+            self.run(&chunk, &mut Watch::default());
+        }
+    }
+}
+
+/// Unwraps a `bits`-wide two's-complement position to the value nearest `reference`.
+pub fn unwrap_position(position: i32, bits: u8, reference: i64) -> i64 {
+    let modulus = 1i64 << bits;
+    let p = i64::from(position);
+    let k = (reference - p + modulus / 2).div_euclid(modulus);
+    p + k * modulus
+}
+
+/// Runs the whole measurement cycle of `scenario` on the golden model configured by
+/// `config`. `progress` is called with the number of measurements done after each one.
+pub fn run(
+    scenario: &LatheScenario,
+    config: &MeasureConfig,
+    progress: &mut dyn FnMut(usize),
+) -> Result<CycleRun, ScenarioError> {
+    let lathe = Lathe::new(scenario, config)?;
+    let spindle = *lathe.spindle();
+    let cycles_per_us = lathe.cycles_per_us();
+    let home_count = lathe.home_count();
+    let home = lathe.home_um();
+    let res = scenario.scale_resolution_um;
+    let cycle = scenario.cycle;
+    let mut d = Driver {
+        lathe,
+        fe: FrontEnd::new(config),
+        stimulus: Stimulus::new(scenario.clock_hz),
+        clocked: 0,
+        now: 0,
+    };
+    let feed = -scenario.feed_mm_per_rev * 1000.0 / spindle.cycles_per_rev;
+    let retract = scenario.cycle.retract_mm_per_s * 1000.0 / f64::from(scenario.clock_hz);
+    let reaction = (cycle.cnc_reaction_us * cycles_per_us).round() as u64;
+    let dwell = (cycle.z_dwell_ms * 1000.0 * cycles_per_us).round() as u64;
+    let bits = config.settings().scale_bits;
+    let diameter = |count: i64| 2.0 * (count as f64 + 0.5) * res / 1000.0;
+    let mut measurements = Vec::new();
+
+    for m in 0..cycle.repeats as usize {
+        d.lathe.set_z(m as u64);
+        let true_mean = 2.0 * d.lathe.surface().mean_radius_um() / 1000.0;
+        let true_largest = 2.0 * d.lathe.surface().largest_radius_um() / 1000.0;
+        // Wait at the start point for the next index pulse (at least 64 clocks after
+        // power-on so the synchronizers hold defined levels); the approach starts with it,
+        // like a spindle-synchronised (threading-type) feed.
+        let r0 = spindle.next_revolution(d.now.max(64));
+        let k0 = spindle.index_rise(r0);
+        d.hold(k0, home, false);
+
+        let approach = Motion {
+            t0: k0 as f64,
+            start_um: home,
+            speed_um_per_cycle: feed,
+        };
+        let mut watch = Watch {
+            reaction,
+            stop_on_decision: cycle.retract_at == RetractAt::Decision,
+            ..Default::default()
+        };
+        let mut contact_since: Option<u64> = None;
+        let mut permanent: Option<u64> = None;
+        let mut contact_fraction = Vec::new();
+        let mut decision_count: Option<i64> = None;
+        let mut first_contact_count: Option<i64> = None;
+        let mut r = r0;
+        loop {
+            let (a, b) = (spindle.index_rise(r), spindle.index_rise(r + 1));
+            let chunk = d.lathe.chunk(a, b, &approach, true, true);
+            let count_before = d.lathe.count();
+            let used = d.run(&chunk, &mut watch);
+            // The lathe's scale count at the latching clocks, to unwrap the latched
+            // `scale_bits`-wide positions.
+            let count_at = |k: u64| {
+                chunk
+                    .count_changes
+                    .iter()
+                    .rev()
+                    .find(|c| c.0 <= k)
+                    .map_or(count_before, |c| c.1)
+            };
+            for (event, count) in [
+                (watch.decision, &mut decision_count),
+                (watch.first_contact, &mut first_contact_count),
+            ] {
+                if let Some(k) = event.filter(|&k| k >= a && k < used) {
+                    count.get_or_insert(count_at(k));
+                }
+            }
+            contact_fraction.push(
+                crate::lathe::electrics::covered(&chunk.contact, a, used) as f64 / (b - a) as f64,
+            );
+            if used < b || watch.stop_after.is_some_and(|s| s < used) {
+                break;
+            }
+            // Track the current run of contact across revolutions.
+            let mut since =
+                contact_since.filter(|_| chunk.contact.first().is_some_and(|&(s, _)| s == a));
+            for &(s, e) in &chunk.contact {
+                if !(s == a && since.is_some()) {
+                    since = Some(s);
+                }
+                if e < b {
+                    since = None;
+                }
+            }
+            contact_since = since;
+            if permanent.is_none() && chunk.contact == [(a, b)] {
+                permanent = contact_since;
+                if cycle.retract_at == RetractAt::PermanentContact {
+                    watch.stop_on_decision = true;
+                }
+            }
+            if let (Some(_), Some(k_d), RetractAt::PermanentContact) =
+                (permanent, watch.decision, cycle.retract_at)
+            {
+                if k_d + reaction < b {
+                    break;
+                }
+                watch.stop_after = Some(k_d + reaction);
+            }
+            r += 1;
+            if r - r0 >= u64::from(cycle.max_approach_revs) {
+                break;
+            }
+        }
+        let stop = d.now;
+        // Retract to the start point, then lower the arm and step in Z.
+        let x_stop = approach.at(stop as f64);
+        let retract_cycles = ((home - x_stop).max(0.0) / retract).ceil() as u64 + 1;
+        let retract_motion = Motion {
+            t0: stop as f64,
+            start_um: x_stop,
+            speed_um_per_cycle: retract,
+        };
+        let chunk = d
+            .lathe
+            .chunk(stop, stop + retract_cycles, &retract_motion, true, false);
+        d.run(&chunk, &mut Watch::default());
+        d.hold(d.now + dwell.max(64), home, false);
+
+        let out = d.fe.outputs();
+        let decision_position =
+            decision_count.map(|c| unwrap_position(out.decision_position, bits, c - home_count));
+        let first_contact_position = first_contact_count
+            .map(|c| unwrap_position(out.first_contact_position, bits, c - home_count));
+        let diameter_mm = decision_position.map(|p| diameter(home_count + p));
+        let revs = |k: Option<u64>| match (k, watch.first_contact) {
+            (Some(k), Some(f)) => Some((k as f64 - f as f64) / spindle.cycles_per_rev),
+            _ => None,
+        };
+        measurements.push(MeasurementReport {
+            index: m,
+            z_mm: m as f64 * cycle.z_step_mm,
+            arm_cycle: k0,
+            first_contact_cycle: watch.first_contact,
+            decision_cycle: watch.decision,
+            permanent_contact_cycle: permanent,
+            stop_cycle: stop,
+            end_cycle: d.now,
+            revs_to_decision: revs(watch.decision),
+            revs_to_permanent: revs(permanent),
+            decision_position,
+            first_contact_position,
+            diameter_mm,
+            first_contact_diameter_mm: first_contact_position.map(|p| diameter(home_count + p)),
+            true_mean_diameter_mm: true_mean,
+            true_largest_diameter_mm: true_largest,
+            error_vs_mean_um: diameter_mm.map(|x| (x - true_mean) * 1000.0),
+            error_vs_largest_um: diameter_mm.map(|x| (x - true_largest) * 1000.0),
+            window_counts: watch.window_counts,
+            contact_fraction,
+        });
+        progress(m + 1);
+    }
+    let summary = Summary::of(&measurements, res);
+    Ok(CycleRun {
+        stimulus: d.stimulus,
+        measurements,
+        summary,
+        clocked_cycles: d.clocked,
+        home_count,
+    })
+}
+
+/// The closed-loop stimulus of `scenario` alone (see [`run`]).
+pub fn closed_loop_stimulus(
+    scenario: &LatheScenario,
+    config: &MeasureConfig,
+) -> Result<Stimulus, ScenarioError> {
+    Ok(run(scenario, config, &mut |_| {})?.stimulus)
+}
+
+/// Segments of `stimulus` covering clocks `[start, end)`.
+pub fn slice(stimulus: &Stimulus, start: u64, end: u64) -> Vec<Segment> {
+    let mut out = Vec::new();
+    let mut k = 0u64;
+    for s in &stimulus.segments {
+        let (a, b) = (k, k + u64::from(s.cycles));
+        k = b;
+        let (a, b) = (a.max(start), b.min(end));
+        if a < b {
+            out.push(Segment {
+                pins: s.pins,
+                cycles: (b - a) as u32,
+            });
+        }
+        if k >= end {
+            break;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_cycle_decides_every_measurement() {
+        let scenario = LatheScenario {
+            cycle: crate::lathe::CycleSettings {
+                repeats: 3,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let config = MeasureConfig::default();
+        let run = run(&scenario, &config, &mut |_| {}).unwrap();
+        for m in &run.measurements {
+            // Decided between first contact and permanent contact, and the latched
+            // diameter lies between the true mean-ish and largest diameters.
+            assert!(m.revs_to_decision.unwrap() < m.revs_to_permanent.unwrap());
+            assert!(m.diameter_mm.unwrap() < m.true_largest_diameter_mm);
+            assert!(!m.window_counts.is_empty());
+        }
+        assert!(run.clocked_cycles * 50 < run.stimulus.total_cycles());
+        assert_eq!(run.summary.decided, 3);
+    }
+}

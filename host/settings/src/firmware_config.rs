@@ -1,0 +1,129 @@
+//! The configuration a firmware image is built with: the settings file that
+//! `tooltouch hdl --config` and `tooltouch vectors --config` read (its `[measure]` table,
+//! validated by the model) plus an optional `[force]` table, in the file format that
+//! firmware/build.rs bakes into both images (`TOOLTOUCH_FIRMWARE_CONFIG`).
+//!
+//! The `[force]` table names a force design the way `tooltouch tune` sweeps it, so any
+//! swept force point can be written as a settings file (`tooltouch tune point`):
+//!
+//! ```toml
+//! [force]
+//! controller = "pi"          # pi | adaptive | fuzzy
+//! kp_percent = 100           # proportional gain, % of the Ziegler–Nichols design, 1..=1000
+//! ki_percent = 100           # integral gain, % of the design, 1..=1000 (adaptive: unused)
+//! force_source = "estimated" # estimated | measured
+//! ```
+//! Every field is optional (the values shown); without a `[force]` table the force path
+//! runs `ForceSettings::default()`, the set-up of `tooltouch control`'s default plant.
+//!
+//! The baked file: `TTFWCFG1`, then the measurement configuration's canonical bytes and
+//! the force configuration's (model::wire), each after its length as a little-endian u16.
+
+pub use crate::force_design::ForceDesign;
+use crate::load::load_settings;
+use anyhow::Context;
+use std::path::Path;
+use tooltouch_model::force::config::{ForceConfig, ForceSettings};
+use tooltouch_model::MeasureConfig;
+
+/// The environment variable firmware/build.rs reads: the path of a baked configuration
+/// file ([`FirmwareConfig::baked_bytes`]).
+pub const CONFIG_VAR: &str = "TOOLTOUCH_FIRMWARE_CONFIG";
+/// The first bytes of a baked configuration file.
+pub const MAGIC: &[u8; 8] = b"TTFWCFG1";
+
+/// The configuration an image is built with.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FirmwareConfig {
+    /// The measurement configuration.
+    pub measure: MeasureConfig,
+    /// The force configuration.
+    pub force: ForceConfig,
+}
+
+impl Default for FirmwareConfig {
+    /// What an image built without a configuration runs.
+    fn default() -> Self {
+        FirmwareConfig {
+            measure: MeasureConfig::default(),
+            force: ForceSettings::default()
+                .validate()
+                .unwrap_or_else(|e| unreachable!("the default force settings are valid: {e}")),
+        }
+    }
+}
+
+impl FirmwareConfig {
+    /// Reads a settings file (see the module documentation); `None` gives the defaults.
+    pub fn load(path: Option<&Path>) -> anyhow::Result<FirmwareConfig> {
+        let mut config = FirmwareConfig {
+            measure: load_settings(path, None)?.config,
+            ..FirmwareConfig::default()
+        };
+        let Some(path) = path else {
+            return Ok(config);
+        };
+        let text =
+            std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let table: toml::Table =
+            toml::from_str(&text).with_context(|| format!("{}: not valid TOML", path.display()))?;
+        if let Some(force) = table.get("force") {
+            let (_, settings) = ForceDesign::from_table(force)
+                .with_context(|| format!("{}: [force]", path.display()))?;
+            config.force = settings
+                .validate()
+                .map_err(|e| anyhow::anyhow!("{}: [force] {e}", path.display()))?;
+        }
+        Ok(config)
+    }
+
+    /// The baked configuration file's bytes (module documentation).
+    pub fn baked_bytes(&self) -> Vec<u8> {
+        let (m, n) = self.measure.canonical_bytes();
+        let (f, k) = self.force.canonical_bytes();
+        let mut out = MAGIC.to_vec();
+        for part in [&m[..n], &f[..k]] {
+            out.extend_from_slice(&(part.len() as u16).to_le_bytes());
+            out.extend_from_slice(part);
+        }
+        out
+    }
+
+    /// `measure_hash=… force_hash=…`, as the image reports it.
+    pub fn hashes(&self) -> String {
+        format!(
+            "measure_hash={:016x} force_hash={:016x}",
+            self.measure.hash(),
+            self.force.hash()
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_force_table_is_a_tune_design_and_the_measure_table_is_hdls() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.toml");
+        std::fs::write(
+            &path,
+            "[measure]\ni_def = 300\n[force]\ncontroller = \"fuzzy\"\nkp_percent = 50\n",
+        )
+        .unwrap();
+        let c = FirmwareConfig::load(Some(&path)).unwrap();
+        assert_eq!(c.measure.settings().i_def, 300);
+        assert_ne!(c.force.hash(), FirmwareConfig::default().force.hash());
+        let bytes = c.baked_bytes();
+        assert!(bytes.starts_with(MAGIC));
+        assert_eq!(u16::from_le_bytes([bytes[8], bytes[9]]), 31);
+
+        std::fs::write(&path, "[force]\ncontroller = \"bang-bang\"\n").unwrap();
+        let e = format!("{:#}", FirmwareConfig::load(Some(&path)).unwrap_err());
+        assert!(e.contains("[force]") && e.contains("bang-bang"), "{e}");
+        std::fs::write(&path, "[force]\nkp_percent = 0\n").unwrap();
+        let e = format!("{:#}", FirmwareConfig::load(Some(&path)).unwrap_err());
+        assert!(e.contains("kp_percent") && e.contains("1..=1000"), "{e}");
+    }
+}

@@ -1,0 +1,637 @@
+//! The comparisons behind `tooltouch check`: a device's trace against the golden one,
+//! first difference reported, and nothing passed that the golden file does not cover.
+//!
+//! **VCD** (docs/CONTRACT.md): every signal of the golden `outputs` scope against the DUT
+//! signal of the same leaf name, sampled at `k·P + P/2` for every clock `k`. Both files are
+//! read as streams in step ([`Changes`]): values only change at change times, so the state
+//! between two consecutive change times of either file is constant and only the first
+//! sample inside such an interval needs a look, which keeps the work proportional to the
+//! changes and the memory to the signals. The golden file must be whole (its closing
+//! `tooltouch end cycles=<n>` comment, its last time at clock `n − 1`); a DUT trace that ends
+//! at another clock than the golden one is a mismatch that names both ends.
+//!
+//! **Binary** (`.ttv`): one Outputs stream per file, read record by record
+//! ([`binary::OutputReader`], memory flat in the file size; [`compare_output_sources`]):
+//! measurement outputs and force outputs record by record, the firmware's status (a lost or
+//! overflowed event is a mismatch), record counts, the headers' hashes and tick rates.
+
+mod files;
+
+pub use files::compare_files;
+
+use super::binary::{self, OutputReader, OutputRecord};
+use super::vcd::{golden_end, Changes, Declarations, Signal, Value, VcdError};
+use std::io::Read;
+
+/// The result of a comparison.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// Everything matched; the one-line summary.
+    Match(String),
+    /// The first difference, as one line.
+    Mismatch(String),
+}
+
+/// Bad input to `check`, with the file and what is wrong.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct BadInput(pub String);
+
+impl From<VcdError> for BadInput {
+    fn from(e: VcdError) -> Self {
+        BadInput(e.to_string())
+    }
+}
+
+impl From<binary::BinaryError> for BadInput {
+    fn from(e: binary::BinaryError) -> Self {
+        BadInput(e.to_string())
+    }
+}
+
+fn hex(v: Option<&Value>) -> String {
+    match v {
+        Some(v) if !v.unknown => format!("0x{}", v.hex_digits()),
+        Some(_) => "x".to_string(),
+        None => "x (no value yet)".to_string(),
+    }
+}
+
+/// One side of a VCD comparison: its name, declarations and change stream, and the
+/// comments read after the declarations once the stream is exhausted.
+pub struct VcdSide<'a> {
+    /// The file name, for messages.
+    pub name: &'a str,
+    /// Its declarations.
+    pub declarations: &'a Declarations,
+    /// Its changes in time order.
+    pub changes: &'a mut dyn Changes,
+}
+
+/// A compared output: the golden signal.
+struct Compared<'a> {
+    golden: &'a Signal,
+}
+
+/// Lookahead over one side's changes.
+struct Cursor<'a, 'b> {
+    side: &'b mut VcdSide<'a>,
+    next: Option<(u64, usize, Value)>,
+    done: bool,
+}
+
+impl Cursor<'_, '_> {
+    fn advance(&mut self) -> Result<(), BadInput> {
+        self.next = self.side.changes.next_change()?;
+        self.done = self.next.is_none();
+        Ok(())
+    }
+}
+
+/// Reads every change of `cursor` at time `t`, storing the compared ones in `values` and
+/// their slots in `touched` when `values` is given.
+fn apply_at(
+    cursor: &mut Cursor,
+    t: u64,
+    mut values: Option<&mut Vec<Option<Value>>>,
+    touched: &mut Vec<usize>,
+    slots: &[Vec<usize>],
+) -> Result<(), BadInput> {
+    while let Some((time, code, value)) = cursor.next.take() {
+        if time != t {
+            cursor.next = Some((time, code, value));
+            break;
+        }
+        if let Some(values) = values.as_deref_mut() {
+            for &slot in &slots[code] {
+                values[slot] = Some(value.clone());
+                touched.push(slot);
+            }
+        }
+        cursor.advance()?;
+    }
+    Ok(())
+}
+
+/// Compares the `outputs` scope of a golden dump with a DUT dump (see the module
+/// documentation). `late_comments` gives the golden file's comments after its
+/// declarations once its stream is read (the closing comment).
+pub fn compare_vcd_sides(
+    e: &mut VcdSide,
+    d: &mut VcdSide,
+    late_comments: &dyn Fn() -> Vec<String>,
+) -> Result<Verdict, BadInput> {
+    let (en, dn) = (e.name.to_string(), d.name.to_string());
+    let (hash, clock_hz) = e.declarations.golden_stamp().ok_or_else(|| {
+        BadInput(format!(
+            "{en}: no `$comment tooltouch measure_hash=… clock_hz=…` line: not a golden file"
+        ))
+    })?;
+    if let Some((dut_hash, dut_hz)) = d.declarations.golden_stamp() {
+        if dut_hash != hash || dut_hz != clock_hz {
+            return Err(BadInput(format!(
+                "configuration mismatch: {en} has measure_hash={hash:016x} clock_hz={clock_hz}, {dn} has measure_hash={dut_hash:016x} clock_hz={dut_hz}"
+            )));
+        }
+    }
+    if clock_hz == 0 || 1_000_000_000 % clock_hz != 0 {
+        return Err(BadInput(format!(
+            "{en}: clock_hz={clock_hz} does not divide 1e9"
+        )));
+    }
+    let period_fs = 1_000_000_000_000_000 / u64::from(clock_hz);
+    let half = period_fs / 2;
+    let outputs: Vec<Compared> = e
+        .declarations
+        .signals
+        .iter()
+        .filter(|s| s.scope.last().is_some_and(|l| l == "outputs"))
+        .map(|s| {
+            if s.width == 0 {
+                return Err(BadInput(format!(
+                    "{en}: line {}: golden signal `{}` is 0 bits wide",
+                    s.line, s.name
+                )));
+            }
+            Ok(Compared { golden: s })
+        })
+        .collect::<Result<_, _>>()?;
+    if outputs.is_empty() {
+        return Err(BadInput(format!("{en}: no `outputs` scope")));
+    }
+    // Slots per code index, on each side.
+    let mut e_slots: Vec<Vec<usize>> = vec![Vec::new(); e.declarations.codes().len()];
+    let mut d_slots: Vec<Vec<usize>> = vec![Vec::new(); d.declarations.codes().len()];
+    for (slot, c) in outputs.iter().enumerate() {
+        let ds = d
+            .declarations
+            .find_shallowest(&c.golden.name)
+            .ok_or_else(|| {
+                BadInput(format!(
+                    "{dn}: no signal named `{}` (expected from {en})",
+                    c.golden.name
+                ))
+            })?;
+        let ei = e.declarations.code_index(&c.golden.id);
+        let di = d.declarations.code_index(&ds.id);
+        if let (Some(ei), Some(di)) = (ei, di) {
+            e_slots[ei].push(slot);
+            d_slots[di].push(slot);
+        }
+    }
+    let n = outputs.len();
+    let mut ev: Vec<Option<Value>> = vec![None; n];
+    let mut dv: Vec<Option<Value>> = vec![None; n];
+    let mut differs = vec![true; n];
+    let mut differing = n;
+    let mut first: Option<(u64, usize, Option<Value>, Option<Value>)> = None;
+    let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
+
+    let mut ec = Cursor {
+        side: e,
+        next: None,
+        done: false,
+    };
+    let mut dc = Cursor {
+        side: d,
+        next: None,
+        done: false,
+    };
+    ec.advance()?;
+    dc.advance()?;
+    let mut now = 0u64;
+    loop {
+        let next_time = match (&ec.next, &dc.next) {
+            (Some(a), Some(b)) => Some(a.0.min(b.0)),
+            (Some(a), None) => Some(a.0),
+            (None, Some(b)) => Some(b.0),
+            (None, None) => None,
+        };
+        // The values are constant over [now, next_time): look at its first sample.
+        if first.is_none() && differing > 0 {
+            let mut limit = u64::MAX;
+            if ec.done {
+                limit = limit.min(ec.side.changes.end_fs() / period_fs);
+            }
+            if dc.done {
+                limit = limit.min(dc.side.changes.end_fs() / period_fs);
+            }
+            let k = now.saturating_sub(half).div_ceil(period_fs);
+            let inside = next_time.is_none_or(|t| k * period_fs + half < t);
+            if inside && k <= limit {
+                if let Some(slot) = differs.iter().position(|&x| x) {
+                    first = Some((k, slot, ev[slot].clone(), dv[slot].clone()));
+                }
+            }
+        }
+        let Some(t) = next_time else { break };
+        // Apply every change at `t` of both sides (after a mismatch: only read on, so a
+        // malformed or cut file is still reported).
+        let record = first.is_none();
+        touched.clear();
+        apply_at(
+            &mut ec,
+            t,
+            record.then_some(&mut ev),
+            &mut touched,
+            &e_slots,
+        )?;
+        apply_at(
+            &mut dc,
+            t,
+            record.then_some(&mut dv),
+            &mut touched,
+            &d_slots,
+        )?;
+        if first.is_none() {
+            for &slot in &touched {
+                // Exact, at any width: a DUT value with a 1 above the golden width differs
+                // (the reader refuses a value wider than its own signal).
+                let same = matches!((&ev[slot], &dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a == b);
+                if differs[slot] == same {
+                    differs[slot] = !same;
+                    if same {
+                        differing -= 1;
+                    } else {
+                        differing += 1;
+                    }
+                }
+            }
+        }
+        now = t;
+    }
+    let e_end = ec.side.changes.end_fs();
+    let d_end = dc.side.changes.end_fs();
+    let mut comments = ec.side.declarations.comments.clone();
+    comments.extend(late_comments());
+    let cycles = golden_end(&comments).ok_or_else(|| {
+        BadInput(format!(
+            "{en}: ends at line {} (time {} ns) without the closing `$comment tooltouch end cycles=… $end` of a golden file: cut short?",
+            ec.side.changes.line(),
+            e_end / 1_000_000
+        ))
+    })?;
+    if cycles == 0 || e_end != (cycles - 1) * period_fs {
+        return Err(BadInput(format!(
+            "{en}: its closing comment says {cycles} cycles, but its last time is {} ns (cycle {})",
+            e_end / 1_000_000,
+            e_end / period_fs
+        )));
+    }
+    if let Some((k, slot, a, b)) = first {
+        return Ok(Verdict::Mismatch(format!(
+            "cycle {k} (time {} ns): signal {} expected {} got {}",
+            k * period_fs / 1_000_000,
+            outputs[slot].golden.name,
+            hex(a.as_ref()),
+            hex(b.as_ref())
+        )));
+    }
+    let (e_last, d_last) = (cycles - 1, d_end / period_fs);
+    if d_last != e_last {
+        let (which, by) = if d_last < e_last {
+            ("short", e_last - d_last)
+        } else {
+            ("long", d_last - e_last)
+        };
+        return Ok(Verdict::Mismatch(format!(
+            "the DUT trace ends at cycle {d_last} (time {} ns), the golden trace at cycle {e_last} (time {} ns): {dn} is {by} cycles too {which}",
+            d_end / 1_000_000,
+            e_end / 1_000_000
+        )));
+    }
+    Ok(Verdict::Match(format!(
+        "OK: {cycles} cycles × {n} signals of {en} match {dn}"
+    )))
+}
+
+/// Compares two parsed dumps (see [`compare_vcd_sides`]).
+pub fn compare_vcd(
+    e: &super::vcd::Dump,
+    en: &str,
+    d: &super::vcd::Dump,
+    dn: &str,
+) -> Result<Verdict, BadInput> {
+    let (ed, dd) = (e.declarations(), d.declarations());
+    let (mut et, mut dt) = (e.timeline(), d.timeline());
+    compare_vcd_sides(
+        &mut VcdSide {
+            name: en,
+            declarations: &ed,
+            changes: &mut et,
+        },
+        &mut VcdSide {
+            name: dn,
+            declarations: &dd,
+            changes: &mut dt,
+        },
+        &Vec::new,
+    )
+}
+
+fn last_time(last: Option<u64>) -> String {
+    last.map_or_else(|| "none".to_string(), |t| format!("time {t}"))
+}
+
+/// One side of a binary comparison: its reader, what was counted, the error that stopped it.
+struct OutputSide<R> {
+    reader: Option<OutputReader<R>>,
+    header: Option<tooltouch_model::wire::Header>,
+    status: Option<binary::FirmwareStatus>,
+    error: Option<binary::BinaryError>,
+    measure: usize,
+    force: usize,
+    last_measure: Option<u64>,
+    last_force: Option<u64>,
+}
+
+impl<R: Read> OutputSide<R> {
+    fn open(src: R, file: &str) -> Self {
+        let (reader, error) = match OutputReader::new(src, file) {
+            Ok(r) => (Some(r), None),
+            Err(e) => (None, Some(e)),
+        };
+        OutputSide {
+            header: reader.as_ref().map(|r| r.header()),
+            status: None,
+            reader,
+            error,
+            measure: 0,
+            force: 0,
+            last_measure: None,
+            last_force: None,
+        }
+    }
+
+    /// The next record of one path (`force` or measurement), counting every record read;
+    /// `None` at the end or after an error (kept).
+    fn next_of(&mut self, force: bool) -> Option<OutputRecord> {
+        loop {
+            let r = self.reader.as_mut()?.next_output();
+            match r {
+                Ok(None) => {
+                    self.status = self.reader.take().and_then(|r| r.status());
+                    return None;
+                }
+                Err(e) => {
+                    self.reader = None;
+                    self.error = Some(e);
+                    return None;
+                }
+                Ok(Some(r @ OutputRecord::Measure(t, _))) => {
+                    self.measure += 1;
+                    self.last_measure = Some(t);
+                    if !force {
+                        return Some(r);
+                    }
+                }
+                Ok(Some(r @ OutputRecord::Force(t, _))) => {
+                    self.force += 1;
+                    self.last_force = Some(t);
+                    if force {
+                        return Some(r);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The first difference of one path's records compared in step (`force`: the force
+/// records, else the measurement ones), as `(time, line)`; both sides are read to their
+/// end.
+fn first_difference<E: Read, D: Read>(
+    e: &mut OutputSide<E>,
+    d: &mut OutputSide<D>,
+    force: bool,
+) -> Option<(u64, String)> {
+    let mut first = None;
+    let mut i = 0usize;
+    loop {
+        let (a, b) = (e.next_of(force), d.next_of(force));
+        let (Some(a), Some(b)) = (a, b) else {
+            if a.is_none() && b.is_none() {
+                return first;
+            }
+            continue;
+        };
+        if first.is_none() {
+            first = match (a, b) {
+                (OutputRecord::Measure(ta, _), OutputRecord::Measure(tb, _)) if ta != tb => Some((
+                    ta.min(tb),
+                    format!("record {i}: time expected {ta} got {tb}"),
+                )),
+                (OutputRecord::Measure(t, a), OutputRecord::Measure(_, b)) => {
+                    binary::output_fields(&a)
+                        .into_iter()
+                        .zip(binary::output_fields(&b))
+                        .find(|(x, y)| x.1 != y.1)
+                        .map(|((name, x), (_, y))| {
+                            (
+                                t,
+                                format!(
+                                    "record {i} (time {t}): field {name} expected 0x{x:x} got 0x{y:x}"
+                                ),
+                            )
+                        })
+                }
+                (OutputRecord::Force(ta, _), OutputRecord::Force(tb, _)) if ta != tb => Some((
+                    ta.min(tb),
+                    format!("force record {i}: time expected {ta} got {tb}"),
+                )),
+                (OutputRecord::Force(t, a), OutputRecord::Force(_, b)) => {
+                    crate::signals::force_signals(&a)
+                        .into_iter()
+                        .zip(crate::signals::force_signals(&b))
+                        .find(|(x, y)| x.1 != y.1)
+                        .map(|((name, x), (_, y))| {
+                            (
+                                t,
+                                format!(
+                                    "force record {i} (time {t}): field {name} expected {x} got {y}"
+                                ),
+                            )
+                        })
+                }
+                _ => None,
+            };
+        }
+        i += 1;
+    }
+}
+
+/// Compares two Outputs streams of any device record by record (see the module
+/// documentation).
+pub fn compare_binary(e: &[u8], en: &str, d: &[u8], dn: &str) -> Result<Verdict, BadInput> {
+    compare_output_sources(&|| Ok(e), en, &|| Ok(d), dn)
+}
+
+/// Compares two Outputs streams read record by record, memory flat in their length:
+/// `open_e` and `open_d` give a fresh reader of each (a `BufReader` over the file). The
+/// measurement records are compared in one pass over both files, which also reads every
+/// record to the end (a malformed record or bytes after END anywhere is bad input, the
+/// golden file's first); the force records, when there are any, in a second pass, so that
+/// neither side's interleaving of the two paths has to be held. The verdict is
+/// the one the whole decoded streams would give.
+pub fn compare_output_sources<E: Read, D: Read>(
+    open_e: &dyn Fn() -> Result<E, BadInput>,
+    en: &str,
+    open_d: &dyn Fn() -> Result<D, BadInput>,
+    dn: &str,
+) -> Result<Verdict, BadInput> {
+    let (e_src, d_src) = (open_e()?, open_d()?);
+    let mut es = OutputSide::open(e_src, en);
+    if let Some(e) = es.error.take() {
+        return Err(e.into());
+    }
+    let mut ds = OutputSide::open(d_src, dn);
+    let measure_first = first_difference(&mut es, &mut ds, false);
+    if let Some(e) = es.error.take().or_else(|| ds.error.take()) {
+        return Err(e.into());
+    }
+    let (Some(eh), Some(dh)) = (es.header, ds.header) else {
+        return Err(BadInput(format!(
+            "{en} and {dn}: a stream without a header"
+        )));
+    };
+    for (what, want, got) in [
+        ("configuration hash", eh.measure_hash, dh.measure_hash),
+        ("force configuration hash", eh.force_hash, dh.force_hash),
+    ] {
+        if want != got {
+            return Err(BadInput(format!(
+                "{dn}: {what} {got:016x} does not match the expected {want:016x} of {en} (made with another configuration)"
+            )));
+        }
+    }
+    if eh.tick_hz != dh.tick_hz {
+        return Err(BadInput(format!(
+            "{dn}: tick rate {} Hz, {en} has {} Hz",
+            dh.tick_hz, eh.tick_hz
+        )));
+    }
+    if let Some(s) = es.status.filter(|s| s.lost > 0 || s.overflowed > 0) {
+        return Err(BadInput(format!(
+            "{en}: a firmware trace that lost {} and overflowed {} events cannot be the golden trace",
+            s.lost, s.overflowed
+        )));
+    }
+    if let Some(s) = ds.status.filter(|s| s.lost > 0 || s.overflowed > 0) {
+        return Ok(Verdict::Mismatch(format!(
+            "{dn}: the firmware lost {} events and overflowed {} (its status record, after {} events)",
+            s.lost, s.overflowed, s.events
+        )));
+    }
+    // The first difference of each path; the earlier one is reported (the measurement
+    // one at equal times).
+    let force_first = if es.force > 0 || ds.force > 0 {
+        let (e_src, d_src) = (open_e()?, open_d()?);
+        let mut e2 = OutputSide::open(e_src, en);
+        let mut d2 = OutputSide::open(d_src, dn);
+        let first = first_difference(&mut e2, &mut d2, true);
+        if let Some(e) = e2.error.or(d2.error) {
+            return Err(e.into());
+        }
+        first
+    } else {
+        None
+    };
+    let first = match (measure_first, force_first) {
+        (Some(m), Some(f)) if f.0 < m.0 => Some(f),
+        (Some(m), _) => Some(m),
+        (None, f) => f,
+    };
+    if let Some((_, line)) = first {
+        return Ok(Verdict::Mismatch(line));
+    }
+    for (what, e_len, d_len, e_last, d_last) in [
+        (
+            "measurement-outputs",
+            es.measure,
+            ds.measure,
+            last_time(es.last_measure),
+            last_time(ds.last_measure),
+        ),
+        (
+            "force-outputs",
+            es.force,
+            ds.force,
+            last_time(es.last_force),
+            last_time(ds.last_force),
+        ),
+    ] {
+        if e_len != d_len {
+            let i = e_len.min(d_len);
+            return Ok(Verdict::Mismatch(format!(
+                "record {i}: {dn} ends after {d_len} {what} records (last at {d_last}), {en} after {e_len} (last at {e_last})"
+            )));
+        }
+    }
+    let mut summary = format!("OK: {} records × 15 fields", es.measure);
+    if es.force > 0 {
+        summary = if es.measure == 0 {
+            format!("OK: {} force records × 14 fields", es.force)
+        } else {
+            format!("{summary} and {} force records × 14 fields", es.force)
+        };
+    }
+    if let Some(s) = ds.status {
+        summary.push_str(&format!(
+            " of {en} match {dn} (firmware: {} events, none lost or overflowed)",
+            s.events
+        ));
+    } else {
+        summary.push_str(&format!(" of {en} match {dn}"));
+    }
+    Ok(Verdict::Match(summary))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vcd::Dump;
+
+    /// A golden dump of one 100-bit output `wide` over 3 clocks at 1 MHz, with `values`
+    /// (binary digits) at clocks 0 and 2.
+    fn golden_wide(values: [&str; 2]) -> String {
+        format!(
+            "$comment tooltouch measure_hash=00000000000000aa clock_hz=1000000 $end\n\
+             $timescale 1ns $end\n$scope module tooltouch $end\n$scope module outputs $end\n\
+             $var wire 100 ! wide [99:0] $end\n$upscope $end\n$upscope $end\n\
+             $enddefinitions $end\n#0\nb{} !\n#2000\nb{} !\n\
+             $comment tooltouch end cycles=3 $end\n",
+            values[0], values[1]
+        )
+    }
+
+    fn compare(golden: &str, dut: &str) -> Verdict {
+        let e = Dump::parse(golden, "e.vcd").unwrap();
+        let d = Dump::parse(dut, "d.vcd").unwrap();
+        compare_vcd(&e, "e.vcd", &d, "d.vcd").unwrap()
+    }
+
+    #[test]
+    fn values_wider_than_64_bits_are_read_and_compared_whole() {
+        let top = format!("1{}1", "0".repeat(98)); // bits 99 and 0
+        let golden = golden_wide(["101", &top]);
+        // The same values, the first written with leading zeros: a match.
+        let padded = golden_wide([&format!("{}101", "0".repeat(97)), &top]);
+        assert_eq!(
+            compare(&golden, &padded),
+            Verdict::Match("OK: 3 cycles × 1 signals of e.vcd match d.vcd".into())
+        );
+        // Bit 99 missing at clock 2 (the low 64 bits agree): a mismatch naming both whole
+        // values.
+        let low_only = golden_wide(["101", "1"]);
+        let Verdict::Mismatch(m) = compare(&golden, &low_only) else {
+            panic!("bit 99 was not compared");
+        };
+        assert_eq!(
+            m,
+            format!(
+                "cycle 2 (time 2000 ns): signal wide expected 0x8{}1 got 0x1",
+                "0".repeat(23)
+            )
+        );
+    }
+}

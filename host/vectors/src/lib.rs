@@ -1,0 +1,158 @@
+//! tooltouch's vector files and their verdict: the golden model run over a [`Stimulus`], the events and outputs it
+//! gives, and their files — VCD for people and EDA tools ([`vcd`]), the compact binary
+//! stream for the firmware ([`binary`], over `tooltouch_model::wire`).
+//!
+//! The two timings meet here. [`events_from_stimulus`] runs the cycle level
+//! ([`FrontEnd`]) and lists the events its kernel acted on, timestamped with the clock
+//! index (clock `k` = the `k`-th rising edge, from 0); same-clock events come in the
+//! canonical order. [`outputs_after_each_event`] replays such a list at event level
+//! ([`Measurement::apply`]) and records every output after each event: the firmware must
+//! reproduce exactly these, and after the last event of clock `k` they equal the cycle
+//! level's outputs registered after clock `k` (`tests/measure/levels_agree.rs`).
+//!
+//! The formats live here, each writer beside its reader: VCD ([`vcd`]), the binary event and
+//! output streams ([`binary`]), `$readmemh` words for the testbench ([`hex`]), run-length pins
+//! and the stimulus files `vectors` reads ([`stimulus_file`]), the golden set a device is
+//! checked with ([`golden_set`]); [`check`] compares a device's trace with it and returns a
+//! typed verdict; [`output`] writes output folders whole or not at all.
+//!
+//! Depends on the golden model, hdl-gen (the testbench's word formats) and the plants'
+//! stimulus; must not depend on settings files, the co-simulation runners, tuning, plots or
+//! the command line.
+
+pub mod binary;
+pub mod check;
+pub mod firmware_error;
+pub mod force_run;
+pub mod golden_set;
+pub mod hex;
+pub mod output;
+pub mod signals;
+pub mod stimulus_file;
+pub mod vcd;
+
+use tooltouch_model::measure::frontend::Pins;
+use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs, Measurement, TimedEvent};
+use tooltouch_plant::stimulus::Stimulus;
+
+/// Runs the cycle-level model from reset over `stimulus` and calls `f(k, pins, front
+/// end, edges)` after every clock `k` that was actually clocked. Settled clocks (where
+/// [`FrontEnd::is_settled`] holds, so the clock would change nothing) are skipped, so `f`
+/// misses only clocks that change no register. Returns the number of clocks clocked.
+pub fn clock_through(
+    stimulus: &Stimulus,
+    config: &MeasureConfig,
+    mut f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::measure::frontend::Edges),
+) -> u64 {
+    let mut fe = FrontEnd::new(config);
+    let mut k = 0u64;
+    let mut clocked = 0u64;
+    for seg in &stimulus.segments {
+        let end = k + u64::from(seg.cycles);
+        while k < end {
+            if fe.is_settled(seg.pins) {
+                k = end;
+                break;
+            }
+            let edges = fe.clock(seg.pins);
+            f(k, seg.pins, &fe, edges);
+            clocked += 1;
+            k += 1;
+        }
+    }
+    clocked
+}
+
+/// Runs the cycle-level model over every clock of `stimulus`, one `clock` call each, no
+/// skipping (the reference the skipping runs are checked against; slow for long runs).
+pub fn clock_every_cycle(
+    stimulus: &Stimulus,
+    config: &MeasureConfig,
+    mut f: impl FnMut(u64, &FrontEnd, tooltouch_model::measure::frontend::Edges),
+) {
+    let mut fe = FrontEnd::new(config);
+    let mut k = 0u64;
+    for seg in &stimulus.segments {
+        for _ in 0..seg.cycles {
+            let edges = fe.clock(seg.pins);
+            f(k, &fe, edges);
+            k += 1;
+        }
+    }
+}
+
+/// The events the cycle-level kernel acted on over `stimulus`, timestamped with the clock
+/// index at which it acted (FPGA clocks from 0), same-clock events in canonical order
+/// (arm, contact, index, FES, scale). This is the firmware's input stream for the
+/// scenario; replaying it with [`outputs_after_each_event`] reproduces every output.
+pub fn events_from_stimulus(stimulus: &Stimulus, config: &MeasureConfig) -> Vec<TimedEvent> {
+    let mut events = Vec::new();
+    clock_through(stimulus, config, |k, _, _, edges| {
+        edges.for_each_event(|event| events.push(TimedEvent { time: k, event }));
+    });
+    events
+}
+
+/// Replays `events` at event level from reset and returns, for each event, its time and
+/// every output after it (the expected response of a device driven by events).
+pub fn outputs_after_each_event(
+    events: &[TimedEvent],
+    config: &MeasureConfig,
+) -> Vec<(u64, MeasureOutputs)> {
+    let mut m = Measurement::new(config);
+    events
+        .iter()
+        .map(|e| {
+            m.apply(e.event);
+            (e.time, m.outputs())
+        })
+        .collect()
+}
+
+/// The cycle-level outputs after every clock at which they changed: `(clock, outputs)`,
+/// starting with the outputs after clock 0.
+pub fn output_changes(stimulus: &Stimulus, config: &MeasureConfig) -> Vec<(u64, MeasureOutputs)> {
+    let mut out: Vec<(u64, MeasureOutputs)> = Vec::new();
+    clock_through(stimulus, config, |k, _, fe, edges| {
+        if out.is_empty() || !edges.is_empty() {
+            let o = fe.outputs();
+            if out.last().is_none_or(|l| l.1 != o) {
+                out.push((k, o));
+            }
+        }
+    });
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::measure::frontend::pin;
+    use tooltouch_model::MeasureEvent;
+
+    #[test]
+    fn arm_then_contact_events_carry_the_latency() {
+        let config = MeasureConfig::default();
+        let mut s = Stimulus::new(50_000_000);
+        s.push(Pins(0), 10);
+        s.push(Pins(pin::ARM), 100);
+        s.push(Pins(pin::ARM | pin::CONTACT), 100);
+        let ev = events_from_stimulus(&s, &config);
+        let l = u64::from(config.latency_cycles());
+        assert_eq!(
+            ev,
+            vec![
+                TimedEvent {
+                    time: 10 + l,
+                    event: MeasureEvent::Arm(true)
+                },
+                TimedEvent {
+                    time: 110 + l,
+                    event: MeasureEvent::Contact(true)
+                }
+            ]
+        );
+        let outs = outputs_after_each_event(&ev, &config);
+        assert!(outs[1].1.first_contact);
+    }
+}
