@@ -10,6 +10,7 @@ mod firmware;
 mod formal;
 mod fuzz;
 mod hdl;
+mod imports;
 mod mutants;
 mod process;
 mod python;
@@ -34,7 +35,7 @@ verbs:
   firmware     build the firmware for both boards (--config settings.toml: with that
                configuration baked in; default: the defaults)
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
-               refit the tuning cost model (src/tune/cost_model.json)
+               refit the tuning cost model (host/tune/src/cost_model.json)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
                generator; review the result with `git diff hdl-gen/snapshots`
   formal       prove the generated Verilog equal to the reference RTL written from the model
@@ -45,6 +46,8 @@ verbs:
                --plain: the uninstrumented short pass that `test` runs
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
                (--criterion: also every criterion bench)
+  imports      the layering check: no import cycle between the files of any crate, no
+               library crate depending on the command line (docs/architecture.md)
   mutants      mutation testing (cargo-mutants, installed when missing) of the model against
                its unit tests and of firmware/src/handlers.rs against its host tests; score
                per file (--file F, repeatable: only these files); not part of `test`
@@ -62,6 +65,7 @@ fn main() -> Result<()> {
         "formal" => formal::run(),
         "bench" => bench::run(&args[1..]),
         "fuzz" => fuzz::run(&args[1..]),
+        "imports" => imports::run(&root()),
         "mutants" => mutants::run(&args[1..]),
         "help" | "-h" | "--help" => {
             print!("{USAGE}");
@@ -105,6 +109,7 @@ fn test() -> Result<()> {
     // The model for the thumb targets is built by the firmware step (both boards, the
     // model's default features): a model that stops building `no_std` fails there.
     step("lockfile pins", check_lockfile_pins)?;
+    step("imports", || imports::run(&root))?;
     step("firmware", firmware::check_all)?;
     step("firmware handlers on the host", firmware::host_tests)?;
     step("host tests", || {
