@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod abi_c;
 mod cosim;
 mod faults;
 mod formal;

@@ -45,6 +45,10 @@ ${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
     output reg  [${DB1}:0] mcu_rdata,
 ${PORTS}    output wire         irq        // = register_now, for the MCU
 );
+    // The configuration this design was generated from (the MCU's CONFIG_HASH_HI/LO
+    // words): a testbench's scoreboard checks it against its own at time 0.
+    localparam [63:0] CONFIG_HASH = 64'h${HASH};
+
     wire [${N1}:0] pins = {${PINS}};
     wire [${N1}:0] synced;
     wire [${N1}:0] filtered;
@@ -80,6 +84,7 @@ ${MCU_READ_MUX}endmodule
 "#,
         &[
             ("TOP", TOP.to_string()),
+            ("HASH", format!("{:016x}", ctx.config.hash())),
             ("LAT", ctx.config.latency_cycles().to_string()),
             ("PIN_PORTS", pin_ports),
             ("AB1", (crate::mcu::MCU_ADDR_BITS - 1).to_string()),

@@ -147,6 +147,8 @@ pub struct TtConfig {
 /// The cycle-level front end (RTL semantics: one [`tt_frontend_clock`] per FPGA clock).
 pub struct TtFrontEnd {
     config: MeasureConfig,
+    /// `config.hash()`, computed once (the MCU's CONFIG_HASH words).
+    hash: u64,
     front_end: FrontEnd,
 }
 
@@ -686,7 +688,13 @@ fn c_outputs(o: &MeasureOutputs) -> TtMeasureOutputs {
 /// The MCU register file's word at `addr` (the map of `tooltouch_hdl_gen::MCU_REGISTERS`:
 /// status, positions sign-extended from `scale_bits`, counts, charge, diagnostic counters
 /// (0 unless `diagnostics`), scale errors, configuration hash; 0 elsewhere).
-fn mcu_word(config: &MeasureConfig, o: &MeasureOutputs, addr: u32, diagnostics: bool) -> u32 {
+fn mcu_word(
+    config: &MeasureConfig,
+    hash: u64,
+    o: &MeasureOutputs,
+    addr: u32,
+    diagnostics: bool,
+) -> u32 {
     let bits = o.register_bits(config);
     let scale_bits = u32::from(config.settings().scale_bits);
     let sign_extend = |raw: u64| -> u32 {
@@ -703,7 +711,6 @@ fn mcu_word(config: &MeasureConfig, o: &MeasureOutputs, addr: u32, diagnostics: 
         | u32::from(o.first_contact) << 3
         | u32::from(o.density_armed) << 4
         | u32::from(o.density_fired) << 5;
-    let hash = config.hash();
     match addr {
         0 => status,
         1 => sign_extend(bits[6]),
@@ -763,6 +770,7 @@ pub unsafe extern "C" fn tt_frontend_new(
         let (config, out) = unsafe { (deref(config, "config")?, deref_mut(out, "out")?) };
         *out = Box::into_raw(Box::new(TtFrontEnd {
             config: config.measure,
+            hash: config.measure.hash(),
             front_end: FrontEnd::new(&config.measure),
         }));
         Ok(())
@@ -897,7 +905,7 @@ pub unsafe extern "C" fn tt_frontend_mcu_read(
         // SAFETY: the caller's contract.
         let (fe, out) = unsafe { (deref(front_end, "front_end")?, deref_mut(out, "out")?) };
         check_mcu_addr(addr)?;
-        *out = mcu_word(&fe.config, &fe.front_end.outputs(), addr, diagnostics);
+        *out = mcu_word(&fe.config, fe.hash, &fe.front_end.outputs(), addr, diagnostics);
         Ok(())
     })
 }

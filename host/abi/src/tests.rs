@@ -98,7 +98,7 @@ fn the_mcu_words_follow_the_register_map() {
         scale_errors: 4,
         ..Default::default()
     };
-    let word = |addr, diagnostics| mcu_word(&measure, &o, addr, diagnostics);
+    let word = |addr, diagnostics| mcu_word(&measure, measure.hash(), &o, addr, diagnostics);
     assert_eq!(word(0, false), 0b10_0101);
     assert_eq!(word(1, false), (-2i32) as u32);
     assert_eq!(word(2, false), 5);
