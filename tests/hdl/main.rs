@@ -13,4 +13,5 @@ mod formal;
 mod lathe;
 mod lint;
 mod reference;
+mod scoreboard;
 mod testbench_tools;

@@ -5,6 +5,7 @@
  *   verilator --binary ... host/abi/c/tooltouch_dpi.c -CFLAGS -I<repo>/host/abi/include \
  *             <target>/release/libtooltouch_abi.a -LDFLAGS "-lpthread -ldl -lm"
  *
+ * Valid C and C++ (Verilator compiles it as C++; the functions have C linkage).
  * Plain C types only (no svdpi.h): chandle = void *, string = const char *, bit and
  * byte unsigned = unsigned char, int unsigned = uint32_t, longint unsigned = uint64_t.
  * One scoreboard handle holds the cycle-level model and its outputs after the last clock;
@@ -14,6 +15,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* Signal indexes of tooltouch_compare and tooltouch_expected: 0..14 the outputs
  * (TT_OUTPUT_COUNT, tt_output_name), then these two. */
@@ -51,7 +56,7 @@ void *tooltouch_open(const char *config_path, unsigned char diagnostics) {
                  tt_abi_version(), TT_ABI_VERSION);
         return NULL;
     }
-    Scoreboard *sb = calloc(1, sizeof *sb);
+    Scoreboard *sb = (Scoreboard *)calloc(1, sizeof *sb);
     if (sb == NULL) {
         snprintf(message, sizeof message, "out of memory");
         return NULL;
@@ -68,7 +73,7 @@ void *tooltouch_open(const char *config_path, unsigned char diagnostics) {
 }
 
 void tooltouch_close(void *handle) {
-    Scoreboard *sb = handle;
+    Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL) return;
     tt_frontend_free(sb->front_end);
     tt_config_free(sb->config);
@@ -93,7 +98,7 @@ uint32_t tooltouch_output_width(void *handle, int32_t index) {
 /* One rising edge with the pins sampled (bit 0 arm, 1 contact, 2 index, 3 FES, 4 scale A,
  * 5 scale B); with `rst`, the synchronous reset instead. 0 on success. */
 int32_t tooltouch_clock(void *handle, unsigned char pins, unsigned char rst) {
-    Scoreboard *sb = handle;
+    Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL) return -1;
     TtStatus status = rst ? tt_frontend_reset(sb->front_end) : tt_frontend_clock(sb->front_end, pins);
     if (status != TT_STATUS_OK || !refresh(sb)) return -1;
@@ -103,7 +108,7 @@ int32_t tooltouch_clock(void *handle, unsigned char pins, unsigned char rst) {
 /* The model's value of signal `index` (0..14 the outputs, 15 irq, 16 mcu_rdata at
  * `mcu_addr`) after the last clock. */
 uint64_t tooltouch_expected(void *handle, int32_t index, uint32_t mcu_addr) {
-    Scoreboard *sb = handle;
+    Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL || index < 0) return 0;
     if (index < (int32_t)TT_OUTPUT_COUNT) return sb->registers[index];
     if (index == SIGNAL_IRQ) return sb->registers[2]; /* irq = register_now */
@@ -121,7 +126,7 @@ int32_t tooltouch_compare(void *handle, uint32_t unknown, uint32_t mcu_addr, uin
                           uint64_t position, uint64_t scale_errors, uint64_t count,
                           uint64_t last_window_count, uint64_t charge, uint64_t density_armed,
                           uint64_t density_fired, uint64_t revolutions, uint64_t pulses) {
-    Scoreboard *sb = handle;
+    Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL) return 0;
     const uint64_t got[TT_OUTPUT_COUNT] = {armed, contact, register_now, decision_position,
                                            first_contact, first_contact_position, position,
@@ -135,3 +140,7 @@ int32_t tooltouch_compare(void *handle, uint32_t unknown, uint32_t mcu_addr, uin
         return SIGNAL_MCU_RDATA;
     return -1;
 }
+
+#ifdef __cplusplus
+}
+#endif

@@ -17,7 +17,7 @@
  *                                                in a DUT signal is a mismatch
  *   $tooltouch_expected(m, index, mcu_addr)      the model's value of a signal
  * At the end of the simulation each model prints `tooltouch_scoreboard OK <cycles>` (or
- * FAIL with the count of mismatching cycles). Nothing is allocated after $tooltouch_open. */
+ * FAIL with the count of mismatching cycles, or that no clock was compared). Nothing is allocated after $tooltouch_open. */
 #include "tooltouch.h"
 #include <stdint.h>
 #include <stdio.h>
@@ -247,8 +247,10 @@ static PLI_INT32 end_of_simulation(p_cb_data data) {
     (void)data;
     for (int i = 0; i < model_count; i++) {
         Model *m = &models[i];
-        if (m->mismatches == 0)
+        if (m->mismatches == 0 && m->clocks > 0)
             vpi_printf("tooltouch_scoreboard OK %llu\n", (unsigned long long)m->clocks);
+        else if (m->mismatches == 0)
+            vpi_printf("tooltouch_scoreboard: no clock compared\n");
         else
             vpi_printf("tooltouch_scoreboard FAIL %llu mismatching cycles of %llu\n",
                        (unsigned long long)m->mismatches, (unsigned long long)m->clocks);

@@ -5,6 +5,8 @@
 // of the ports (armed contact register_now decision_position first_contact
 // first_contact_position position scale_errors count last_window_count charge
 // density_armed density_fired revolutions pulses), 15 irq, 16 mcu_rdata.
+`timescale 1ns / 1ns
+
 package tooltouch_dpi;
     // A model for the configuration file `tooltouch cosim config` writes; null on failure,
     // then tooltouch_error() says why. `diagnostics`: the DUT has --mcu-diagnostics.

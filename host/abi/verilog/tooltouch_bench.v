@@ -80,7 +80,7 @@ module tooltouch_bench;
     integer      k = 0;       // rising edges
     reg [31:0]   left;
     reg [39:0]   word;
-    reg [8*4096-1:0] stim_path;
+    reg [8*512-1:0] stim_path;   // up to 512 characters
 
     initial begin
         if (!$value$plusargs("stim=%s", stim_path)) stim_path = "stim.hex";
@@ -106,7 +106,7 @@ module tooltouch_bench;
             left = word[31:0];
             while (left != 32'd0) begin
                 @(posedge clk);
-                mcu_addr <= k[3:0];
+                mcu_addr = k[3:0];
                 k = k + 1;
                 left = left - 32'd1;
                 @(negedge clk);

@@ -58,7 +58,7 @@ module tooltouch_scoreboard #(
     integer first;
     integer width;
     reg     nostop;
-    reg [8*4096-1:0] config_path;
+    reg [8*512-1:0] config_path;  // up to 512 characters
     reg [63:0] model_hash;
 
     function [8*24-1:0] signal_name(input integer index);

@@ -1,0 +1,387 @@
+//! The golden model inside the testbench, as a user runs it: the generated `tt_frontend`
+//! beside `tooltouch_scoreboard`, driven by the stimulus-only bench
+//! `host/abi/verilog/tooltouch_bench.v` — under Verilator 5 (`--binary`, the DPI-C
+//! scoreboard of `host/abi/sv` over `libtooltouch_abi.a`) and under Icarus 11 (the VPI
+//! scoreboard `host/abi/verilog/tooltouch_scoreboard.v`, `tooltouch.vpi` built with
+//! `iverilog-vpi`). The lathe run passes with every clock compared; every
+//! `hdl_gen::Fault` is caught with the same first mismatch (cycle, signal, both values) as
+//! the vector-file testbench reports; a configuration of another hash is refused at time 0.
+//! Prints the clocks per second (not asserted); `TOOLTOUCH_SCOREBOARD_BENCH=N` runs the
+//! benchmark instead: the lathe run with N measurements, the scoreboard against the bare
+//! generated testbench in each simulator.
+
+use crate::abi_c::{
+    include_dir, require, root, run_ok, static_library, write_config, RUST_STATIC_LIBS,
+};
+use crate::common::{s, text, tooltouch, FAST_LATHE};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+use tooltouch::cosim::firmware_config::FirmwareConfig;
+use tooltouch::hdl::cosim::{cosim, CosimPlan};
+use tooltouch::hdl::hex::{golden_vectors, write_vectors};
+use tooltouch::hdl::random::random_stimulus;
+use tooltouch::hdl::runner::Simulator;
+use tooltouch_hdl_gen::{Fault, Options};
+use tooltouch_model::MeasureConfig;
+
+/// The C++ optimisation of a Verilator build (docs/architecture.md, pitfalls).
+const O3: &str = "OPT_FAST=-O3 OPT_GLOBAL=-O3 OPT_SLOW=-O3";
+const O1: &str = "OPT_FAST=-O1 OPT_GLOBAL=-O1 OPT_SLOW=-O1";
+
+/// The design's files in `rtl`: every `tt_*.v` but the vector-file testbench.
+fn design_files(rtl: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(rtl)
+        .expect("the RTL folder")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| {
+            let name = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            name.starts_with("tt_") && name.ends_with(".v") && name != "tt_testbench.v"
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// `verilator --binary` of the DPI bench over the design in `rtl`: the executable.
+fn build_dpi(rtl: &Path, work: &Path, opt: &str) -> (PathBuf, f64) {
+    require("verilator");
+    let abi = root().join("host/abi");
+    let t = Instant::now();
+    let mdir = work.join("obj_dpi");
+    run_ok(
+        "verilator (DPI bench)",
+        Command::new("verilator")
+            .args(["--binary", "--top-module", "tooltouch_bench", "-o", "sim", "-Mdir"])
+            .arg(&mdir)
+            .arg(abi.join("sv/tooltouch_dpi.sv"))
+            .arg(abi.join("sv/tooltouch_scoreboard.sv"))
+            .arg(abi.join("verilog/tooltouch_bench.v"))
+            .args(design_files(rtl))
+            .arg(abi.join("c/tooltouch_dpi.c"))
+            .arg("-CFLAGS")
+            .arg(format!("-I{}", include_dir().display()))
+            .arg(static_library())
+            .arg("-LDFLAGS")
+            .arg(RUST_STATIC_LIBS.join(" "))
+            .args(["-MAKEFLAGS", opt]),
+    );
+    (mdir.join("sim"), t.elapsed().as_secs_f64())
+}
+
+/// `iverilog-vpi` of the VPI module into `work`: the folder holding `tooltouch.vpi`.
+fn build_vpi_module(work: &Path) -> PathBuf {
+    require("iverilog-vpi");
+    let dir = work.join("vpi");
+    std::fs::create_dir_all(&dir).unwrap();
+    let lib = static_library();
+    run_ok(
+        "iverilog-vpi",
+        Command::new("iverilog-vpi")
+            .arg("--name=tooltouch")
+            .arg(format!("-I{}", include_dir().display()))
+            .arg(root().join("host/abi/c/tooltouch_vpi.c"))
+            .arg(format!("-L{}", lib.parent().unwrap().display()))
+            .arg("-l:libtooltouch_abi.a")
+            .args(RUST_STATIC_LIBS)
+            .current_dir(&dir),
+    );
+    assert!(dir.join("tooltouch.vpi").is_file(), "iverilog-vpi wrote no tooltouch.vpi");
+    dir
+}
+
+/// `iverilog -g2005` of the VPI bench over the design in `rtl`: the vvp image.
+fn build_icarus(rtl: &Path, work: &Path) -> PathBuf {
+    require("iverilog");
+    let abi = root().join("host/abi");
+    let image = work.join("icarus.vvp");
+    run_ok(
+        "iverilog (VPI bench)",
+        Command::new("iverilog")
+            .args(["-g2005", "-s", "tooltouch_bench", "-o"])
+            .arg(&image)
+            .arg(abi.join("verilog/tooltouch_scoreboard.v"))
+            .arg(abi.join("verilog/tooltouch_bench.v"))
+            .args(design_files(rtl)),
+    );
+    image
+}
+
+/// One bench run in `rtl` (where stim.hex is) with `config` (`None`: no plusarg).
+struct Run {
+    passed: bool,
+    output: String,
+    seconds: f64,
+}
+
+impl Run {
+    /// The clocks of the scoreboard's `OK` line.
+    fn ok_cycles(&self) -> Option<u64> {
+        self.output
+            .lines()
+            .find_map(|l| l.strip_prefix("tooltouch_scoreboard OK "))
+            .and_then(|n| n.trim().parse().ok())
+    }
+
+    /// The first mismatch without its time: `cycle K: signal S expected 0x.. got 0x..`.
+    fn first_mismatch(&self) -> Option<String> {
+        self.output
+            .lines()
+            .find_map(|l| l.strip_prefix("tooltouch_scoreboard MISMATCH "))
+            .map(without_time)
+    }
+}
+
+/// `MISMATCH cycle K (time T ns): signal …` → `cycle K: signal …` (the two benches start
+/// their clocks at different times).
+fn without_time(line: &str) -> String {
+    let line = line.trim_start_matches("MISMATCH ");
+    match (line.find(" (time "), line.find("): ")) {
+        (Some(a), Some(b)) if a < b => format!("{}:{}", &line[..a], &line[b + 2..]),
+        _ => line.to_string(),
+    }
+}
+
+fn run(mut cmd: Command, rtl: &Path, config: Option<&Path>) -> Run {
+    if let Some(c) = config {
+        cmd.arg(format!("+tooltouch_config={}", c.display()));
+    }
+    let t = Instant::now();
+    let o = cmd.current_dir(rtl).output().expect("the bench runs");
+    Run {
+        passed: o.status.success(),
+        output: text(&o),
+        seconds: t.elapsed().as_secs_f64(),
+    }
+}
+
+fn run_dpi(sim: &Path, rtl: &Path, config: Option<&Path>) -> Run {
+    run(Command::new(sim), rtl, config)
+}
+
+fn run_vpi(vpi: &Path, image: &Path, rtl: &Path, config: Option<&Path>) -> Run {
+    require("vvp");
+    let mut cmd = Command::new("vvp");
+    cmd.arg("-n").arg("-M").arg(vpi).args(["-m", "tooltouch"]).arg(image);
+    run(cmd, rtl, config)
+}
+
+/// The clocks stim.hex holds (the sum of its segments).
+fn stimulus_clocks(rtl: &Path) -> u64 {
+    let text = std::fs::read_to_string(rtl.join("stim.hex")).expect("stim.hex");
+    text.split_whitespace()
+        .skip(1)
+        .map(|w| u64::from_str_radix(w, 16).expect("a hex word") & 0xffff_ffff)
+        .sum()
+}
+
+/// The fast lathe's RTL, vectors and configuration file, from the CLI as a user runs it.
+fn lathe_bench(work: &Path, repeats: u32) -> (PathBuf, PathBuf, PathBuf) {
+    let settings = work.join("fast.toml");
+    std::fs::write(
+        &settings,
+        FAST_LATHE.replace("repeats = 1", &format!("repeats = {repeats}")),
+    )
+    .unwrap();
+    let rtl = work.join("rtl");
+    let o = tooltouch(&["hdl", "--config", s(&settings), "--vectors", "lathe", "--out", s(&rtl)]);
+    assert!(o.status.success(), "tooltouch hdl: {}", text(&o));
+    let config = work.join("config.ttc");
+    write_config(&settings, &config);
+    let other_settings = work.join("other.toml");
+    std::fs::write(&other_settings, "[measure]\ni_def = 400\n").unwrap();
+    let other = work.join("other.ttc");
+    write_config(&other_settings, &other);
+    (rtl, config, other)
+}
+
+fn assert_refusals(name: &str, rtl: &Path, other: &Path, go: &dyn Fn(&Path, Option<&Path>) -> Run) {
+    let measure = MeasureConfig::default().hash();
+    let other_hash = FirmwareConfig::load(Some(&other.with_extension("toml")))
+        .expect("the other settings")
+        .measure
+        .hash();
+    let refused = go(rtl, Some(other));
+    assert!(!refused.passed, "{name}: another configuration ran: {}", refused.output);
+    let why = format!(
+        "configuration mismatch: {} gives measure_hash {other_hash:016x}, the DUT's CONFIG_HASH is {measure:016x}",
+        other.display()
+    );
+    assert!(refused.output.contains(&why), "{name}: {}", refused.output);
+    assert!(refused.first_mismatch().is_none() && refused.ok_cycles().is_none(), "{name}: {}", refused.output);
+    let missing = go(rtl, None);
+    assert!(!missing.passed && missing.output.contains("no +tooltouch_config=FILE"), "{name}: {}", missing.output);
+}
+
+#[test]
+fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuration() {
+    let work = tempfile::tempdir().expect("temporary folder");
+    let repeats = std::env::var("TOOLTOUCH_SCOREBOARD_BENCH")
+        .ok()
+        .and_then(|v| v.parse().ok());
+    let (rtl, config, other) = lathe_bench(work.path(), repeats.unwrap_or(1));
+    let clocks = stimulus_clocks(&rtl);
+
+    let (sim, build_seconds) = build_dpi(&rtl, work.path(), O3);
+    let dpi = run_dpi(&sim, &rtl, Some(&config));
+    assert!(dpi.passed, "DPI scoreboard: {}", dpi.output);
+    assert_eq!(dpi.ok_cycles(), Some(clocks), "DPI scoreboard: {}", dpi.output);
+    assert_refusals("DPI", &rtl, &other, &|r, c| run_dpi(&sim, r, c));
+
+    let vpi = build_vpi_module(work.path());
+    let image = build_icarus(&rtl, work.path());
+    let icarus = run_vpi(&vpi, &image, &rtl, Some(&config));
+    assert!(icarus.passed, "VPI scoreboard: {}", icarus.output);
+    assert_eq!(icarus.ok_cycles(), Some(clocks), "VPI scoreboard: {}", icarus.output);
+    assert_refusals("VPI", &rtl, &other, &|r, c| run_vpi(&vpi, &image, r, c));
+
+    println!("Verilator DPI bench build (-O3): {build_seconds:.1} s");
+    let rate = |r: &Run| clocks as f64 / r.seconds;
+    println!(
+        "DPI scoreboard, Verilator --binary -O3: {clocks} clocks in {:.3} s = {:.0} clocks/s",
+        dpi.seconds,
+        rate(&dpi)
+    );
+    println!(
+        "VPI scoreboard, Icarus: {clocks} clocks in {:.3} s = {:.0} clocks/s",
+        icarus.seconds,
+        rate(&icarus)
+    );
+    if repeats.is_some() {
+        // The benchmark: the bare generated testbench (vectors from files) on the same run.
+        let (bare_sim, _) = build_bare_verilator(&rtl, work.path());
+        let bare = run(Command::new(&bare_sim), &rtl, None);
+        assert!(bare.output.contains("TESTBENCH OK"), "{}", bare.output);
+        let bare_icarus = work.path().join("bare.vvp");
+        run_ok(
+            "iverilog (bare testbench)",
+            Command::new("iverilog")
+                .args(["-g2005", "-s", "tt_testbench", "-o"])
+                .arg(&bare_icarus)
+                .args(design_files(&rtl))
+                .arg(rtl.join("tt_testbench.v")),
+        );
+        let mut cmd = Command::new("vvp");
+        cmd.arg("-n").arg(&bare_icarus);
+        let bare_i = run(cmd, &rtl, None);
+        assert!(bare_i.output.contains("TESTBENCH OK"), "{}", bare_i.output);
+        println!("| bench | simulator | clocks | s | clocks/s |");
+        println!("| --- | --- | ---: | ---: | ---: |");
+        for (what, sim, r) in [
+            ("DPI scoreboard", "Verilator 5.006 --binary -O3", &dpi),
+            ("bare testbench (expect.hex)", "Verilator 5.006 --binary -O3", &bare),
+            ("VPI scoreboard", "Icarus 11", &icarus),
+            ("bare testbench (expect.hex)", "Icarus 11", &bare_i),
+        ] {
+            println!("| {what} | {sim} | {clocks} | {:.3} | {:.0} |", r.seconds, rate(r));
+        }
+    }
+}
+
+/// The generated vector-file testbench under `verilator --binary -O3` (the benchmark's
+/// reference).
+fn build_bare_verilator(rtl: &Path, work: &Path) -> (PathBuf, f64) {
+    let t = Instant::now();
+    let mdir = work.join("obj_bare");
+    run_ok(
+        "verilator (bare testbench)",
+        Command::new("verilator")
+            .args(["--binary", "--top-module", "tt_testbench", "-o", "tb", "-Mdir"])
+            .arg(&mdir)
+            .args(design_files(rtl))
+            .arg(rtl.join("tt_testbench.v"))
+            .args(["-MAKEFLAGS", O3]),
+    );
+    (mdir.join("tb"), t.elapsed().as_secs_f64())
+}
+
+/// Every fault `hdl_gen` can inject; the match fails to compile when one is added.
+const FAULTS: [Fault; 2] = [Fault::FesBeforeIndex, Fault::FireThresholdPlusOne];
+const _: fn(Fault) = |f| match f {
+    Fault::None | Fault::FesBeforeIndex | Fault::FireThresholdPlusOne => {}
+};
+
+#[test]
+fn hdl_scoreboard_dpi_and_vpi_catch_every_fault_with_the_testbenchs_first_mismatch() {
+    // The configuration and stimulus of `faults`: both faults are observable in them.
+    let config = tooltouch_model::MeasureSettings {
+        charge_law: tooltouch_model::measure::config::ChargeLaw::Linear {
+            charge_step: 4096,
+            discharge_step: 4096,
+        },
+        fire_threshold: 32768,
+        rearm_threshold: 8192,
+        ..Default::default()
+    }
+    .validate()
+    .expect("valid test configuration");
+    let mut rng = <rand_chacha::ChaCha8Rng as rand::SeedableRng>::seed_from_u64(0xfa17);
+    let stimulus = random_stimulus(&mut rng, &config, 50_000_000, 40_000);
+    let work = tempfile::tempdir().expect("temporary folder");
+    let config_file = work.path().join("config.ttc");
+    let firmware = FirmwareConfig {
+        measure: config,
+        ..FirmwareConfig::default()
+    };
+    std::fs::write(&config_file, firmware.baked_bytes()).unwrap();
+    let vectors = golden_vectors(&config, &stimulus).expect("vectors");
+    let vpi = build_vpi_module(work.path());
+
+    for fault in std::iter::once(Fault::None).chain(FAULTS) {
+        let dir = work.path().join(format!("{fault:?}"));
+        let rtl = dir.join("rtl");
+        let design = tooltouch_hdl_gen::generate(
+            &config,
+            &Options {
+                fault,
+                ..Options::default()
+            },
+        );
+        std::fs::create_dir_all(&rtl).unwrap();
+        for f in &design.files {
+            std::fs::write(rtl.join(&f.name), &f.text).unwrap();
+        }
+        write_vectors(&rtl, &vectors).expect("writing the vectors");
+
+        // The vector-file testbench's verdict on the same design and stimulus.
+        let plan = CosimPlan {
+            options: Options {
+                fault,
+                ..Options::default()
+            },
+            simulators: vec![Simulator::Icarus],
+            ..CosimPlan::default()
+        };
+        let report = cosim(&config, std::slice::from_ref(&stimulus), &dir.join("tb"), &plan)
+            .expect("the vector-file testbench runs");
+        let reference = report.runs[0].first_mismatch.as_deref().map(without_time);
+
+        let image = build_icarus(&rtl, &dir);
+        let icarus = run_vpi(&vpi, &image, &rtl, Some(&config_file));
+        let mut runs = vec![("VPI", icarus)];
+        if fault != Fault::None {
+            // Verilator for the faults (the correct design passes it in the lathe test).
+            let (sim, _) = build_dpi(&rtl, &dir, O1);
+            runs.push(("DPI", run_dpi(&sim, &rtl, Some(&config_file))));
+        }
+        for (name, r) in runs {
+            match &reference {
+                None => {
+                    assert_eq!(fault, Fault::None, "the testbench missed {fault:?}");
+                    assert!(r.passed, "{name}, correct design: {}", r.output);
+                    assert_eq!(r.ok_cycles(), Some(stimulus.total_cycles()), "{name}: {}", r.output);
+                }
+                Some(want) => {
+                    assert!(!r.passed, "{name} missed {fault:?}: {}", r.output);
+                    assert_eq!(
+                        r.first_mismatch().as_deref(),
+                        Some(want.as_str()),
+                        "{name}, {fault:?}: the scoreboard's first mismatch is not the testbench's:\n{}",
+                        r.output
+                    );
+                }
+            }
+        }
+    }
+}
