@@ -12,6 +12,10 @@ const TOOLS: &[(&str, &str)] = &[
     ("qemu-system-arm", "qemu-system-arm"),
     ("verilator", "verilator"),
     ("iverilog", "iverilog"),
+    // The VPI scoreboard's module (tests/hdl/scoreboard.rs) is built with it.
+    ("iverilog-vpi", "iverilog"),
+    // The C ABI's C test program and the DPI/VPI glue (tests/hdl/abi_c.rs).
+    ("cc", "gcc"),
     ("yosys", "yosys"),
     ("nextpnr-ice40", "nextpnr-ice40"),
     ("icepack", "fpga-icestorm"),

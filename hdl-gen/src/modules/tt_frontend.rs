@@ -46,8 +46,11 @@ ${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
 ${PORTS}    output wire         irq        // = register_now, for the MCU
 );
     // The configuration this design was generated from (the MCU's CONFIG_HASH_HI/LO
-    // words): a testbench's scoreboard checks it against its own at time 0.
+    // words): a testbench's scoreboard reads it (dut.CONFIG_HASH) and checks it against
+    // its own at time 0.
+    /* verilator lint_off UNUSEDPARAM */
     localparam [63:0] CONFIG_HASH = 64'h${HASH};
+    /* verilator lint_on UNUSEDPARAM */
 
     wire [${N1}:0] pins = {${PINS}};
     wire [${N1}:0] synced;
