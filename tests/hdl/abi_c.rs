@@ -153,12 +153,18 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
         fe.clock(Pins(pins));
         let o = fe.outputs();
         decided |= o.register_now;
-        let line = lines.next().unwrap_or_else(|| panic!("the C output ends at cycle {k}"));
+        let line = lines
+            .next()
+            .unwrap_or_else(|| panic!("the C output ends at cycle {k}"));
         let got = hex_words(line);
         assert_eq!(got[..2], [k, u64::from(pins)], "cycle {k}: {line}");
         let want = o.register_bits(&measure);
         for (i, (w, g)) in want.iter().zip(&got[2..17]).enumerate() {
-            assert_eq!(w, g, "cycle {k}: signal {} expected 0x{w:x} got 0x{g:x}", names[i].name);
+            assert_eq!(
+                w, g,
+                "cycle {k}: signal {} expected 0x{w:x} got 0x{g:x}",
+                names[i].name
+            );
         }
         // The MCU words: the register map of hdl-gen, computed from the model's outputs.
         let bits = want;
@@ -193,10 +199,16 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
                 None if a < 16 => "unmapped",
                 None => "a diagnostic counter, --mcu-diagnostics",
             };
-            assert_eq!(w, g, "cycle {k}: MCU word {a} ({name}) expected 0x{w:x} got 0x{g:x}");
+            assert_eq!(
+                w, g,
+                "cycle {k}: MCU word {a} ({name}) expected 0x{w:x} got 0x{g:x}"
+            );
         }
     }
-    assert!(decided, "the random pins never led to a decision: a weak test");
+    assert!(
+        decided,
+        "the random pins never led to a decision: a weak test"
+    );
 
     // Event level.
     let mut m = Measurement::new(&measure);
@@ -218,7 +230,11 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
         let line = lines.next().expect("an event line");
         let got = hex_words(line);
         assert_eq!(got[0], i as u64, "{line}");
-        assert_eq!(got[1..], m.outputs().register_bits(&measure), "event {i} ({e:?})");
+        assert_eq!(
+            got[1..],
+            m.outputs().register_bits(&measure),
+            "event {i} ({e:?})"
+        );
     }
 
     // Force kernel.
@@ -254,8 +270,14 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
         ]
         .into_iter()
         .chain(
-            [o.force_estimate, o.force_measured, o.wear_power, o.wear_allowed, o.coulomb]
-                .map(|v| v.to_bits() as u64),
+            [
+                o.force_estimate,
+                o.force_measured,
+                o.wear_power,
+                o.wear_allowed,
+                o.coulomb,
+            ]
+            .map(|v| v.to_bits() as u64),
         )
         .collect();
         let line = lines.next().expect("a force line");

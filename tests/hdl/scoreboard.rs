@@ -13,7 +13,7 @@
 use crate::abi_c::{
     include_dir, require, root, run_ok, static_library, write_config, RUST_STATIC_LIBS,
 };
-use crate::common::{s, text, tooltouch, FAST_LATHE};
+use crate::common::{text, FAST_LATHE};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -53,7 +53,14 @@ fn build_dpi(rtl: &Path, work: &Path, opt: &str) -> (PathBuf, f64) {
     run_ok(
         "verilator (DPI bench)",
         Command::new("verilator")
-            .args(["--binary", "--top-module", "tooltouch_bench", "-o", "sim", "-Mdir"])
+            .args([
+                "--binary",
+                "--top-module",
+                "tooltouch_bench",
+                "-o",
+                "sim",
+                "-Mdir",
+            ])
             .arg(&mdir)
             .arg(abi.join("sv/tooltouch_dpi.sv"))
             .arg(abi.join("sv/tooltouch_scoreboard.sv"))
@@ -87,7 +94,10 @@ fn build_vpi_module(work: &Path) -> PathBuf {
             .args(RUST_STATIC_LIBS)
             .current_dir(&dir),
     );
-    assert!(dir.join("tooltouch.vpi").is_file(), "iverilog-vpi wrote no tooltouch.vpi");
+    assert!(
+        dir.join("tooltouch.vpi").is_file(),
+        "iverilog-vpi wrote no tooltouch.vpi"
+    );
     dir
 }
 
@@ -163,7 +173,11 @@ fn run_dpi(sim: &Path, rtl: &Path, config: Option<&Path>) -> Run {
 fn run_vpi(vpi: &Path, image: &Path, rtl: &Path, config: Option<&Path>) -> Run {
     require("vvp");
     let mut cmd = Command::new("vvp");
-    cmd.arg("-n").arg("-M").arg(vpi).args(["-m", "tooltouch"]).arg(image);
+    cmd.arg("-n")
+        .arg("-M")
+        .arg(vpi)
+        .args(["-m", "tooltouch"])
+        .arg(image);
     run(cmd, rtl, config)
 }
 
@@ -176,24 +190,64 @@ fn stimulus_clocks(rtl: &Path) -> u64 {
         .sum()
 }
 
-/// The fast lathe's RTL, vectors and configuration file, from the CLI as a user runs it.
-fn lathe_bench(work: &Path, repeats: u32) -> (PathBuf, PathBuf, PathBuf) {
-    let settings = work.join("fast.toml");
+/// The body of the fenced block after `<!-- recipe: name -->` in docs/systemverilog.md.
+fn recipe(name: &str) -> String {
+    let doc = std::fs::read_to_string(root().join("docs/systemverilog.md")).expect("the doc");
+    let marker = format!("<!-- recipe: {name} -->");
+    let after = doc
+        .split_once(&marker)
+        .unwrap_or_else(|| panic!("docs/systemverilog.md has no `{marker}`"))
+        .1;
+    let mut lines = after.lines().skip_while(|l| l.trim().is_empty());
+    assert!(
+        lines.next().unwrap_or("").starts_with("```sh"),
+        "`{marker}`: no sh block"
+    );
+    let body: Vec<&str> = lines.take_while(|l| !l.starts_with("```")).collect();
+    body.join("\n") + "\n"
+}
+
+/// Runs a recipe with bash in `work`: `TT` the repository, `ABI_LIB` the folder of the
+/// library cargo built for these tests (the recipe's own `cargo build` and `ABI_LIB=`
+/// lines are left out: cargo holds the build folder while the tests run), the built
+/// `tooltouch` first on the PATH. Returns its output.
+fn run_recipe(name: &str, work: &Path) -> (String, f64) {
+    let script: String = recipe(name)
+        .lines()
+        .filter(|l| !l.starts_with("cargo build") && !l.starts_with("ABI_LIB="))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let bin = PathBuf::from(env!("CARGO_BIN_EXE_tooltouch"));
+    let path = std::env::join_paths(std::iter::once(bin.parent().unwrap().to_path_buf()).chain(
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
+    ))
+    .unwrap();
+    let t = Instant::now();
+    let out = run_ok(
+        &format!("the `{name}` recipe of docs/systemverilog.md"),
+        Command::new("bash")
+            .args(["-euo", "pipefail", "-c", &script])
+            .env("TT", root())
+            .env("ABI_LIB", static_library().parent().unwrap())
+            .env("PATH", path)
+            .current_dir(work),
+    );
+    (out, t.elapsed().as_secs_f64())
+}
+
+/// The fast lathe's settings in `work` (with `repeats` measurements), and a configuration
+/// file of another hash.
+fn lathe_settings(work: &Path, repeats: u32) -> PathBuf {
     std::fs::write(
-        &settings,
+        work.join("settings.toml"),
         FAST_LATHE.replace("repeats = 1", &format!("repeats = {repeats}")),
     )
     .unwrap();
-    let rtl = work.join("rtl");
-    let o = tooltouch(&["hdl", "--config", s(&settings), "--vectors", "lathe", "--out", s(&rtl)]);
-    assert!(o.status.success(), "tooltouch hdl: {}", text(&o));
-    let config = work.join("config.ttc");
-    write_config(&settings, &config);
     let other_settings = work.join("other.toml");
     std::fs::write(&other_settings, "[measure]\ni_def = 400\n").unwrap();
     let other = work.join("other.ttc");
     write_config(&other_settings, &other);
-    (rtl, config, other)
+    other
 }
 
 fn assert_refusals(name: &str, rtl: &Path, other: &Path, go: &dyn Fn(&Path, Option<&Path>) -> Run) {
@@ -203,40 +257,80 @@ fn assert_refusals(name: &str, rtl: &Path, other: &Path, go: &dyn Fn(&Path, Opti
         .measure
         .hash();
     let refused = go(rtl, Some(other));
-    assert!(!refused.passed, "{name}: another configuration ran: {}", refused.output);
+    assert!(
+        !refused.passed,
+        "{name}: another configuration ran: {}",
+        refused.output
+    );
     let why = format!(
         "configuration mismatch: {} gives measure_hash {other_hash:016x}, the DUT's CONFIG_HASH is {measure:016x}",
         other.display()
     );
     assert!(refused.output.contains(&why), "{name}: {}", refused.output);
-    assert!(refused.first_mismatch().is_none() && refused.ok_cycles().is_none(), "{name}: {}", refused.output);
+    assert!(
+        refused.first_mismatch().is_none() && refused.ok_cycles().is_none(),
+        "{name}: {}",
+        refused.output
+    );
     let missing = go(rtl, None);
-    assert!(!missing.passed && missing.output.contains("no +tooltouch_config=FILE"), "{name}: {}", missing.output);
+    assert!(
+        !missing.passed && missing.output.contains("no +tooltouch_config=FILE"),
+        "{name}: {}",
+        missing.output
+    );
 }
 
 #[test]
 fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuration() {
+    for tool in ["verilator", "iverilog", "iverilog-vpi", "vvp"] {
+        require(tool);
+    }
     let work = tempfile::tempdir().expect("temporary folder");
+    let work = work.path();
     let repeats = std::env::var("TOOLTOUCH_SCOREBOARD_BENCH")
         .ok()
         .and_then(|v| v.parse().ok());
-    let (rtl, config, other) = lathe_bench(work.path(), repeats.unwrap_or(1));
-    let clocks = stimulus_clocks(&rtl);
+    let other = lathe_settings(work, repeats.unwrap_or(1));
 
-    let (sim, build_seconds) = build_dpi(&rtl, work.path(), O3);
+    // The recipes as written: build and run both benches.
+    let (out, build_seconds) = run_recipe("dpi", work);
+    let rtl = work.join("rtl");
+    let clocks = stimulus_clocks(&rtl);
+    let ok = format!("tooltouch_scoreboard OK {clocks}");
+    assert!(
+        out.lines().any(|l| l == ok),
+        "the DPI recipe: no `{ok}`:\n{out}"
+    );
+    let (out, _) = run_recipe("vpi", work);
+    assert!(
+        out.lines().any(|l| l == ok),
+        "the VPI recipe: no `{ok}`:\n{out}"
+    );
+
+    // The binaries they built: timed runs and the refusals.
+    let config = work.join("config.ttc");
+    let sim = work.join("obj_dpi/sim");
+    let (vpi, image) = (work.to_path_buf(), work.join("icarus.vvp"));
     let dpi = run_dpi(&sim, &rtl, Some(&config));
     assert!(dpi.passed, "DPI scoreboard: {}", dpi.output);
-    assert_eq!(dpi.ok_cycles(), Some(clocks), "DPI scoreboard: {}", dpi.output);
+    assert_eq!(
+        dpi.ok_cycles(),
+        Some(clocks),
+        "DPI scoreboard: {}",
+        dpi.output
+    );
     assert_refusals("DPI", &rtl, &other, &|r, c| run_dpi(&sim, r, c));
-
-    let vpi = build_vpi_module(work.path());
-    let image = build_icarus(&rtl, work.path());
     let icarus = run_vpi(&vpi, &image, &rtl, Some(&config));
     assert!(icarus.passed, "VPI scoreboard: {}", icarus.output);
-    assert_eq!(icarus.ok_cycles(), Some(clocks), "VPI scoreboard: {}", icarus.output);
+    assert_eq!(
+        icarus.ok_cycles(),
+        Some(clocks),
+        "VPI scoreboard: {}",
+        icarus.output
+    );
     assert_refusals("VPI", &rtl, &other, &|r, c| run_vpi(&vpi, &image, r, c));
 
-    println!("Verilator DPI bench build (-O3): {build_seconds:.1} s");
+    println!("the DPI recipe (tooltouch hdl, Verilator -O3 build, run): {build_seconds:.1} s");
     let rate = |r: &Run| clocks as f64 / r.seconds;
     println!(
         "DPI scoreboard, Verilator --binary -O3: {clocks} clocks in {:.3} s = {:.0} clocks/s",
@@ -250,10 +344,10 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
     );
     if repeats.is_some() {
         // The benchmark: the bare generated testbench (vectors from files) on the same run.
-        let (bare_sim, _) = build_bare_verilator(&rtl, work.path());
+        let (bare_sim, _) = build_bare_verilator(&rtl, work);
         let bare = run(Command::new(&bare_sim), &rtl, None);
         assert!(bare.output.contains("TESTBENCH OK"), "{}", bare.output);
-        let bare_icarus = work.path().join("bare.vvp");
+        let bare_icarus = work.join("bare.vvp");
         run_ok(
             "iverilog (bare testbench)",
             Command::new("iverilog")
@@ -270,11 +364,19 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
         println!("| --- | --- | ---: | ---: | ---: |");
         for (what, sim, r) in [
             ("DPI scoreboard", "Verilator 5.006 --binary -O3", &dpi),
-            ("bare testbench (expect.hex)", "Verilator 5.006 --binary -O3", &bare),
+            (
+                "bare testbench (expect.hex)",
+                "Verilator 5.006 --binary -O3",
+                &bare,
+            ),
             ("VPI scoreboard", "Icarus 11", &icarus),
             ("bare testbench (expect.hex)", "Icarus 11", &bare_i),
         ] {
-            println!("| {what} | {sim} | {clocks} | {:.3} | {:.0} |", r.seconds, rate(r));
+            println!(
+                "| {what} | {sim} | {clocks} | {:.3} | {:.0} |",
+                r.seconds,
+                rate(r)
+            );
         }
     }
 }
@@ -287,7 +389,14 @@ fn build_bare_verilator(rtl: &Path, work: &Path) -> (PathBuf, f64) {
     run_ok(
         "verilator (bare testbench)",
         Command::new("verilator")
-            .args(["--binary", "--top-module", "tt_testbench", "-o", "tb", "-Mdir"])
+            .args([
+                "--binary",
+                "--top-module",
+                "tt_testbench",
+                "-o",
+                "tb",
+                "-Mdir",
+            ])
             .arg(&mdir)
             .args(design_files(rtl))
             .arg(rtl.join("tt_testbench.v"))
@@ -353,8 +462,13 @@ fn hdl_scoreboard_dpi_and_vpi_catch_every_fault_with_the_testbenchs_first_mismat
             simulators: vec![Simulator::Icarus],
             ..CosimPlan::default()
         };
-        let report = cosim(&config, std::slice::from_ref(&stimulus), &dir.join("tb"), &plan)
-            .expect("the vector-file testbench runs");
+        let report = cosim(
+            &config,
+            std::slice::from_ref(&stimulus),
+            &dir.join("tb"),
+            &plan,
+        )
+        .expect("the vector-file testbench runs");
         let reference = report.runs[0].first_mismatch.as_deref().map(without_time);
 
         let image = build_icarus(&rtl, &dir);
@@ -370,7 +484,12 @@ fn hdl_scoreboard_dpi_and_vpi_catch_every_fault_with_the_testbenchs_first_mismat
                 None => {
                     assert_eq!(fault, Fault::None, "the testbench missed {fault:?}");
                     assert!(r.passed, "{name}, correct design: {}", r.output);
-                    assert_eq!(r.ok_cycles(), Some(stimulus.total_cycles()), "{name}: {}", r.output);
+                    assert_eq!(
+                        r.ok_cycles(),
+                        Some(stimulus.total_cycles()),
+                        "{name}: {}",
+                        r.output
+                    );
                 }
                 Some(want) => {
                     assert!(!r.passed, "{name} missed {fault:?}: {}", r.output);

@@ -905,7 +905,13 @@ pub unsafe extern "C" fn tt_frontend_mcu_read(
         // SAFETY: the caller's contract.
         let (fe, out) = unsafe { (deref(front_end, "front_end")?, deref_mut(out, "out")?) };
         check_mcu_addr(addr)?;
-        *out = mcu_word(&fe.config, fe.hash, &fe.front_end.outputs(), addr, diagnostics);
+        *out = mcu_word(
+            &fe.config,
+            fe.hash,
+            &fe.front_end.outputs(),
+            addr,
+            diagnostics,
+        );
         Ok(())
     })
 }
@@ -957,12 +963,14 @@ fn measure_event(e: &TtMeasureEvent) -> Result<MeasureEvent, Failure> {
             b: flag(e.scale_b, "scale_b")?,
         },
         TT_MEASURE_EVENT_PRESET_PULSES => MeasureEvent::PresetPulses(e.pulses),
-        k => return Err(fail(
-            TtStatus::BadArgument,
-            format_args!(
+        k => {
+            return Err(fail(
+                TtStatus::BadArgument,
+                format_args!(
                 "measurement event kind 0x{k:02x}; the kinds are 0x02..=0x07 (TT_MEASURE_EVENT_*)"
             ),
-        )),
+            ))
+        }
     })
 }
 
