@@ -13,7 +13,7 @@
 use crate::abi_c::{
     include_dir, require, root, run_ok, static_library, write_config, RUST_STATIC_LIBS,
 };
-use crate::common::{text, FAST_LATHE};
+use crate::common::{s, text, tooltouch, FAST_LATHE};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
@@ -329,6 +329,55 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
         icarus.output
     );
     assert_refusals("VPI", &rtl, &other, &|r, c| run_vpi(&vpi, &image, r, c));
+
+    // A design with --mcu-diagnostics: MCU_DIAGNOSTICS = 1 passes, 0 names the word.
+    let diag = work.join("diag");
+    let settings = work.join("settings.toml");
+    let o = tooltouch(&[
+        "hdl",
+        "--config",
+        s(&settings),
+        "--vectors",
+        "lathe",
+        "--mcu-diagnostics",
+        "--out",
+        s(&diag),
+    ]);
+    assert!(
+        o.status.success(),
+        "tooltouch hdl --mcu-diagnostics: {}",
+        text(&o)
+    );
+    for diagnostics in [1, 0] {
+        let image = work.join(format!("diag{diagnostics}.vvp"));
+        run_ok(
+            "iverilog (diagnostics)",
+            Command::new("iverilog")
+                .args(["-g2005", "-s", "tooltouch_bench", "-P"])
+                .arg(format!("tooltouch_bench.MCU_DIAGNOSTICS={diagnostics}"))
+                .arg("-o")
+                .arg(&image)
+                .arg(root().join("host/abi/verilog/tooltouch_scoreboard.v"))
+                .arg(root().join("host/abi/verilog/tooltouch_bench.v"))
+                .args(design_files(&diag)),
+        );
+        let r = run_vpi(&vpi, &image, &diag, Some(&config));
+        if diagnostics == 1 {
+            assert_eq!(
+                r.ok_cycles(),
+                Some(clocks),
+                "MCU_DIAGNOSTICS = 1: {}",
+                r.output
+            );
+        } else {
+            let m = r.first_mismatch().unwrap_or_default();
+            assert!(
+                !r.passed && m.contains("signal mcu_rdata") && m.ends_with("at MCU address 7"),
+                "MCU_DIAGNOSTICS = 0 on a --mcu-diagnostics design: {}",
+                r.output
+            );
+        }
+    }
 
     println!("the DPI recipe (tooltouch hdl, Verilator -O3 build, run): {build_seconds:.1} s");
     let rate = |r: &Run| clocks as f64 / r.seconds;

@@ -139,10 +139,10 @@ module tooltouch_scoreboard #(
             if (first >= 0) begin
                 if (mismatches == 0) begin
                     if (first == 16)
-                        $display("tooltouch_scoreboard MISMATCH cycle %0d (time %0t): signal mcu_rdata expected 0x%0h got 0x%0h at MCU address %0d",
+                        $display("tooltouch_scoreboard MISMATCH cycle %0d (time %0t ns): signal mcu_rdata expected 0x%0h got 0x%0h at MCU address %0d",
                                  cycle, $time, $tooltouch_expected(model, first, mcu_addr), mcu_rdata, mcu_addr);
                     else
-                        $display("tooltouch_scoreboard MISMATCH cycle %0d (time %0t): signal %0s expected 0x%0h got 0x%0h",
+                        $display("tooltouch_scoreboard MISMATCH cycle %0d (time %0t ns): signal %0s expected 0x%0h got 0x%0h",
                                  cycle, $time, signal_name(first), $tooltouch_expected(model, first, mcu_addr),
                                  dut_value(first));
                 end
