@@ -29,6 +29,7 @@ pub const TARGETS: &[(&str, Entry)] = &[
     ("settings", settings),
     ("tune_spec", tune_spec),
     ("tune_merge", tune_merge),
+    ("abi", abi),
 ];
 
 /// A reader that hands out at most `step` bytes per `read` call, so the streaming
@@ -183,4 +184,82 @@ pub fn tune_merge(data: &[u8]) {
     };
     let _ = tooltouch_tune::merge(std::slice::from_ref(&r));
     let _ = tooltouch_tune::merge(&[r.clone(), r]);
+}
+
+/// The C ABI (`tooltouch-abi`): a configuration from the first `n` bytes (`n` the first two
+/// bytes, little-endian; a `tooltouch cosim config` file or canonical bytes), then — when
+/// it decodes — the cycle level, the event level and the force kernel driven by the rest,
+/// out-of-range pins, MCU addresses and event kinds included. The ABI catches panics at
+/// its boundary, so a caught one (`TtStatus::Panic`) fails here.
+pub fn abi(data: &[u8]) {
+    use core::ptr::null_mut;
+    use tooltouch_abi::*;
+    fn no_panic(status: TtStatus) {
+        assert_ne!(status, TtStatus::Panic, "the C ABI caught a panic");
+    }
+    let (n, rest) = match data.split_first_chunk::<2>() {
+        Some((n, rest)) => (usize::from(u16::from_le_bytes(*n)).min(rest.len()), rest),
+        None => return,
+    };
+    let (config_bytes, drive) = rest.split_at(n);
+    let mut config = null_mut();
+    // SAFETY: every pointer is valid for the call; handles are freed once.
+    unsafe {
+        let status = tt_config_from_bytes(config_bytes.as_ptr(), config_bytes.len(), &mut config);
+        no_panic(status);
+        if status != TtStatus::Ok {
+            return;
+        }
+        let (mut fe, mut m, mut f) = (null_mut(), null_mut(), null_mut());
+        no_panic(tt_frontend_new(config, &mut fe));
+        no_panic(tt_measurement_new(config, &mut m));
+        no_panic(tt_force_new(config, &mut f));
+        let mut registers = [0u64; TT_OUTPUT_COUNT as usize];
+        for chunk in drive.chunks(4) {
+            let [a, b, c, d] = [0, 1, 2, 3].map(|i| chunk.get(i).copied().unwrap_or(0));
+            no_panic(tt_frontend_clock(fe, a));
+            let mut simulated = 0;
+            no_panic(tt_frontend_advance(
+                fe,
+                a & 0x3f,
+                u64::from(b),
+                &mut simulated,
+            ));
+            let mut word = 0;
+            no_panic(tt_frontend_mcu_read(
+                fe,
+                u32::from(c),
+                d & 1 != 0,
+                &mut word,
+            ));
+            no_panic(tt_frontend_registers(fe, registers.as_mut_ptr()));
+            let event = TtMeasureEvent {
+                kind: b,
+                level: c,
+                scale_a: d & 1,
+                scale_b: d >> 1 & 1,
+                pulses: u32::from_le_bytes([a, b, c, d]),
+            };
+            no_panic(tt_measurement_apply(m, &event));
+            let force = TtForceEvent {
+                kind: c,
+                on: d,
+                conditions: a,
+                adc: TtAdcCodes {
+                    speed: u16::from_le_bytes([a, b]),
+                    power: u16::from_le_bytes([c, d]),
+                    force: u16::from(d) << 4,
+                    volts: [u16::from(a) << 4; 3],
+                    amps: [u16::from(b) << 4; 2],
+                },
+            };
+            no_panic(tt_force_apply(f, &force));
+        }
+        let mut outputs = TtForceOutputs::default();
+        no_panic(tt_force_outputs(f, &mut outputs));
+        tt_force_free(f);
+        tt_measurement_free(m);
+        tt_frontend_free(fe);
+        tt_config_free(config);
+    }
 }

@@ -392,10 +392,55 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
         rate(&icarus)
     );
     if repeats.is_some() {
-        // The benchmark: the bare generated testbench (vectors from files) on the same run.
+        // The benchmark: every measurement of the lathe run (`hdl --vectors lathe` takes the
+        // first), the scoreboards and the bare generated testbench on the same stimulus.
+        let settings = work.join("settings.toml");
+        let lathe = work.join("lathe");
+        let o = tooltouch(&[
+            "measure",
+            "--config",
+            s(&settings),
+            "--out",
+            s(&lathe),
+            "--vcd",
+            "none",
+            "--no-progress",
+        ]);
+        assert!(o.status.success(), "tooltouch measure: {}", text(&o));
+        let events = lathe.join("events.ttv");
+        let o = tooltouch(&[
+            "hdl",
+            "--config",
+            s(&settings),
+            "--vectors",
+            s(&events),
+            "--out",
+            s(&rtl),
+        ]);
+        assert!(o.status.success(), "tooltouch hdl --vectors: {}", text(&o));
+        let clocks = stimulus_clocks(&rtl);
+        let rate = |r: &Run| clocks as f64 / r.seconds;
+        let dpi = run_dpi(&sim, &rtl, Some(&config));
+        assert_eq!(
+            dpi.ok_cycles(),
+            Some(clocks),
+            "DPI scoreboard: {}",
+            dpi.output
+        );
+        let icarus = run_vpi(&vpi, &image, &rtl, Some(&config));
+        assert_eq!(
+            icarus.ok_cycles(),
+            Some(clocks),
+            "VPI scoreboard: {}",
+            icarus.output
+        );
         let (bare_sim, _) = build_bare_verilator(&rtl, work);
         let bare = run(Command::new(&bare_sim), &rtl, None);
-        assert!(bare.output.contains("TESTBENCH OK"), "{}", bare.output);
+        assert!(
+            bare.output.contains(&format!("TESTBENCH OK {clocks}")),
+            "{}",
+            bare.output
+        );
         let bare_icarus = work.join("bare.vvp");
         run_ok(
             "iverilog (bare testbench)",
@@ -408,7 +453,11 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
         let mut cmd = Command::new("vvp");
         cmd.arg("-n").arg(&bare_icarus);
         let bare_i = run(cmd, &rtl, None);
-        assert!(bare_i.output.contains("TESTBENCH OK"), "{}", bare_i.output);
+        assert!(
+            bare_i.output.contains(&format!("TESTBENCH OK {clocks}")),
+            "{}",
+            bare_i.output
+        );
         println!("| bench | simulator | clocks | s | clocks/s |");
         println!("| --- | --- | ---: | ---: | ---: |");
         for (what, sim, r) in [

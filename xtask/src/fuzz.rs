@@ -32,7 +32,7 @@ use std::process::Command;
 use std::time::Instant;
 
 /// The fuzz targets (binaries of `fuzz/`), in the order they run.
-pub const TARGETS: [&str; 8] = [
+pub const TARGETS: [&str; 9] = [
     "ttv_outputs",
     "ttv_events",
     "force_chunks",
@@ -41,6 +41,7 @@ pub const TARGETS: [&str; 8] = [
     "settings",
     "tune_spec",
     "tune_merge",
+    "abi",
 ];
 
 /// Seconds per target of the short pass that `cargo xtask test` runs.
