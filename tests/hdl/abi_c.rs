@@ -7,11 +7,11 @@
 use crate::common::{s, text, tooltouch};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use tooltouch::cosim::firmware_config::FirmwareConfig;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::AdcCodes;
 use tooltouch_model::{FrontEnd, MeasureEvent, Measurement, Pins};
+use tooltouch_settings::firmware_config::FirmwareConfig;
 
 /// The repository's root.
 pub fn root() -> PathBuf {
@@ -45,7 +45,7 @@ pub const RUST_STATIC_LIBS: [&str; 3] = ["-lpthread", "-ldl", "-lm"];
 
 /// `tool` on the PATH, or a panic naming `cargo xtask setup`.
 pub fn require(tool: &str) {
-    if let Err(e) = tooltouch::hdl::runner::find_tool(tool) {
+    if let Err(e) = tooltouch_cosim::hdl::runner::find_tool(tool) {
         panic!("{e}");
     }
 }

@@ -17,13 +17,13 @@ use crate::common::{s, text, tooltouch, FAST_LATHE};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use tooltouch::cosim::firmware_config::FirmwareConfig;
-use tooltouch::hdl::cosim::{cosim, CosimPlan};
-use tooltouch::hdl::hex::{golden_vectors, write_vectors};
-use tooltouch::hdl::random::random_stimulus;
-use tooltouch::hdl::runner::Simulator;
+use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
+use tooltouch_cosim::hdl::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::random::random_stimulus;
+use tooltouch_settings::firmware_config::FirmwareConfig;
+use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 
 /// The C++ optimisation of a Verilator build (docs/architecture.md, pitfalls).
 const O3: &str = "OPT_FAST=-O3 OPT_GLOBAL=-O3 OPT_SLOW=-O3";

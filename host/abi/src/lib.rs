@@ -23,6 +23,9 @@
 //! `*_from_*` functions allocate (the handle itself), the stepping and reading functions
 //! never do. Handles are not thread-safe: use one from one thread at a time.
 //! [`tt_abi_version`] is [`TT_ABI_VERSION`]; a change that breaks a caller bumps it.
+//!
+//! Depends on `tooltouch-model` only: no host library and not the command line, so a C,
+//! DPI-C or VPI build links the model and nothing else.
 #![deny(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
