@@ -9,6 +9,7 @@ mod common;
 mod cosim;
 mod faults;
 mod formal;
+mod formal_dut;
 mod lathe;
 mod lint;
 mod reference;
