@@ -404,7 +404,9 @@ fn formal_dut_bad_input_names_the_culprit() {
 }
 
 /// The generated design in every configuration `cargo xtask formal` covers, proven by ABC
-/// without the invariants of `tooltouch_hdl_gen::formal` (minutes: `cargo xtask formal`).
+/// without the invariants of `tooltouch_hdl_gen::formal` (minutes: `cargo xtask formal`;
+/// `TT_FORMAL_ENGINE_SECONDS` per engine, default 600). A configuration that stays
+/// undecided fails the test, named (docs/formal.md lists the measured ones).
 #[test]
 #[ignore = "minutes: run by `cargo xtask formal`"]
 fn formal_dut_generated_variants_are_proven_without_invariants() {
@@ -423,7 +425,10 @@ fn formal_dut_generated_variants_are_proven_without_invariants() {
         .collect();
         let mut request = Request::new(*config, files, tooltouch_hdl_gen::TOP);
         request.mcu_diagnostics = options.mcu_diagnostics;
-        request.seconds_per_engine = 600;
+        request.seconds_per_engine = std::env::var("TT_FORMAL_ENGINE_SECONDS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(600);
         let report = prove(&request, &dir.join("out")).expect("the proof runs");
         println!(
             "formal --dut generated, {name}:\n  {}",
