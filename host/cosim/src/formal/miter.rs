@@ -139,7 +139,17 @@ pub fn read_interface(
         "{}hierarchy -check -top {top}\nproc\nwrite_json interface.json\n",
         read_lines(files)
     );
-    run_yosys(dir, &script, "interface")?;
+    run_yosys(dir, &script, "interface").map_err(|e| match e {
+        FormalError::Design(errors) => FormalError::Design(format!(
+            "reading --dut {} with --top {top}:\n{errors}",
+            files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        )),
+        other => other,
+    })?;
     let path = dir.join("interface.json");
     let text = std::fs::read_to_string(&path).map_err(super::error::io(&path))?;
     let json: serde_json::Value = serde_json::from_str(&text)
