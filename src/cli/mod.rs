@@ -47,6 +47,7 @@ macro_rules! out {
 pub mod check;
 pub mod control;
 pub mod cosim;
+pub mod formal;
 pub mod hdl;
 pub mod measure;
 pub mod run_settings;
@@ -101,6 +102,10 @@ enum Command {
     /// Run the QEMU firmware image on a stimulus and check its trace; write the
     /// configuration file a firmware build bakes in.
     Cosim(cosim::Args),
+    /// Prove your own `tt_frontend` RTL equal to the reference derived from the golden
+    /// model, for every input sequence (exit 0 proven, 1 not equal, 2 bad input, 3
+    /// undecided).
+    Formal(formal::Args),
 }
 
 /// Lets a value that starts with `-` reach the flag's own parser (`--rpm -inf`, `--seed
@@ -161,6 +166,7 @@ pub fn main() -> ExitCode {
         Command::Hdl(args) => hdl::run(args),
         Command::Tune(args) => tune::run(args),
         Command::Cosim(args) => cosim::run(args),
+        Command::Formal(args) => formal::run(args),
     };
     match result {
         Ok(code) => code,

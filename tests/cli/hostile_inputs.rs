@@ -405,6 +405,7 @@ fn base_args(sub: &str, f: &Fixtures, out: &Path) -> Vec<(String, Option<String>
             ("--out", o),
         ],
         "cosim config" => vec![("--config", p(&f.settings)), ("--out", o)],
+        "formal" => vec![("--dut", p(&f.settings)), ("--out", o)],
         "cosim firmware" => vec![
             ("--stimulus", p(&f.events)),
             ("--image", p(&f.image_guard)),
@@ -492,7 +493,12 @@ fn row_output(cmd: &clap::Command, dir: PathBuf) -> (PathBuf, Option<PathBuf>) {
 
 /// The guard message of `sub`'s rows ([`Case::accepted`]).
 fn guard_of(sub: &str, f: &Fixtures) -> Option<String> {
-    (sub == "cosim firmware").then(|| f.image_guard_reached())
+    match sub {
+        "cosim firmware" => Some(f.image_guard_reached()),
+        // Every input accepted: the run reached the design (the settings file, not Verilog).
+        "formal" => Some(format!("reading --dut {} with --top", f.settings.display())),
+        _ => None,
+    }
 }
 
 /// Every subcommand path (`tune merge` too) with its command.
@@ -759,7 +765,9 @@ fn output_rows(
             } else {
                 vec![file.to_str().unwrap(), path.to_str().unwrap()]
             };
-            rows.push(case(format!("{sub} --out {class}"), &args, expect, &named));
+            let mut c = case(format!("{sub} --out {class}"), &args, expect, &named);
+            c.accepted = guard_of(&sub, f);
+            rows.push(c);
         }
     }
 }

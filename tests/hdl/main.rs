@@ -10,6 +10,7 @@ mod abi_c;
 mod cosim;
 mod faults;
 mod formal;
+mod formal_dut;
 mod lathe;
 mod lint;
 mod reference;

@@ -18,6 +18,7 @@
 
 pub mod error;
 pub mod force_scenario;
+pub mod formal;
 pub mod hdl;
 pub mod qemu;
 pub mod scenario;
