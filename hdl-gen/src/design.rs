@@ -24,6 +24,11 @@ pub enum Fault {
     FireThresholdPlusOne,
 }
 
+impl Fault {
+    /// Every injected fault (not [`Fault::None`]), so a test of the checkers covers each.
+    pub const ALL: [Fault; 2] = [Fault::FesBeforeIndex, Fault::FireThresholdPlusOne];
+}
+
 /// Generation options.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Options {

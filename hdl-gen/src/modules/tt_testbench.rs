@@ -137,6 +137,16 @@ pub fn testbench(
         ));
     }
     let words = mcu_words(config, "exp_", spec.mcu_diagnostics);
+    let mcu_names: String = crate::mcu::MCU_REGISTERS
+        .iter()
+        .map(|r| {
+            format!(
+                "            {}: mcu_name = \"{}\";\n",
+                crate::emit::lit(MCU_ADDR_BITS, r.addr.into()),
+                r.name
+            )
+        })
+        .collect();
     let mut mcu = String::new();
     for (i, w) in words.iter().enumerate() {
         mcu.push_str(&format!(
@@ -202,6 +212,12 @@ module {TESTBENCH};
     always @* begin
         case (mcu_addr)
 {mcu}            default: exp_rdata = {db}'d0;
+        endcase
+    end
+    reg [8*24-1:0] mcu_name;  // the register mcu_addr names, for the mismatch report
+    always @* begin
+        case (mcu_addr)
+{mcu_names}            default: mcu_name = "unmapped, reads 0";
         endcase
     end
 
@@ -443,6 +459,8 @@ module {TESTBENCH};
             bad_signals = 0;
 {compare}            if (irq !== exp_register_now) report("irq", {{63'd0, exp_register_now}}, {{63'd0, irq}});
             if (mcu_rdata !== exp_rdata) report("mcu_rdata", {{{dpad}exp_rdata}}, {{{dpad}mcu_rdata}});
+            if (mcu_rdata !== exp_rdata && bad_cycles == 0)
+                $display("  mcu_rdata read at mcu_addr %0d: %0s", mcu_addr, mcu_name);
             bad_cycles = bad_cycles + 1;
             if (!nostop) $fatal(1, "TESTBENCH FAIL at cycle %0d", k);
         end
