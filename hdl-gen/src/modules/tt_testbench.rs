@@ -136,7 +136,7 @@ pub fn testbench(
             }
         ));
     }
-    let words = mcu_words(config, "exp_", spec.mcu_diagnostics);
+    let words = mcu_words(config, config.hash(), "exp_", spec.mcu_diagnostics);
     let mcu_names: String = crate::mcu::MCU_REGISTERS
         .iter()
         .map(|r| {
