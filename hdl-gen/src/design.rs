@@ -83,19 +83,30 @@ impl Fault {
         let mut s = *config.settings();
         let plus = |v: u32| v.checked_add(1);
         let minus = |v: u32| v.checked_sub(1);
-        let step = |law: &mut ChargeLaw, charge: bool, f: &dyn Fn(u32) -> Option<u32>| -> Option<()> {
-            match law {
-                ChargeLaw::Linear { charge_step, discharge_step } => {
-                    let v = if charge { charge_step } else { discharge_step };
-                    *v = f(*v)?;
+        let step =
+            |law: &mut ChargeLaw, charge: bool, f: &dyn Fn(u32) -> Option<u32>| -> Option<()> {
+                match law {
+                    ChargeLaw::Linear {
+                        charge_step,
+                        discharge_step,
+                    } => {
+                        let v = if charge { charge_step } else { discharge_step };
+                        *v = f(*v)?;
+                    }
+                    ChargeLaw::Exponential {
+                        charge_shift,
+                        discharge_shift,
+                    } => {
+                        let v = if charge {
+                            charge_shift
+                        } else {
+                            discharge_shift
+                        };
+                        *v = u8::try_from(f(u32::from(*v))?).ok()?;
+                    }
                 }
-                ChargeLaw::Exponential { charge_shift, discharge_shift } => {
-                    let v = if charge { charge_shift } else { discharge_shift };
-                    *v = u8::try_from(f(u32::from(*v))?).ok()?;
-                }
-            }
-            Some(())
-        };
+                Some(())
+            };
         match self {
             Fault::FireThresholdMinusOne => s.fire_threshold = minus(s.fire_threshold)?,
             Fault::RearmThresholdPlusOne => s.rearm_threshold = plus(s.rearm_threshold)?,

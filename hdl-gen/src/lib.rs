@@ -62,6 +62,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod config_include;
 mod design;
 mod emit;
 pub mod formal;
@@ -71,6 +72,7 @@ mod outputs;
 
 use tooltouch_model::MeasureConfig;
 
+pub use config_include::{config_include, CONFIG_INCLUDE};
 pub use design::{Design, Fault, Options, VerilogFile, FPGA_TOP, TOP};
 pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
 pub use modules::tt_frontend_ref::{reference, REFERENCE_TOP};

@@ -33,7 +33,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         anyhow::bail!(
             "{}: no pins to cover: {}",
             args.stimulus.display(),
-            set.no_cycle_level.as_deref().unwrap_or("no measurement events")
+            set.no_cycle_level
+                .as_deref()
+                .unwrap_or("no measurement events")
         );
     };
     let cov = tooltouch_vectors::coverage::coverage(&cycle.stimulus, &cycle.config);

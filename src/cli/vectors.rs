@@ -37,7 +37,12 @@ pub struct Args {
     #[arg(long, value_name = "SEED")]
     pub stress: Option<u64>,
     /// Clocks of the stress stimulus's constrained-random tail.
-    #[arg(long, value_name = "CLOCKS", default_value_t = 20_000, requires = "stress")]
+    #[arg(
+        long,
+        value_name = "CLOCKS",
+        default_value_t = 20_000,
+        requires = "stress"
+    )]
     pub stress_random: u64,
     /// Settings TOML, as `tooltouch measure` takes it: the golden model's `[measure]`
     /// table (or its fields at top level) and `[lathe] clock_hz`; other tables are errors.
@@ -69,7 +74,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 ..Default::default()
             };
             let clock_hz = settings.clock.as_ref().map_or(50_000_000, |c| c.hz);
-            let stimulus = tooltouch_plant::stress::stress_stimulus(&settings.config, seed, clock_hz, &size);
+            let stimulus =
+                tooltouch_plant::stress::stress_stimulus(&settings.config, seed, clock_hz, &size);
             (
                 golden_set::GoldenSet::from_pins(&settings.config, stimulus),
                 "stress",

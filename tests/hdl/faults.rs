@@ -109,7 +109,11 @@ fn check(golden: &Path, dut: &Path) -> (bool, String) {
 }
 
 /// `tooltouch check --expected golden --dut dut <extra>`: exit code, stdout and stderr.
-fn check_with(golden: &Path, dut: &Path, extra: &[&std::ffi::OsStr]) -> (Option<i32>, String) {
+pub(crate) fn check_with(
+    golden: &Path,
+    dut: &Path,
+    extra: &[&std::ffi::OsStr],
+) -> (Option<i32>, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_tooltouch"))
         .arg("check")
         .arg("--expected")
@@ -175,7 +179,13 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
     let work = tempfile::tempdir().expect("temporary folder");
     let golden = golden_vcd(work.path(), &mut s, &config);
     let period_ns = 1_000_000_000 / u64::from(s.clock_hz);
-    for fault in std::iter::once(Fault::None).chain(Fault::ALL) {
+    // The two faults this random stimulus reveals (tests/hdl/stress.rs runs every fault on
+    // the stress vectors, with the same report checks).
+    for fault in [
+        Fault::None,
+        Fault::FesBeforeIndex,
+        Fault::FireThresholdPlusOne,
+    ] {
         let dir = work.path().join(format!("{fault:?}"));
         let report = cosim(
             &config,
@@ -190,7 +200,12 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
         let (code, text) = check_with(
             &golden,
             &dut,
-            &["--json".as_ref(), json_path.as_os_str(), "--window".as_ref(), window.as_os_str()],
+            &[
+                "--json".as_ref(),
+                json_path.as_os_str(),
+                "--window".as_ref(),
+                window.as_os_str(),
+            ],
         );
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&json_path).expect("check.json"))
@@ -199,7 +214,9 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
         assert_eq!(matches.len(), 15, "{json}");
         for m in &matches {
             let (g, d) = (m["golden"].as_str().unwrap(), m["dut"].as_str().unwrap());
-            let leaf = g.strip_prefix("tooltouch.outputs.").expect("a golden output");
+            let leaf = g
+                .strip_prefix("tooltouch.outputs.")
+                .expect("a golden output");
             assert_eq!(d, format!("tt_testbench.dut.{leaf}"), "{m}");
         }
         if fault == Fault::None {
@@ -226,62 +243,36 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
                 "{text}"
             );
             // Naming the scope explicitly: the same refusal.
-            let (code, text) =
-                check_with(&golden, &renamed, &["--dut-scope".as_ref(), "tt_testbench.dut".as_ref()]);
+            let (code, text) = check_with(
+                &golden,
+                &renamed,
+                &["--dut-scope".as_ref(), "tt_testbench.dut".as_ref()],
+            );
             assert_eq!(code, Some(2), "{text}");
             assert!(text.contains("given by --dut-scope"), "{text}");
-            let (code, text) =
-                check_with(&golden, &dut, &["--dut-scope".as_ref(), "tt_testbench.nothing".as_ref()]);
+            let (code, text) = check_with(
+                &golden,
+                &dut,
+                &["--dut-scope".as_ref(), "tt_testbench.nothing".as_ref()],
+            );
             assert_eq!(code, Some(2), "{text}");
-            assert!(text.contains("no such scope") && text.contains("`tt_testbench.dut` (15 of 15)"), "{text}");
+            assert!(
+                text.contains("no such scope") && text.contains("`tt_testbench.dut` (15 of 15)"),
+                "{text}"
+            );
             continue;
         }
         assert!(!report.runs[0].passed, "{fault:?} passed the testbench");
-        assert_eq!(code, Some(1), "{fault:?}: {text}");
-        assert_eq!(json["verdict"], "mismatch");
-        let k = json["first_mismatch"]["cycle"].as_u64().expect("a first mismatch");
-        let differing = json["first_mismatch"]["signals"].as_array().unwrap().clone();
-        assert!(!differing.is_empty());
-        // The testbench's own first mismatch is the same clock.
-        let tb = report.runs[0].first_mismatch.as_deref().unwrap_or("");
-        assert!(tb.starts_with(&format!("MISMATCH cycle {k} ")), "testbench: {tb}; check: {text}");
-        assert!(
-            text.contains(&format!("signals differing at cycle {k} ({} of 15)", differing.len())),
-            "{text}"
+        let tb = report.runs[0].first_mismatch.clone().unwrap_or_default();
+        assert_mismatch_report(
+            &format!("{fault:?}"),
+            code,
+            &text,
+            &json,
+            &tb,
+            &window,
+            period_ns,
         );
-        for d in &differing {
-            let name = d["signal"].as_str().unwrap();
-            assert!(text.contains(&format!("tt_testbench.dut.{name}")), "{text}");
-        }
-        assert!(text.contains("golden input pins of the clocks before it"), "{text}");
-        assert!(text.contains(&format!("  {k:>12} ")), "the pin table reaches cycle {k}: {text}");
-        assert!(text.contains(&format!("mcu_rdata at cycle {k}: ")) && text.contains("read at mcu_addr"), "{text}");
-        // The window: golden and DUT side by side, `differs.<name>` 1 at clock K for each
-        // differing signal; the GTKWave file opens it with the marker on clock K.
-        let vcd = std::fs::read_to_string(window.join("mismatch.vcd")).expect("mismatch.vcd");
-        let w = tooltouch_vectors::vcd::Dump::parse(&vcd, "mismatch.vcd").expect("a VCD");
-        for d in &differing {
-            let name = d["signal"].as_str().unwrap();
-            let flag = w.find_in_scope("differs", name).expect("differs.<name>");
-            let at = |k: u64| w.value_at(&flag.id, k * period_ns * 1_000_000).and_then(|v| v.to_u64());
-            assert_eq!(at(k), Some(1), "differs.{name} at cycle {k}");
-            assert_eq!(at(k - 1), Some(0), "differs.{name} before cycle {k}");
-            let g = w.find_in_scope("outputs", name).expect("golden.outputs.<name>");
-            let got = w.find_in_scope("dut", name).expect("dut.<name>");
-            let hex = |id: &str| w.value_at(id, k * period_ns * 1_000_000).map(|v| format!("0x{}", v.hex_digits()));
-            assert_eq!(hex(&g.id).as_deref(), d["expected"].as_str(), "{name}");
-            assert_eq!(hex(&got.id).as_deref(), d["got"].as_str(), "{name}");
-        }
-        let gtkw = std::fs::read_to_string(window.join("mismatch.gtkw")).expect("mismatch.gtkw");
-        assert!(gtkw.contains("[dumpfile] \"mismatch.vcd\""), "{gtkw}");
-        let marker = gtkw.lines().find(|l| l.starts_with('*')).expect("the marker line");
-        assert_eq!(marker.split_whitespace().nth(1), Some((k * period_ns).to_string().as_str()), "{marker}");
-        for line in gtkw.lines().filter(|l| !l.starts_with(['[', '*', '@', '-'])) {
-            let (scope, rest) = line.rsplit_once('.').expect("a signal path");
-            let leaf = rest.split('[').next().unwrap();
-            let scope = scope.rsplit('.').next().unwrap();
-            assert!(w.find_in_scope(scope, leaf).is_some(), "{line} is not in mismatch.vcd");
-        }
     }
 }
 
@@ -317,5 +308,105 @@ fn hdl_tooltouch_check_catches_a_broken_verilog_from_its_vcd() {
                 );
             }
         }
+    }
+}
+
+/// Checks `check`'s report of a mismatch (`code`, its output `text`, its `--json` value,
+/// its `--window` folder) against the testbench's first mismatch line `tb`: the same
+/// clock, every differing signal with its DUT path, the pins before it, the MCU read, and
+/// a window VCD and GTKWave file that show the mismatch at that clock.
+pub(crate) fn assert_mismatch_report(
+    what: &str,
+    code: Option<i32>,
+    text: &str,
+    json: &serde_json::Value,
+    tb: &str,
+    window: &Path,
+    period_ns: u64,
+) {
+    assert_eq!(code, Some(1), "{what}: {text}");
+    assert_eq!(json["verdict"], "mismatch");
+    let k = json["first_mismatch"]["cycle"]
+        .as_u64()
+        .expect("a first mismatch");
+    let differing = json["first_mismatch"]["signals"]
+        .as_array()
+        .unwrap()
+        .clone();
+    assert!(!differing.is_empty());
+    // The testbench's own first mismatch is the same clock.
+    assert!(
+        tb.starts_with(&format!("MISMATCH cycle {k} ")),
+        "testbench: {tb}; check: {text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "signals differing at cycle {k} ({} of 15)",
+            differing.len()
+        )),
+        "{text}"
+    );
+    for d in &differing {
+        let name = d["signal"].as_str().unwrap();
+        assert!(text.contains(&format!("tt_testbench.dut.{name}")), "{text}");
+    }
+    assert!(
+        text.contains("golden input pins of the clocks before it"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("  {k:>12} ")),
+        "the pin table reaches cycle {k}: {text}"
+    );
+    assert!(
+        text.contains(&format!("mcu_rdata at cycle {k}: ")) && text.contains("read at mcu_addr"),
+        "{text}"
+    );
+    // The window: golden and DUT side by side, `differs.<name>` 1 at clock K for each
+    // differing signal; the GTKWave file opens it with the marker on clock K.
+    let vcd = std::fs::read_to_string(window.join("mismatch.vcd")).expect("mismatch.vcd");
+    let w = tooltouch_vectors::vcd::Dump::parse(&vcd, "mismatch.vcd").expect("a VCD");
+    for d in &differing {
+        let name = d["signal"].as_str().unwrap();
+        let flag = w.find_in_scope("differs", name).expect("differs.<name>");
+        let at = |k: u64| {
+            w.value_at(&flag.id, k * period_ns * 1_000_000)
+                .and_then(|v| v.to_u64())
+        };
+        assert_eq!(at(k), Some(1), "differs.{name} at cycle {k}");
+        assert_eq!(at(k - 1), Some(0), "differs.{name} before cycle {k}");
+        let g = w
+            .find_in_scope("outputs", name)
+            .expect("golden.outputs.<name>");
+        let got = w.find_in_scope("dut", name).expect("dut.<name>");
+        let hex = |id: &str| {
+            w.value_at(id, k * period_ns * 1_000_000)
+                .map(|v| format!("0x{}", v.hex_digits()))
+        };
+        assert_eq!(hex(&g.id).as_deref(), d["expected"].as_str(), "{name}");
+        assert_eq!(hex(&got.id).as_deref(), d["got"].as_str(), "{name}");
+    }
+    let gtkw = std::fs::read_to_string(window.join("mismatch.gtkw")).expect("mismatch.gtkw");
+    assert!(gtkw.contains("[dumpfile] \"mismatch.vcd\""), "{gtkw}");
+    let marker = gtkw
+        .lines()
+        .find(|l| l.starts_with('*'))
+        .expect("the marker line");
+    assert_eq!(
+        marker.split_whitespace().nth(1),
+        Some((k * period_ns).to_string().as_str()),
+        "{marker}"
+    );
+    for line in gtkw
+        .lines()
+        .filter(|l| !l.starts_with(['[', '*', '@', '-']))
+    {
+        let (scope, rest) = line.rsplit_once('.').expect("a signal path");
+        let leaf = rest.split('[').next().unwrap();
+        let scope = scope.rsplit('.').next().unwrap();
+        assert!(
+            w.find_in_scope(scope, leaf).is_some(),
+            "{line} is not in mismatch.vcd"
+        );
     }
 }

@@ -6,10 +6,12 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod contract;
 mod cosim;
 mod faults;
 mod formal;
 mod lathe;
 mod lint;
 mod reference;
+mod stress;
 mod testbench_tools;

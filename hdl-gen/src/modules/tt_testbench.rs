@@ -246,11 +246,15 @@ module {TESTBENCH};
     reg        nostop;
     reg        ready = 1'b0; // the vectors are read and checked
 
+    reg [63:0] k_time;       // k*PERIOD ns: the time `tooltouch check` names clock k by
+
     task report(input [8*24-1:0] name, input [63:0] want, input [63:0] got);
         begin
+            k_time = k;
+            k_time = k_time * PERIOD;
             if (bad_cycles == 0 && bad_signals == 0)
-                $display("MISMATCH cycle %0d (time %0t ns): signal %0s expected 0x%0h got 0x%0h",
-                         k, $time, name, want, got);
+                $display("MISMATCH cycle %0d (time %0d ns): signal %0s expected 0x%0h got 0x%0h",
+                         k, k_time, name, want, got);
             bad_signals = bad_signals + 1;
         end
     endtask

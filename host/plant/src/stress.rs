@@ -97,7 +97,11 @@ impl Gen<'_> {
     }
 
     fn level(&mut self, bit: u8, on: bool) {
-        let new = if on { self.pins | bit } else { self.pins & !bit };
+        let new = if on {
+            self.pins | bit
+        } else {
+            self.pins & !bit
+        };
         if new != self.pins {
             self.set(new);
         }
@@ -180,7 +184,8 @@ impl Gen<'_> {
     /// there.
     fn steer(&mut self, target: u32, armed: bool, budget: u32) -> bool {
         let d = self.kernel.density();
-        let sticky = self.config.settings().contact_rule == ContactRule::Sticky && self.kernel.sticky();
+        let sticky =
+            self.config.settings().contact_rule == ContactRule::Sticky && self.kernel.sticky();
         let from = (d.charge(), d.armed(), sticky);
         let Some(path) = density_path(self.config, from, (target, armed), budget) else {
             return false;
@@ -208,7 +213,12 @@ fn density_step(config: &MeasureConfig, (q, armed): (u32, bool), bit: bool) -> (
         (ChargeLaw::Linear { charge_step, .. }, true) => q.saturating_add(charge_step).min(full),
         (ChargeLaw::Linear { discharge_step, .. }, false) => q.saturating_sub(discharge_step),
         (ChargeLaw::Exponential { charge_shift, .. }, true) => q + exp(full - q, charge_shift),
-        (ChargeLaw::Exponential { discharge_shift, .. }, false) => q - exp(q, discharge_shift),
+        (
+            ChargeLaw::Exponential {
+                discharge_shift, ..
+            },
+            false,
+        ) => q - exp(q, discharge_shift),
     };
     let armed = if armed {
         next < s.fire_threshold
@@ -235,7 +245,8 @@ fn density_path(
         return None;
     }
     let sticky_rule = config.settings().contact_rule == ContactRule::Sticky;
-    let index = |(q, a, st): (u32, bool, bool)| (q as usize) * 4 + usize::from(a) * 2 + usize::from(st);
+    let index =
+        |(q, a, st): (u32, bool, bool)| (q as usize) * 4 + usize::from(a) * 2 + usize::from(st);
     let states = (config.full_charge() as usize + 1) * 4;
     // Per state: the state it was reached from and the contact level of that pulse.
     let mut parent = vec![u32::MAX; states];
@@ -373,7 +384,10 @@ fn generate(
                 let back = g.pins;
                 let phase = g.phase;
                 let new = g.pins ^ bit;
-                g.phase = SCALE_PHASES.iter().position(|&p| p == new & (pin::SCALE_A | pin::SCALE_B)).unwrap_or(phase);
+                g.phase = SCALE_PHASES
+                    .iter()
+                    .position(|&p| p == new & (pin::SCALE_A | pin::SCALE_B))
+                    .unwrap_or(phase);
                 g.set(new);
                 let last = g.s.segments.len() - 1;
                 g.s.segments[last].cycles = u32::try_from(clocks).unwrap_or(u32::MAX);
@@ -402,7 +416,8 @@ fn generate(
                 for k in pair {
                     new = if k == 0 {
                         let stepped = g.scale_bits_after(true);
-                        (new & !(pin::SCALE_A | pin::SCALE_B)) | (stepped & (pin::SCALE_A | pin::SCALE_B))
+                        (new & !(pin::SCALE_A | pin::SCALE_B))
+                            | (stepped & (pin::SCALE_A | pin::SCALE_B))
                     } else {
                         new | k
                     };

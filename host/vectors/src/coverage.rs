@@ -49,7 +49,12 @@ impl Coverage {
     pub fn table(&self) -> String {
         let mut out = String::new();
         let mut group = "";
-        let wide = self.bins.iter().map(|b| b.name.chars().count()).max().unwrap_or(0);
+        let wide = self
+            .bins
+            .iter()
+            .map(|b| b.name.chars().count())
+            .max()
+            .unwrap_or(0);
         for b in &self.bins {
             if b.group != group {
                 out.push_str(&format!("{}:\n", b.group));
@@ -148,52 +153,212 @@ pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
         })
     }
     let pc = "pulse counter";
-    add(&mut bins, pc, "count exceeds i_def on the first pulse of a window".into(), na(s.i_def == 0, "needs i_def = 0"));
-    add(&mut bins, pc, "count exceeds i_def on the last pulse of a window".into(), None);
-    add(&mut bins, pc, format!("window ends with count i_def - 1 = {}", s.i_def.wrapping_sub(1)), na(s.i_def > 0, "i_def = 0"));
-    add(&mut bins, pc, format!("window ends with count i_def = {}", s.i_def), None);
-    add(&mut bins, pc, format!("window ends with count i_def + 1 = {}", s.i_def + 1), None);
-    add(&mut bins, pc, format!("contact pulse with the count saturated at {window}"), None);
+    add(
+        &mut bins,
+        pc,
+        "count exceeds i_def on the first pulse of a window".into(),
+        na(s.i_def == 0, "needs i_def = 0"),
+    );
+    add(
+        &mut bins,
+        pc,
+        "count exceeds i_def on the last pulse of a window".into(),
+        None,
+    );
+    add(
+        &mut bins,
+        pc,
+        format!(
+            "window ends with count i_def - 1 = {}",
+            s.i_def.wrapping_sub(1)
+        ),
+        na(s.i_def > 0, "i_def = 0"),
+    );
+    add(
+        &mut bins,
+        pc,
+        format!("window ends with count i_def = {}", s.i_def),
+        None,
+    );
+    add(
+        &mut bins,
+        pc,
+        format!("window ends with count i_def + 1 = {}", s.i_def + 1),
+        None,
+    );
+    add(
+        &mut bins,
+        pc,
+        format!("contact pulse with the count saturated at {window}"),
+        None,
+    );
     let ct = "contact rule";
-    add(&mut bins, ct, "pulse counts a contact seen only between pulses".into(), na(sticky, "sampled rule"));
-    add(&mut bins, ct, "sticky bit reloaded by a pulse while disarmed".into(), na(sticky, "sampled rule"));
+    add(
+        &mut bins,
+        ct,
+        "pulse counts a contact seen only between pulses".into(),
+        na(sticky, "sampled rule"),
+    );
+    add(
+        &mut bins,
+        ct,
+        "sticky bit reloaded by a pulse while disarmed".into(),
+        na(sticky, "sampled rule"),
+    );
     add(&mut bins, ct, "FES pulse while disarmed".into(), None);
     let dd = "density detector";
-    add(&mut bins, dd, format!("charge fire_threshold - 1 = {} while armed", fire - 1), na(fire > 1 && fire - 1 > rearm, "fire_threshold - 1 is the re-arm level"));
-    add(&mut bins, dd, format!("charge reaches fire_threshold = {fire} while armed (fires)"), None);
-    add(&mut bins, dd, format!("charge fire_threshold + 1 = {}", fire + 1), na(fire < full, "fire_threshold is full scale"));
-    add(&mut bins, dd, format!("charge rearm_threshold - 1 = {} while fired (re-arms)", rearm.wrapping_sub(1)), na(rearm > 0, "rearm_threshold = 0"));
-    add(&mut bins, dd, format!("charge rearm_threshold = {rearm} while fired (stays fired)"), None);
-    add(&mut bins, dd, format!("charge rearm_threshold + 1 = {}", rearm + 1), None);
-    add(&mut bins, dd, format!("contact pulse with the charge at full scale {full}"), None);
-    add(&mut bins, dd, "pulse without contact with the charge at 0".into(), None);
-    add(&mut bins, dd, "exponential charge step of 1 LSB near full scale".into(), na(exp, "linear law"));
-    add(&mut bins, dd, "exponential discharge step of 1 LSB near 0".into(), na(exp, "linear law"));
+    add(
+        &mut bins,
+        dd,
+        format!("charge fire_threshold - 1 = {} while armed", fire - 1),
+        na(
+            fire > 1 && fire - 1 > rearm,
+            "fire_threshold - 1 is the re-arm level",
+        ),
+    );
+    add(
+        &mut bins,
+        dd,
+        format!("charge reaches fire_threshold = {fire} while armed (fires)"),
+        None,
+    );
+    add(
+        &mut bins,
+        dd,
+        format!("charge fire_threshold + 1 = {}", fire + 1),
+        na(fire < full, "fire_threshold is full scale"),
+    );
+    add(
+        &mut bins,
+        dd,
+        format!(
+            "charge rearm_threshold - 1 = {} while fired (re-arms)",
+            rearm.wrapping_sub(1)
+        ),
+        na(rearm > 0, "rearm_threshold = 0"),
+    );
+    add(
+        &mut bins,
+        dd,
+        format!("charge rearm_threshold = {rearm} while fired (stays fired)"),
+        None,
+    );
+    add(
+        &mut bins,
+        dd,
+        format!("charge rearm_threshold + 1 = {}", rearm + 1),
+        None,
+    );
+    add(
+        &mut bins,
+        dd,
+        format!("contact pulse with the charge at full scale {full}"),
+        None,
+    );
+    add(
+        &mut bins,
+        dd,
+        "pulse without contact with the charge at 0".into(),
+        None,
+    );
+    add(
+        &mut bins,
+        dd,
+        "exponential charge step of 1 LSB near full scale".into(),
+        na(exp, "linear law"),
+    );
+    add(
+        &mut bins,
+        dd,
+        "exponential discharge step of 1 LSB near 0".into(),
+        na(exp, "linear law"),
+    );
     let de = "decision";
-    add(&mut bins, de, "decision when the charge fires".into(), na(method == DecisionMethod::Density, "not the density method"));
-    add(&mut bins, de, "decision at the first contact".into(), na(method == DecisionMethod::SinglePulse, "not the single-pulse method"));
+    add(
+        &mut bins,
+        de,
+        "decision when the charge fires".into(),
+        na(method == DecisionMethod::Density, "not the density method"),
+    );
+    add(
+        &mut bins,
+        de,
+        "decision at the first contact".into(),
+        na(
+            method == DecisionMethod::SinglePulse,
+            "not the single-pulse method",
+        ),
+    );
     add(&mut bins, de, "first contact latched".into(), None);
     let ar = "arm";
-    add(&mut bins, ar, "arm rising edge clears held latches".into(), None);
-    add(&mut bins, ar, "arm rises mid-window (counts to clear)".into(), None);
+    add(
+        &mut bins,
+        ar,
+        "arm rising edge clears held latches".into(),
+        None,
+    );
+    add(
+        &mut bins,
+        ar,
+        "arm rises mid-window (counts to clear)".into(),
+        None,
+    );
     add(&mut bins, ar, "arm falls mid-window (retract)".into(), None);
     let sc = "scale and counters";
     add(&mut bins, sc, "scale error (double change)".into(), None);
-    add(&mut bins, sc, "scale error with the error count saturated at 255".into(), None);
-    add(&mut bins, sc, format!("position wraps at {} bits", s.scale_bits), None);
-    add(&mut bins, sc, "FES pulse count wraps past 2^32 - 1".into(), None);
+    add(
+        &mut bins,
+        sc,
+        "scale error with the error count saturated at 255".into(),
+        None,
+    );
+    add(
+        &mut bins,
+        sc,
+        format!("position wraps at {} bits", s.scale_bits),
+        None,
+    );
+    add(
+        &mut bins,
+        sc,
+        "FES pulse count wraps past 2^32 - 1".into(),
+        None,
+    );
     add(&mut bins, sc, "revolutions held at 65535".into(), None);
-    add(&mut bins, sc, "reset mid-measurement".into(), Some("a pin stimulus has no reset: it is the testbench's `rst`".into()));
+    add(
+        &mut bins,
+        sc,
+        "reset mid-measurement".into(),
+        Some("a pin stimulus has no reset: it is the testbench's `rst`".into()),
+    );
     let pairs_at = bins.len();
     for i in 0..5 {
         for j in i + 1..5 {
-            add(&mut bins, "same-clock edges", format!("{} + {}", PAIR_NAMES[i], PAIR_NAMES[j]), None);
+            add(
+                &mut bins,
+                "same-clock edges",
+                format!("{} + {}", PAIR_NAMES[i], PAIR_NAMES[j]),
+                None,
+            );
         }
     }
     let glitch_at = bins.len();
     for name in pin::NAMES {
-        add(&mut bins, "glitch filter", format!("{name}: pulse of glitch_cycles = {g} clocks (rejected)"), na(g > 0, "glitch_cycles = 0"));
-        add(&mut bins, "glitch filter", format!("{name}: pulse of glitch_cycles + 1 = {} clocks (passes)", g + 1), None);
+        add(
+            &mut bins,
+            "glitch filter",
+            format!("{name}: pulse of glitch_cycles = {g} clocks (rejected)"),
+            na(g > 0, "glitch_cycles = 0"),
+        );
+        add(
+            &mut bins,
+            "glitch filter",
+            format!(
+                "{name}: pulse of glitch_cycles + 1 = {} clocks (passes)",
+                g + 1
+            ),
+            None,
+        );
     }
 
     let mut hit = |b: B| bins[b as usize].hits += 1;
@@ -240,7 +405,8 @@ pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
             let mut kinds = [false; 5];
             let mut events = Vec::with_capacity(5);
             edges.for_each_event(|e| events.push(e));
-            let double = edges.changed & (pin::SCALE_A | pin::SCALE_B) == pin::SCALE_A | pin::SCALE_B;
+            let double =
+                edges.changed & (pin::SCALE_A | pin::SCALE_B) == pin::SCALE_A | pin::SCALE_B;
             for e in events {
                 let pre = m;
                 m.apply(e);
@@ -361,7 +527,8 @@ pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
                                 hit(B::ExpStepEmpty);
                             }
                         }
-                        if method == DecisionMethod::Density && !po.register_now && qo.register_now {
+                        if method == DecisionMethod::Density && !po.register_now && qo.register_now
+                        {
                             hit(B::DensityDecision);
                         }
                     }

@@ -2,7 +2,10 @@
 //! opened as a stream, and compared like with like; an empty, unknown or mixed pair is bad
 //! input naming the file and its role.
 
-use super::{compare_output_sources, compare_vcd_sides_with, BadInput, CheckOptions, Report, VcdSide, Verdict};
+use super::{
+    compare_output_sources, compare_vcd_sides_with, BadInput, CheckOptions, Report, VcdSide,
+    Verdict,
+};
 use crate::vcd::{Changes, Value, VcdError, VcdReader};
 use std::io::{BufRead, BufReader};
 use std::path::Path;

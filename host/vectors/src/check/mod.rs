@@ -20,7 +20,6 @@ pub mod json;
 pub mod resolve;
 pub mod window;
 
-
 pub use files::{check_files, compare_files};
 
 use super::binary::{self, OutputReader, OutputRecord};
@@ -727,7 +726,8 @@ mod tests {
         assert_eq!(
             compare(&golden, &padded),
             Verdict::Match(
-                "OK: 3 cycles × 1 signals of e.vcd match d.vcd in DUT scope `tooltouch.outputs`".into()
+                "OK: 3 cycles × 1 signals of e.vcd match d.vcd in DUT scope `tooltouch.outputs`"
+                    .into()
             )
         );
         // Bit 99 missing at clock 2 (the low 64 bits agree): a mismatch naming both whole

@@ -78,7 +78,11 @@ pub fn resolve<'a>(
 ) -> Result<Resolution<'a>, BadInput> {
     // Scopes declaring golden names, with how many distinct names each declares.
     let mut scopes: Vec<(&[String], Vec<&str>)> = Vec::new();
-    for s in d.signals.iter().filter(|s| names.contains(&s.name.as_str())) {
+    for s in d
+        .signals
+        .iter()
+        .filter(|s| names.contains(&s.name.as_str()))
+    {
         match scopes.iter_mut().find(|(sc, _)| *sc == s.scope.as_slice()) {
             Some((_, held)) => {
                 if !held.contains(&s.name.as_str()) {
@@ -88,9 +92,8 @@ pub fn resolve<'a>(
             None => scopes.push((&s.scope, vec![&s.name])),
         }
     }
-    let describe = |sc: &[String], held: usize| {
-        format!("`{}` ({held} of {})", scope_text(sc), names.len())
-    };
+    let describe =
+        |sc: &[String], held: usize| format!("`{}` ({held} of {})", scope_text(sc), names.len());
     let scope: Vec<String> = match dut_scope {
         Some(given) => {
             let wanted: Vec<String> = given

@@ -223,7 +223,11 @@ pub fn add_details(
             let v = text(&g[r][p]);
             let v = v.strip_prefix("0x").unwrap_or(&v).to_string();
             let changed = r > 0 && g[r][p] != g[r - 1][p];
-            let _ = write!(line, " {:>8}", format!("{}{v}", if changed { "*" } else { "" }));
+            let _ = write!(
+                line,
+                " {:>8}",
+                format!("{}{v}", if changed { "*" } else { "" })
+            );
         }
         lines.push(line);
     }
@@ -234,21 +238,32 @@ pub fn add_details(
                 .matches
                 .iter()
                 .position(|m| name_of(m) == name)
-                .and_then(|i| number(&g[row][pins.len() + i]).map(|v| (v, report.matches[i].widths.0)))
+                .and_then(|i| {
+                    number(&g[row][pins.len() + i]).map(|v| (v, report.matches[i].widths.0))
+                })
         };
-        let register = number(addr).and_then(|a| MCU_REGISTERS.iter().find(|r| u64::from(r.addr) == a));
+        let register =
+            number(addr).and_then(|a| MCU_REGISTERS.iter().find(|r| u64::from(r.addr) == a));
         let want = number(addr).and_then(|a| mcu_expected(a, &golden_value, hash));
         lines.push(format!(
             "mcu_rdata at cycle {k}: {} read at mcu_addr {} ({}); the golden outputs give {}",
             text(rdata),
             text(addr),
-            register.map_or("no register: reads 0".to_string(), |r| format!("{}: {}", r.name, r.what)),
+            register.map_or("no register: reads 0".to_string(), |r| format!(
+                "{}: {}",
+                r.name, r.what
+            )),
             want.unwrap_or_else(|| "an unknown value".into())
         ));
     }
     if let Some(dir) = window_dir {
         let written = write_window(dir, &report.matches, &pins, &g, &d, &first, k0, period_fs)
-            .map_err(|e| BadInput(format!("writing the mismatch window into {}: {e:#}", dir.display())))?;
+            .map_err(|e| {
+                BadInput(format!(
+                    "writing the mismatch window into {}: {e:#}",
+                    dir.display()
+                ))
+            })?;
         lines.push(format!(
             "window: {} (clocks {k0}..={k1}, golden and DUT side by side); open with `gtkwave {}`",
             written.0.display(),
@@ -277,7 +292,12 @@ fn change(v: &Option<Value>, width: u32, id: &str) -> String {
         None => "x".to_string(),
         Some(v) if v.unknown => "x".to_string(),
         Some(v) => {
-            let mut b: String = v.bits.iter().rev().map(|b| if *b { '1' } else { '0' }).collect();
+            let mut b: String = v
+                .bits
+                .iter()
+                .rev()
+                .map(|b| if *b { '1' } else { '0' })
+                .collect();
             if b.is_empty() {
                 b.push('0');
             }
@@ -327,21 +347,45 @@ fn write_window(
     let mut cols: Vec<Col> = Vec::new();
     for p in pins {
         let name = p.rsplit('.').next().unwrap_or(p).to_string();
-        cols.push(Col { scope: "golden.inputs", name, width: 1 });
+        cols.push(Col {
+            scope: "golden.inputs",
+            name,
+            width: 1,
+        });
     }
     for (m, name) in matches.iter().zip(&names) {
-        cols.push(Col { scope: "golden.outputs", name: name.clone(), width: m.widths.0 });
+        cols.push(Col {
+            scope: "golden.outputs",
+            name: name.clone(),
+            width: m.widths.0,
+        });
     }
     for (m, name) in matches.iter().zip(&names) {
-        cols.push(Col { scope: "dut", name: name.clone(), width: m.widths.1 });
+        cols.push(Col {
+            scope: "dut",
+            name: name.clone(),
+            width: m.widths.1,
+        });
     }
     for name in &names {
-        cols.push(Col { scope: "differs", name: name.clone(), width: 1 });
+        cols.push(Col {
+            scope: "differs",
+            name: name.clone(),
+            width: 1,
+        });
     }
     let has_mcu = d.iter().any(|r| r[n].is_some());
     if has_mcu {
-        cols.push(Col { scope: "dut", name: "mcu_addr".into(), width: tooltouch_hdl_gen::MCU_ADDR_BITS });
-        cols.push(Col { scope: "dut", name: "mcu_rdata".into(), width: tooltouch_hdl_gen::MCU_DATA_BITS });
+        cols.push(Col {
+            scope: "dut",
+            name: "mcu_addr".into(),
+            width: tooltouch_hdl_gen::MCU_ADDR_BITS,
+        });
+        cols.push(Col {
+            scope: "dut",
+            name: "mcu_rdata".into(),
+            width: tooltouch_hdl_gen::MCU_DATA_BITS,
+        });
     }
     let row_values = |r: usize| -> Vec<Option<Value>> {
         let mut v: Vec<Option<Value>> = Vec::with_capacity(cols.len());
@@ -374,7 +418,14 @@ fn write_window(
             let _ = writeln!(vcd, "$scope module {s} $end");
             open.push(s);
         }
-        let _ = writeln!(vcd, "$var wire {} {} {}{} $end", c.width, code(i), c.name, range(c.width));
+        let _ = writeln!(
+            vcd,
+            "$var wire {} {} {}{} $end",
+            c.width,
+            code(i),
+            c.name,
+            range(c.width)
+        );
     }
     for _ in &open {
         vcd.push_str("$upscope $end\n");
@@ -405,12 +456,28 @@ fn write_window(
     // traces (`@28` binary for 1-bit, `@22` hex for vectors, `@200` a comment row).
     let marker = first.cycle * p_ns;
     let mut gtkw = String::new();
-    let _ = writeln!(gtkw, "[*] tooltouch check: first mismatch at cycle {} ({} ns)", first.cycle, first.time_ns);
+    let _ = writeln!(
+        gtkw,
+        "[*] tooltouch check: first mismatch at cycle {} ({} ns)",
+        first.cycle, first.time_ns
+    );
     let _ = writeln!(gtkw, "[dumpfile] \"mismatch.vcd\"");
     let _ = writeln!(gtkw, "[timestart] {}", k0 * p_ns);
-    let _ = writeln!(gtkw, "*-{:.6} {marker}{}", (p_ns.max(1) as f64).log2() + 2.0, " -1".repeat(26));
+    let _ = writeln!(
+        gtkw,
+        "*-{:.6} {marker}{}",
+        (p_ns.max(1) as f64).log2() + 2.0,
+        " -1".repeat(26)
+    );
     let sig = |scope: &str, name: &str, width: u32| {
-        format!("{scope}.{name}{}", if width > 1 { format!("[{}:0]", width - 1) } else { String::new() })
+        format!(
+            "{scope}.{name}{}",
+            if width > 1 {
+                format!("[{}:0]", width - 1)
+            } else {
+                String::new()
+            }
+        )
     };
     let differing: Vec<&str> = first.differing.iter().map(|d| d.signal.as_str()).collect();
     let _ = writeln!(gtkw, "@200\n-differing at cycle {}", first.cycle);
@@ -418,7 +485,12 @@ fn write_window(
         .iter()
         .zip(matches)
         .filter(|(nm, _)| differing.contains(&nm.as_str()))
-        .chain(names.iter().zip(matches).filter(|(nm, _)| !differing.contains(&nm.as_str())));
+        .chain(
+            names
+                .iter()
+                .zip(matches)
+                .filter(|(nm, _)| !differing.contains(&nm.as_str())),
+        );
     let mut others_started = false;
     for (name, m) in ordered {
         if !differing.contains(&name.as_str()) && !others_started {
@@ -426,18 +498,40 @@ fn write_window(
             others_started = true;
         }
         let fmt = |w: u32| if w > 1 { "@22" } else { "@28" };
-        let _ = writeln!(gtkw, "{}\n{}", fmt(m.widths.0), sig("golden.outputs", name, m.widths.0));
-        let _ = writeln!(gtkw, "{}\n{}", fmt(m.widths.1), sig("dut", name, m.widths.1));
+        let _ = writeln!(
+            gtkw,
+            "{}\n{}",
+            fmt(m.widths.0),
+            sig("golden.outputs", name, m.widths.0)
+        );
+        let _ = writeln!(
+            gtkw,
+            "{}\n{}",
+            fmt(m.widths.1),
+            sig("dut", name, m.widths.1)
+        );
         let _ = writeln!(gtkw, "@28\n{}", sig("differs", name, 1));
     }
     let _ = writeln!(gtkw, "@200\n-golden input pins");
     for p in pins {
-        let _ = writeln!(gtkw, "@28\n{}", sig("golden.inputs", p.rsplit('.').next().unwrap_or(p), 1));
+        let _ = writeln!(
+            gtkw,
+            "@28\n{}",
+            sig("golden.inputs", p.rsplit('.').next().unwrap_or(p), 1)
+        );
     }
     if has_mcu {
         let _ = writeln!(gtkw, "@200\n-DUT MCU port");
-        let _ = writeln!(gtkw, "@22\n{}", sig("dut", "mcu_addr", tooltouch_hdl_gen::MCU_ADDR_BITS));
-        let _ = writeln!(gtkw, "@22\n{}", sig("dut", "mcu_rdata", tooltouch_hdl_gen::MCU_DATA_BITS));
+        let _ = writeln!(
+            gtkw,
+            "@22\n{}",
+            sig("dut", "mcu_addr", tooltouch_hdl_gen::MCU_ADDR_BITS)
+        );
+        let _ = writeln!(
+            gtkw,
+            "@22\n{}",
+            sig("dut", "mcu_rdata", tooltouch_hdl_gen::MCU_DATA_BITS)
+        );
     }
     let gtkw_path = dir.join("mismatch.gtkw");
     crate::output::write_file(&gtkw_path, gtkw.as_bytes())?;
