@@ -136,7 +136,8 @@ mod tests {
     fn a_fault_changes_the_text() {
         let c = MeasureConfig::default();
         let good = generate(&c, &Options::default());
-        for fault in [Fault::FesBeforeIndex, Fault::FireThresholdPlusOne] {
+        for fault in Fault::ALL {
+            assert!(fault.applies_to(&c), "{fault:?} at the default");
             assert_ne!(
                 good,
                 generate(

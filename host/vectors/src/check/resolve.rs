@@ -202,3 +202,60 @@ pub fn resolve<'a>(
     }
     Ok(Resolution { scope, signals })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vcd::VcdReader;
+
+    fn declarations(scopes: &[(&str, &[&str])]) -> Declarations {
+        let mut text = String::new();
+        let mut code = 0u8;
+        for (scope, names) in scopes {
+            for part in scope.split('.') {
+                text.push_str(&format!("$scope module {part} $end\n"));
+            }
+            for n in *names {
+                text.push_str(&format!("$var wire 1 {} {n} $end\n", char::from(b'!' + code)));
+                code += 1;
+            }
+            for _ in scope.split('.') {
+                text.push_str("$upscope $end\n");
+            }
+        }
+        text.push_str("$enddefinitions $end\n");
+        VcdReader::new(text.as_bytes(), "d.vcd")
+            .unwrap()
+            .declarations()
+            .clone()
+    }
+
+    #[test]
+    fn the_top_scope_is_the_shallowest_then_the_fullest() {
+        let d = declarations(&[
+            ("tb.dut", &["a", "b"]),
+            ("tb.dut.inner", &["a", "b"]),
+            ("tb.pins", &["a"]),
+        ]);
+        let r = resolve(&["a", "b"], &d, None, "d.vcd").unwrap();
+        assert_eq!(r.scope_text(), "tb.dut");
+        assert_eq!(path_of(r.signals[1]), "tb.dut.b");
+        // Named explicitly, an inner scope is taken as asked.
+        let r = resolve(&["a", "b"], &d, Some("tb.dut.inner"), "d.vcd").unwrap();
+        assert_eq!(path_of(r.signals[0]), "tb.dut.inner.a");
+    }
+
+    #[test]
+    fn an_equal_tie_is_ambiguous_and_lists_both() {
+        let d = declarations(&[("tb.u1", &["a", "b"]), ("tb.u2", &["a", "b"])]);
+        let e = resolve(&["a", "b"], &d, None, "d.vcd").unwrap_err().0;
+        assert!(e.contains("ambiguous") && e.contains("`tb.u1` (2 of 2)") && e.contains("`tb.u2` (2 of 2)"), "{e}");
+    }
+
+    #[test]
+    fn a_name_only_inside_is_refused_with_where_it_is() {
+        let d = declarations(&[("tb.dut", &["a"]), ("tb.dut.inner", &["a", "b"])]);
+        let e = resolve(&["a", "b"], &d, None, "d.vcd").unwrap_err().0;
+        assert!(e.contains("no signal named `b`") && e.contains("`tb.dut.inner.b`") && e.contains("not compared"), "{e}");
+    }
+}
