@@ -250,8 +250,7 @@ module {TESTBENCH};
 
     task report(input [8*24-1:0] name, input [63:0] want, input [63:0] got);
         begin
-            k_time = k;
-            k_time = k_time * PERIOD;
+            k_time = {{32'd0, k}} * {{32'd0, PERIOD}};
             if (bad_cycles == 0 && bad_signals == 0)
                 $display("MISMATCH cycle %0d (time %0d ns): signal %0s expected 0x%0h got 0x%0h",
                          k, k_time, name, want, got);

@@ -207,9 +207,10 @@ pub fn add_details(
             dif.signal, dif.expected, dif.got
         ));
     }
-    lines.push(format!(
+    lines.push(
         "golden input pins of the clocks before it (an output at clock k follows the pins of clock k − 3 − glitch_cycles; * = changed):"
-    ));
+            .to_string(),
+    );
     let mut header = format!("  {:>12}", "cycle");
     for n in pin::NAMES {
         let _ = write!(header, " {n:>8}");
