@@ -483,7 +483,7 @@ fn generate(
     let directed_end = g.kernel;
 
     // The constrained-random tail.
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_0f_7a11);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x005e_ed0f_7a11);
     if size.random_cycles > 0 {
         let tail = random_stimulus(&mut rng, config, clock_hz, size.random_cycles);
         for seg in tail.segments {

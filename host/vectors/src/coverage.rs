@@ -332,12 +332,12 @@ pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
         Some("a pin stimulus has no reset: it is the testbench's `rst`".into()),
     );
     let pairs_at = bins.len();
-    for i in 0..5 {
-        for j in i + 1..5 {
+    for (i, first) in PAIR_NAMES.iter().enumerate() {
+        for second in &PAIR_NAMES[i + 1..] {
             add(
                 &mut bins,
                 "same-clock edges",
-                format!("{} + {}", PAIR_NAMES[i], PAIR_NAMES[j]),
+                format!("{first} + {second}"),
                 None,
             );
         }

@@ -131,6 +131,9 @@ pub struct VcdSide<'a> {
     pub changes: &'a mut dyn Changes,
 }
 
+/// A differing output at the first mismatching clock: its slot, golden and DUT values.
+type Difference = (usize, Option<Value>, Option<Value>);
+
 /// A compared output: the golden signal.
 struct Compared<'a> {
     golden: &'a Signal,
@@ -263,7 +266,7 @@ pub fn compare_vcd_sides_with(
     let mut dv: Vec<Option<Value>> = vec![None; n];
     let mut differs = vec![true; n];
     let mut differing = n;
-    let mut first: Option<(u64, Vec<(usize, Option<Value>, Option<Value>)>)> = None;
+    let mut first: Option<(u64, Vec<Difference>)> = None;
     let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
 
     let mut ec = Cursor {

@@ -216,7 +216,10 @@ mod tests {
                 text.push_str(&format!("$scope module {part} $end\n"));
             }
             for n in *names {
-                text.push_str(&format!("$var wire 1 {} {n} $end\n", char::from(b'!' + code)));
+                text.push_str(&format!(
+                    "$var wire 1 {} {n} $end\n",
+                    char::from(b'!' + code)
+                ));
                 code += 1;
             }
             for _ in scope.split('.') {
@@ -249,13 +252,23 @@ mod tests {
     fn an_equal_tie_is_ambiguous_and_lists_both() {
         let d = declarations(&[("tb.u1", &["a", "b"]), ("tb.u2", &["a", "b"])]);
         let e = resolve(&["a", "b"], &d, None, "d.vcd").unwrap_err().0;
-        assert!(e.contains("ambiguous") && e.contains("`tb.u1` (2 of 2)") && e.contains("`tb.u2` (2 of 2)"), "{e}");
+        assert!(
+            e.contains("ambiguous")
+                && e.contains("`tb.u1` (2 of 2)")
+                && e.contains("`tb.u2` (2 of 2)"),
+            "{e}"
+        );
     }
 
     #[test]
     fn a_name_only_inside_is_refused_with_where_it_is() {
         let d = declarations(&[("tb.dut", &["a"]), ("tb.dut.inner", &["a", "b"])]);
         let e = resolve(&["a", "b"], &d, None, "d.vcd").unwrap_err().0;
-        assert!(e.contains("no signal named `b`") && e.contains("`tb.dut.inner.b`") && e.contains("not compared"), "{e}");
+        assert!(
+            e.contains("no signal named `b`")
+                && e.contains("`tb.dut.inner.b`")
+                && e.contains("not compared"),
+            "{e}"
+        );
     }
 }

@@ -220,10 +220,10 @@ pub fn add_details(
     for c in from..=k {
         let r = (c - k0) as usize;
         let mut line = format!("  {c:>12}");
-        for p in 0..pin::COUNT {
-            let v = text(&g[r][p]);
+        for (p, value) in g[r].iter().take(pin::COUNT).enumerate() {
+            let v = text(value);
             let v = v.strip_prefix("0x").unwrap_or(&v).to_string();
-            let changed = r > 0 && g[r][p] != g[r - 1][p];
+            let changed = r > 0 && *value != g[r - 1][p];
             let _ = write!(
                 line,
                 " {:>8}",
