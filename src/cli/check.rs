@@ -35,23 +35,30 @@ pub struct Args {
     #[arg(long, value_name = "SCOPE")]
     pub dut_scope: Option<String>,
     /// Also write the verdict, the signals matched and the first mismatch as JSON to FILE
-    /// (for CI), whatever the exit code.
-    #[arg(long, value_name = "FILE")]
+    /// (for CI) when the comparison ran (exit 0 or 1; bad input writes nothing).
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub json: Option<PathBuf>,
-    /// On a VCD mismatch, write `mismatch.vcd` (golden and DUT side by side around the first
-    /// mismatching clock) and `mismatch.gtkw` (GTKWave, cursor on it) into DIR.
-    #[arg(long, value_name = "DIR")]
+    /// On a VCD mismatch, write FILE, a VCD of golden and DUT side by side around the first
+    /// mismatching clock, and beside it FILE with the extension `.gtkw`, a GTKWave save file
+    /// with the cursor on it.
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub window: Option<PathBuf>,
 }
 
 /// Runs `tooltouch check`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    for path in args.json.iter().chain(&args.window) {
+        if let Err(e) = tooltouch_vectors::output::check_output_file(path) {
+            eprintln!("error: {e:#}");
+            return Ok(ExitCode::from(2));
+        }
+    }
     let options = CheckOptions {
         dut_scope: args.dut_scope.clone(),
-        window_dir: args.window.clone(),
+        window: args.window.clone(),
     };
     let result = check_files(&args.expected, &args.dut, &options);
-    if let Some(path) = &args.json {
+    if let (Some(path), Ok(_)) = (&args.json, &result) {
         let json = tooltouch_vectors::check::json::report_json(&args.expected, &args.dut, &result);
         tooltouch_vectors::output::write_file(path, json.as_bytes())?;
     }

@@ -21,12 +21,15 @@ pub struct Args {
     #[arg(long)]
     pub clock_hz: Option<u32>,
     /// Also write the bins as JSON to FILE.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub json: Option<PathBuf>,
 }
 
 /// Runs `tooltouch coverage`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    if let Some(path) = &args.json {
+        tooltouch_vectors::output::check_output_file(path)?;
+    }
     let settings = load_settings(args.config.as_deref(), args.clock_hz)?;
     let (set, _) = golden_set_of(&args.stimulus, &settings, args.config.is_some())?;
     let Some(cycle) = &set.cycle else {

@@ -196,7 +196,7 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
         .expect("cosim");
         let dut = dir.join("case0/dut.vcd");
         let json_path = dir.join("check.json");
-        let window = dir.join("window");
+        let window = dir.join("mismatch.vcd");
         let (code, text) = check_with(
             &golden,
             &dut,
@@ -364,7 +364,7 @@ pub(crate) fn assert_mismatch_report(
     );
     // The window: golden and DUT side by side, `differs.<name>` 1 at clock K for each
     // differing signal; the GTKWave file opens it with the marker on clock K.
-    let vcd = std::fs::read_to_string(window.join("mismatch.vcd")).expect("mismatch.vcd");
+    let vcd = std::fs::read_to_string(window).expect("mismatch.vcd");
     let w = tooltouch_vectors::vcd::Dump::parse(&vcd, "mismatch.vcd").expect("a VCD");
     for d in &differing {
         let name = d["signal"].as_str().unwrap();
@@ -386,7 +386,7 @@ pub(crate) fn assert_mismatch_report(
         assert_eq!(hex(&g.id).as_deref(), d["expected"].as_str(), "{name}");
         assert_eq!(hex(&got.id).as_deref(), d["got"].as_str(), "{name}");
     }
-    let gtkw = std::fs::read_to_string(window.join("mismatch.gtkw")).expect("mismatch.gtkw");
+    let gtkw = std::fs::read_to_string(window.with_extension("gtkw")).expect("mismatch.gtkw");
     assert!(gtkw.contains("[dumpfile] \"mismatch.vcd\""), "{gtkw}");
     let marker = gtkw
         .lines()

@@ -141,7 +141,7 @@ fn hdl_stress_vectors_catch_every_fault() {
                 let run = &report.runs[0];
                 let dut = run_dir.join("case0/dut.vcd");
                 let json_path = run_dir.join("check.json");
-                let window = run_dir.join("window");
+                let window = run_dir.join("mismatch.vcd");
                 let (code, text) = check_with(
                     &golden,
                     &dut,

@@ -79,7 +79,7 @@ pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
 }
 
 /// [`compare_files`] with options, returning the whole [`Report`]: for a VCD mismatch
-/// also the report's lines and, with [`CheckOptions::window_dir`], its window files.
+/// also the report's lines and, with [`CheckOptions::window`], its window files.
 pub fn check_files(
     expected: &Path,
     dut: &Path,
@@ -132,12 +132,7 @@ pub fn check_files(
             let mut report = verdict;
             if report.first.is_some() {
                 drop((e, d));
-                super::window::add_details(
-                    expected,
-                    dut,
-                    &mut report,
-                    options.window_dir.as_deref(),
-                )?;
+                super::window::add_details(expected, dut, &mut report, options.window.as_deref())?;
             }
             Ok(report)
         }

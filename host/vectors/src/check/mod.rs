@@ -41,8 +41,9 @@ pub struct CheckOptions {
     /// The DUT's top scope in a VCD, a dotted path (`tt_testbench.dut`); `None`: the
     /// shallowest scope declaring golden outputs ([`resolve`]).
     pub dut_scope: Option<String>,
-    /// Where to write the mismatch window (`mismatch.vcd`, `mismatch.gtkw`), if anywhere.
-    pub window_dir: Option<std::path::PathBuf>,
+    /// Where to write the mismatch window's VCD, if anywhere (its GTKWave save file goes
+    /// beside it, extension `.gtkw`).
+    pub window: Option<std::path::PathBuf>,
 }
 
 /// One golden output and the DUT signal compared with it.

@@ -8,10 +8,10 @@
 //! - when the DUT's top scope has `mcu_addr` and `mcu_rdata` (the generated `tt_frontend`'s
 //!   MCU port), the word read at `K`, its address, the register it names
 //!   (`tooltouch_hdl_gen::MCU_REGISTERS`) and the word the golden outputs give there;
-//! - with a window folder: `mismatch.vcd`, clocks `K − WINDOW_BEFORE … K + WINDOW_AFTER` of
+//! - with a window file: a VCD of clocks `K − WINDOW_BEFORE … K + WINDOW_AFTER` of
 //!   golden (`golden.inputs`, `golden.outputs`) and DUT (`dut`, under the golden names,
 //!   plus its MCU port) side by side, with a 1-bit `differs.<name>` per output, every value
-//!   at `k·P`; and `mismatch.gtkw`, a GTKWave save file that opens it with golden, DUT and
+//!   at `k·P`; and beside it (extension `.gtkw`) a GTKWave save file that opens it with golden, DUT and
 //!   difference of each output grouped and the cursor (primary marker) on clock `K`.
 
 use super::resolve::path_of;
@@ -131,13 +131,13 @@ fn mcu_expected(addr: u64, g: &dyn Fn(&str) -> Option<(u64, u32)>, hash: u64) ->
     Some(format!("0x{word:x}"))
 }
 
-/// Adds the mismatch report's lines to `report` (and writes the window files into
-/// `window_dir` when given). `expected`, `dut`: the files compared.
+/// Adds the mismatch report's lines to `report` (and writes the window VCD at `window`,
+/// its GTKWave file beside it, when given). `expected`, `dut`: the files compared.
 pub fn add_details(
     expected: &Path,
     dut: &Path,
     report: &mut Report,
-    window_dir: Option<&Path>,
+    window: Option<&Path>,
 ) -> Result<(), BadInput> {
     let Some(first) = report.first.clone() else {
         return Ok(());
@@ -257,12 +257,12 @@ pub fn add_details(
             want.unwrap_or_else(|| "an unknown value".into())
         ));
     }
-    if let Some(dir) = window_dir {
-        let written = write_window(dir, &report.matches, &pins, &g, &d, &first, k0, period_fs)
+    if let Some(path) = window {
+        let written = write_window(path, &report.matches, &pins, &g, &d, &first, k0, period_fs)
             .map_err(|e| {
                 BadInput(format!(
-                    "writing the mismatch window into {}: {e:#}",
-                    dir.display()
+                    "writing the mismatch window {}: {e:#}",
+                    path.display()
                 ))
             })?;
         lines.push(format!(
@@ -320,10 +320,11 @@ fn range(width: u32) -> String {
     }
 }
 
-/// Writes `mismatch.vcd` and `mismatch.gtkw` into `dir`; returns their paths.
+/// Writes the window VCD at `vcd_path` and its GTKWave save file beside it (extension
+/// `.gtkw`); returns their paths.
 #[allow(clippy::too_many_arguments)]
 fn write_window(
-    dir: &Path,
+    vcd_path: &Path,
     matches: &[super::SignalMatch],
     pins: &[String],
     g: &[Vec<Option<Value>>],
@@ -332,7 +333,6 @@ fn write_window(
     k0: u64,
     period_fs: u64,
 ) -> anyhow::Result<(std::path::PathBuf, std::path::PathBuf)> {
-    std::fs::create_dir_all(dir)?;
     let p_ns = period_fs / 1_000_000;
     let names: Vec<String> = matches
         .iter()
@@ -450,8 +450,10 @@ fn write_window(
         last = Some(now);
     }
     let _ = writeln!(vcd, "#{}", (k0 + g.len() as u64) * p_ns);
-    let vcd_path = dir.join("mismatch.vcd");
-    crate::output::write_file(&vcd_path, vcd.as_bytes())?;
+    crate::output::write_file(vcd_path, vcd.as_bytes())?;
+    let vcd_name = vcd_path
+        .file_name()
+        .map_or_else(|| "window.vcd".into(), |n| n.to_string_lossy().into_owned());
 
     // GTKWave save file: the dump, the time range, the primary marker on clock K, then the
     // traces (`@28` binary for 1-bit, `@22` hex for vectors, `@200` a comment row).
@@ -462,7 +464,7 @@ fn write_window(
         "[*] tooltouch check: first mismatch at cycle {} ({} ns)",
         first.cycle, first.time_ns
     );
-    let _ = writeln!(gtkw, "[dumpfile] \"mismatch.vcd\"");
+    let _ = writeln!(gtkw, "[dumpfile] \"{vcd_name}\"");
     let _ = writeln!(gtkw, "[timestart] {}", k0 * p_ns);
     let _ = writeln!(
         gtkw,
@@ -534,7 +536,7 @@ fn write_window(
             sig("dut", "mcu_rdata", tooltouch_hdl_gen::MCU_DATA_BITS)
         );
     }
-    let gtkw_path = dir.join("mismatch.gtkw");
+    let gtkw_path = vcd_path.with_extension("gtkw");
     crate::output::write_file(&gtkw_path, gtkw.as_bytes())?;
-    Ok((vcd_path, gtkw_path))
+    Ok((vcd_path.to_path_buf(), gtkw_path))
 }
