@@ -2,6 +2,9 @@
 //! [`Options`], and the generated files. A leaf module (re-exported at the crate root), so
 //! the emitter and the per-module generators use these types without importing the root.
 
+use tooltouch_model::measure::config::ChargeLaw;
+use tooltouch_model::MeasureConfig;
+
 /// Name of the simulation top module (and of its file, `tt_frontend.v`): every output a
 /// port, compared by the testbench.
 pub const TOP: &str = "tt_frontend";
@@ -22,6 +25,117 @@ pub enum Fault {
     FesBeforeIndex,
     /// The density detector's fire threshold is one LSB higher than configured.
     FireThresholdPlusOne,
+    /// The density detector's fire threshold is one LSB lower than configured.
+    FireThresholdMinusOne,
+    /// The re-arm threshold is one LSB higher than configured.
+    RearmThresholdPlusOne,
+    /// The re-arm threshold is one LSB lower than configured.
+    RearmThresholdMinusOne,
+    /// The pulse counter decides above `i_def + 1`.
+    IdefPlusOne,
+    /// The pulse counter decides above `i_def − 1`.
+    IdefMinusOne,
+    /// The glitch filter waits one clock more (`glitch_cycles + 1`).
+    GlitchFilterPlusOne,
+    /// The glitch filter waits one clock less (`glitch_cycles − 1`).
+    GlitchFilterMinusOne,
+    /// The charge step is one more: `charge_step + 1` (linear law) or `charge_shift + 1`
+    /// (exponential law).
+    ChargeStepPlusOne,
+    /// The charge step is one less (`charge_step − 1` or `charge_shift − 1`).
+    ChargeStepMinusOne,
+    /// The discharge step is one more (`discharge_step + 1` or `discharge_shift + 1`).
+    DischargeStepPlusOne,
+    /// The discharge step is one less (`discharge_step − 1` or `discharge_shift − 1`).
+    DischargeStepMinusOne,
+    /// The sticky bit is reloaded by FES pulses only while armed (the model reloads it on
+    /// every pulse).
+    StickyNotReloadedWhileDisarmed,
+    /// The first-contact latch is not cleared by an arm rising edge.
+    LatchNotClearedByArm,
+}
+
+impl Fault {
+    /// Every injected fault (not [`Fault::None`]), so a test of the checkers covers each.
+    pub const ALL: [Fault; 15] = [
+        Fault::FesBeforeIndex,
+        Fault::FireThresholdPlusOne,
+        Fault::FireThresholdMinusOne,
+        Fault::RearmThresholdPlusOne,
+        Fault::RearmThresholdMinusOne,
+        Fault::IdefPlusOne,
+        Fault::IdefMinusOne,
+        Fault::GlitchFilterPlusOne,
+        Fault::GlitchFilterMinusOne,
+        Fault::ChargeStepPlusOne,
+        Fault::ChargeStepMinusOne,
+        Fault::DischargeStepPlusOne,
+        Fault::DischargeStepMinusOne,
+        Fault::StickyNotReloadedWhileDisarmed,
+        Fault::LatchNotClearedByArm,
+    ];
+
+    /// For a fault that is one parameter off by one: the settings the design is written
+    /// from (its configuration hash stays the configured one), `None` when the fault is
+    /// not of that kind or the changed value leaves the valid range at `config` (see
+    /// [`Fault::applies_to`]).
+    pub fn mutated(self, config: &MeasureConfig) -> Option<MeasureConfig> {
+        let mut s = *config.settings();
+        let plus = |v: u32| v.checked_add(1);
+        let minus = |v: u32| v.checked_sub(1);
+        let step =
+            |law: &mut ChargeLaw, charge: bool, f: &dyn Fn(u32) -> Option<u32>| -> Option<()> {
+                match law {
+                    ChargeLaw::Linear {
+                        charge_step,
+                        discharge_step,
+                    } => {
+                        let v = if charge { charge_step } else { discharge_step };
+                        *v = f(*v)?;
+                    }
+                    ChargeLaw::Exponential {
+                        charge_shift,
+                        discharge_shift,
+                    } => {
+                        let v = if charge {
+                            charge_shift
+                        } else {
+                            discharge_shift
+                        };
+                        *v = u8::try_from(f(u32::from(*v))?).ok()?;
+                    }
+                }
+                Some(())
+            };
+        match self {
+            Fault::FireThresholdMinusOne => s.fire_threshold = minus(s.fire_threshold)?,
+            Fault::RearmThresholdPlusOne => s.rearm_threshold = plus(s.rearm_threshold)?,
+            Fault::RearmThresholdMinusOne => s.rearm_threshold = minus(s.rearm_threshold)?,
+            Fault::IdefPlusOne => s.i_def = plus(s.i_def)?,
+            Fault::IdefMinusOne => s.i_def = minus(s.i_def)?,
+            Fault::GlitchFilterPlusOne => s.glitch_cycles = s.glitch_cycles.checked_add(1)?,
+            Fault::GlitchFilterMinusOne => s.glitch_cycles = s.glitch_cycles.checked_sub(1)?,
+            Fault::ChargeStepPlusOne => step(&mut s.charge_law, true, &plus)?,
+            Fault::ChargeStepMinusOne => step(&mut s.charge_law, true, &minus)?,
+            Fault::DischargeStepPlusOne => step(&mut s.charge_law, false, &plus)?,
+            Fault::DischargeStepMinusOne => step(&mut s.charge_law, false, &minus)?,
+            _ => return None,
+        }
+        s.validate().ok()
+    }
+
+    /// Whether the fault can be injected at `config` (a parameter fault whose changed value
+    /// is still valid, e.g. not `GlitchFilterMinusOne` at `glitch_cycles = 0`).
+    pub fn applies_to(self, config: &MeasureConfig) -> bool {
+        match self {
+            Fault::None
+            | Fault::FesBeforeIndex
+            | Fault::FireThresholdPlusOne
+            | Fault::StickyNotReloadedWhileDisarmed
+            | Fault::LatchNotClearedByArm => true,
+            _ => self.mutated(config).is_some(),
+        }
+    }
 }
 
 /// Generation options.

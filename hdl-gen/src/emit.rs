@@ -17,6 +17,9 @@ pub(crate) struct Context {
     pub(crate) fault: Fault,
     /// The MCU can read the diagnostic counters.
     pub(crate) mcu_diagnostics: bool,
+    /// The configured configuration's hash (the MCU's `CONFIG_HASH`), also when a
+    /// parameter fault writes the design from other settings ([`Fault::mutated`]).
+    pub(crate) hash: u64,
     /// The configuration hash, 16 hex digits.
     header_hash: String,
     /// [`describe`] of the configuration.
@@ -26,9 +29,10 @@ pub(crate) struct Context {
 impl Context {
     pub(crate) fn new(config: &MeasureConfig, options: &Options) -> Self {
         Context {
-            config: *config,
+            config: options.fault.mutated(config).unwrap_or(*config),
             fault: options.fault,
             mcu_diagnostics: options.mcu_diagnostics,
+            hash: config.hash(),
             header_hash: format!("{:016x}", config.hash()),
             summary: describe(config),
         }

@@ -62,6 +62,7 @@
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
+mod config_include;
 mod design;
 mod emit;
 pub mod formal;
@@ -71,6 +72,7 @@ mod outputs;
 
 use tooltouch_model::MeasureConfig;
 
+pub use config_include::{config_include, CONFIG_INCLUDE};
 pub use design::{Design, Fault, Options, VerilogFile, FPGA_TOP, TOP};
 pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
 pub use modules::tt_frontend_ref::{reference, REFERENCE_TOP};
@@ -134,7 +136,8 @@ mod tests {
     fn a_fault_changes_the_text() {
         let c = MeasureConfig::default();
         let good = generate(&c, &Options::default());
-        for fault in [Fault::FesBeforeIndex, Fault::FireThresholdPlusOne] {
+        for fault in Fault::ALL {
+            assert!(fault.applies_to(&c), "{fault:?} at the default");
             assert_ne!(
                 good,
                 generate(

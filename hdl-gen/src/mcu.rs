@@ -43,8 +43,8 @@ pub const MCU_REGISTERS: [McuRegister; 12] = [
 /// The MCU read mux: an `always @*` block with one `case (mcu_addr)` arm per register of
 /// [`MCU_REGISTERS`] (`<addr>: mcu_rdata = <word>;  // <name>`) over the output signals
 /// themselves, 0 at any other address. The design and the reference share it.
-pub(crate) fn mcu_read_mux(config: &MeasureConfig, diagnostics: bool) -> String {
-    let words = mcu_words(config, "", diagnostics);
+pub(crate) fn mcu_read_mux(config: &MeasureConfig, hash: u64, diagnostics: bool) -> String {
+    let words = mcu_words(config, hash, "", diagnostics);
     let arms: String = MCU_REGISTERS
         .iter()
         .zip(words.iter())
@@ -66,7 +66,12 @@ pub(crate) fn mcu_read_mux(config: &MeasureConfig, diagnostics: bool) -> String 
 /// signals named as [`crate::output_fields`] with `prefix` prepended (a diagnostic word is a zero
 /// constant unless `diagnostics`). The DUT's read mux and the testbench's reference use
 /// this one table.
-pub(crate) fn mcu_words(config: &MeasureConfig, prefix: &str, diagnostics: bool) -> [String; 12] {
+pub(crate) fn mcu_words(
+    config: &MeasureConfig,
+    hash: u64,
+    prefix: &str,
+    diagnostics: bool,
+) -> [String; 12] {
     let s = config.settings();
     let sb = u32::from(s.scale_bits);
     let p = |n: &str| format!("{prefix}{n}");
@@ -91,7 +96,6 @@ pub(crate) fn mcu_words(config: &MeasureConfig, prefix: &str, diagnostics: bool)
         }
     };
     let cb = u32::from(config.count_bits());
-    let hash = config.hash();
     let words = [
         format!(
             "{{26'd0, {}, {}, {}, {}, {}, {}}}",

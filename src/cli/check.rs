@@ -9,7 +9,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use tooltouch_vectors::check::{compare_files, Verdict};
+use tooltouch_vectors::check::{check_files, CheckOptions, Report, Verdict};
 
 /// Arguments of `tooltouch check`.
 #[derive(clap::Args, Debug)]
@@ -24,22 +24,61 @@ pub struct Args {
     /// `*.outputs.ttv`).
     #[arg(long)]
     pub expected: PathBuf,
-    /// Device-under-test trace: a VCD of any tool (signals matched by leaf name), or a
-    /// binary Outputs stream (measurement or force outputs, or the firmware's own trace
-    /// with its profile and status records).
+    /// Device-under-test trace: a VCD of any tool (each golden output matched with the
+    /// signal of its name in the DUT's top scope), or a binary Outputs stream (measurement
+    /// or force outputs, or the firmware's own trace with its profile and status records).
     #[arg(long)]
     pub dut: PathBuf,
+    /// The DUT's top scope in a VCD, a dotted path such as `tt_testbench.dut` (default:
+    /// the shallowest scope declaring golden outputs). Its ports are compared, never a
+    /// signal deeper down.
+    #[arg(long, value_name = "SCOPE")]
+    pub dut_scope: Option<String>,
+    /// Also write the verdict, the signals matched and the first mismatch as JSON to FILE
+    /// (for CI) when the comparison ran (exit 0 or 1; bad input writes nothing).
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
+    pub json: Option<PathBuf>,
+    /// On a VCD mismatch, write FILE, a VCD of golden and DUT side by side around the first
+    /// mismatching clock, and beside it FILE with the extension `.gtkw`, a GTKWave save file
+    /// with the cursor on it.
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
+    pub window: Option<PathBuf>,
 }
 
 /// Runs `tooltouch check`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    match compare_files(&args.expected, &args.dut) {
-        Ok(Verdict::Match(line)) => {
+    for path in args.json.iter().chain(&args.window) {
+        if let Err(e) = tooltouch_vectors::output::check_output_file(path) {
+            eprintln!("error: {e:#}");
+            return Ok(ExitCode::from(2));
+        }
+    }
+    let options = CheckOptions {
+        dut_scope: args.dut_scope.clone(),
+        window: args.window.clone(),
+    };
+    let result = check_files(&args.expected, &args.dut, &options);
+    if let (Some(path), Ok(_)) = (&args.json, &result) {
+        let json = tooltouch_vectors::check::json::report_json(&args.expected, &args.dut, &result);
+        tooltouch_vectors::output::write_file(path, json.as_bytes())?;
+    }
+    match result {
+        Ok(Report {
+            verdict: Verdict::Match(line),
+            ..
+        }) => {
             outln!("{line}");
             Ok(ExitCode::SUCCESS)
         }
-        Ok(Verdict::Mismatch(line)) => {
+        Ok(Report {
+            verdict: Verdict::Mismatch(line),
+            details,
+            ..
+        }) => {
             outln!("MISMATCH: {line}");
+            for d in details {
+                outln!("{d}");
+            }
             Ok(ExitCode::from(1))
         }
         Err(e) => {

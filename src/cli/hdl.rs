@@ -227,9 +227,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let design = generate(&config, &options);
     let mut known: Vec<String> = design.files.iter().map(|f| f.name.clone()).collect();
-    known.extend([tb.name.clone(), STIM_HEX.into(), EXPECT_HEX.into()]);
+    let include = tooltouch_hdl_gen::config_include(&config);
+    known.extend([
+        tb.name.clone(),
+        STIM_HEX.into(),
+        EXPECT_HEX.into(),
+        include.name.clone(),
+    ]);
     let out = OutputFolder::create(&args.out, known)?;
-    let staged = write_design(out.staging(), &design, Some(&tb))?;
+    let mut staged = write_design(out.staging(), &design, Some(&tb))?;
+    let include_path = out.staging().join(&include.name);
+    std::fs::write(&include_path, &include.text)
+        .with_context(|| format!("writing {}", include_path.display()))?;
+    staged.push(include_path);
     if let Some((v, _, _)) = &vectors {
         hex::write_vectors(out.staging(), v)?;
     }
@@ -262,6 +272,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         println!(
             " or: cd {} && verilator --binary --top-module {TESTBENCH} -o tb *.v && obj_dir/tb",
             args.out.display()
+        );
+        println!(
+            "(*.v is the generated design; for your own tt_frontend compile {TESTBENCH}.v with your files instead)"
         );
     }
     Ok(ExitCode::SUCCESS)

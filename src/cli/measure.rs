@@ -139,7 +139,9 @@ pub struct SettingFlags {
     /// Capacitor charge register width, bits (4..=24).
     #[arg(long, help_heading = "Golden model [measure]")]
     pub charge_bits: Option<u8>,
-    /// Capacitor law (its steps/shifts default to the file's or 2048/1024, 5/6).
+    /// Capacitor law. The default configuration is linear with steps 64/64; switching the
+    /// law from the file's takes 2048/1024 (linear) or shifts 5/6 (exponential) unless the
+    /// steps or shifts are given.
     #[arg(long, value_enum, help_heading = "Golden model [measure]")]
     pub charge_law: Option<Law>,
     /// Linear law: charge per contact pulse, LSBs.

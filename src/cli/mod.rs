@@ -47,6 +47,7 @@ macro_rules! out {
 pub mod check;
 pub mod control;
 pub mod cosim;
+pub mod coverage;
 pub mod formal;
 pub mod hdl;
 pub mod measure;
@@ -91,6 +92,9 @@ enum Command {
     /// Compute the golden response to your own stimulus (VCD of the pins, event stream,
     /// run-length pins) as VCD, testbench vectors and firmware streams.
     Vectors(vectors::Args),
+    /// Report which of the front end's behaviours a stimulus exercises (functional
+    /// coverage, bins in the domain's words).
+    Coverage(coverage::Args),
     /// Run the force-control depth-step scenario.
     Control(control::Args),
     /// Run the tool-wear monitoring scenario.
@@ -161,6 +165,7 @@ pub fn main() -> ExitCode {
         Command::Measure(args) => measure::run(args),
         Command::Check(args) => check::run(args),
         Command::Vectors(args) => vectors::run(args),
+        Command::Coverage(args) => coverage::run(args),
         Command::Control(args) => control::run(args),
         Command::Wear(args) => wear::run(args),
         Command::Hdl(args) => hdl::run(args),

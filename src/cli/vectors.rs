@@ -27,8 +27,23 @@ pub struct Args {
     /// scale_b: in a scope `inputs`, or named `pin_<name>`, or the shallowest outside a
     /// scope `outputs`), an input event stream (.ttv: measurement and/or force events), or
     /// run-length pins (the testbench's stim.hex).
-    #[arg(long)]
-    pub stimulus: PathBuf,
+    #[arg(long, required_unless_present = "stress", conflicts_with = "stress")]
+    pub stimulus: Option<PathBuf>,
+    /// Instead of a stimulus file: the stress stimulus of the configuration for this seed,
+    /// directed plus constrained-random pins aimed at the behaviours `tooltouch coverage`
+    /// lists (docs/vectors.md, "Stress stimuli"). Check a design with its golden.vcd
+    /// (`hdl --vectors golden.vcd`): glitches shorter than the filter have no event in
+    /// events.ttv.
+    #[arg(long, value_name = "SEED")]
+    pub stress: Option<u64>,
+    /// Clocks of the stress stimulus's constrained-random tail.
+    #[arg(
+        long,
+        value_name = "CLOCKS",
+        default_value_t = 20_000,
+        requires = "stress"
+    )]
+    pub stress_random: u64,
     /// Settings TOML, as `tooltouch measure` takes it: the golden model's `[measure]`
     /// table (or its fields at top level) and `[lathe] clock_hz`; other tables are errors.
     #[arg(long)]
@@ -48,10 +63,30 @@ pub struct Args {
 /// Runs `tooltouch vectors`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let settings = load_settings(args.config.as_deref(), args.clock_hz)?;
-    let (set, format) = golden_set_of(&args.stimulus, &settings, args.config.is_some())?;
+    let (set, format, file) = match (&args.stimulus, args.stress) {
+        (Some(path), _) => {
+            let (set, format) = golden_set_of(path, &settings, args.config.is_some())?;
+            (set, format, path.display().to_string())
+        }
+        (None, Some(seed)) => {
+            let size = tooltouch_plant::stress::StressSize {
+                random_cycles: args.stress_random,
+                ..Default::default()
+            };
+            let clock_hz = settings.clock.as_ref().map_or(50_000_000, |c| c.hz);
+            let stimulus =
+                tooltouch_plant::stress::stress_stimulus(&settings.config, seed, clock_hz, &size);
+            (
+                golden_set::GoldenSet::from_pins(&settings.config, stimulus),
+                "stress",
+                format!("stress seed {seed}"),
+            )
+        }
+        (None, None) => anyhow::bail!("give --stimulus FILE or --stress SEED"),
+    };
     let out = OutputFolder::create(&args.out, golden_set::FILES)?;
     let source = serde_json::json!({
-        "file": args.stimulus.display().to_string(),
+        "file": file,
         "format": format,
         "settings": args.config.as_ref().map(|p| p.display().to_string()),
     });
@@ -94,7 +129,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                     outln!(
                         "  (more than a default testbench holds: `tooltouch hdl --vectors {}` sizes it, \
                          or give `--stim-depth {} --expect-depth {}`)",
-                        args.stimulus.display(),
+                        file,
                         v.stim_words,
                         v.expect_words
                     );

@@ -396,6 +396,7 @@ fn base_args(sub: &str, f: &Fixtures, out: &Path) -> Vec<(String, Option<String>
         ],
         "check" => vec![("--expected", p(&f.expected)), ("--dut", p(&f.expected))],
         "vectors" => vec![("--stimulus", p(&f.events)), ("--out", o)],
+        "coverage" => vec![("--stimulus", p(&f.events))],
         "control" | "wear" | "hdl" => vec![("--out", o)],
         "tune" => vec![("--spec", p(&f.spec)), ("--out", o)],
         "tune merge" => vec![("<dirs>", p(&f.results)), ("--out", o)],
@@ -588,7 +589,7 @@ fn valid_file_for<'a>(sub: &str, long: &str, f: &'a Fixtures) -> &'a Path {
     match (sub, long) {
         (_, "config") => &f.settings,
         (_, "spec") => &f.spec,
-        ("vectors" | "cosim firmware", "stimulus") | ("hdl", "vectors") => &f.events,
+        ("vectors" | "cosim firmware" | "coverage", "stimulus") | ("hdl", "vectors") => &f.events,
         ("check", _) => &f.expected,
         ("tune merge" | "tune point", _) => &f.results,
         _ => &f.settings,
@@ -840,7 +841,10 @@ fn output_file_rows(
             }
             for (class, path, dir, expect) in classes {
                 let base = base_args(&sub, f, &path);
-                let args = with_base(&sub, &base, "", &[]);
+                let ps = path.to_str().unwrap();
+                // The flag under test gets the path (in place of its base entry if it has
+                // one: `check --json`, `--window`, `coverage --json` have none).
+                let args = with_base(&sub, &base, &flag, &[ps]);
                 let args: Vec<&str> = args.iter().map(String::as_str).collect();
                 let ps = path.to_str().unwrap();
                 let mut c = case(format!("{sub} {flag} {class}"), &args, expect, &[ps]);

@@ -31,10 +31,10 @@ fn plan(fault: Fault, plusargs: &[&str]) -> CosimPlan {
     }
 }
 
-#[test]
-fn hdl_injected_faults_fail_the_self_checking_testbench() {
-    // Equal steps that divide the fire threshold: every rise from empty passes through it.
-    let config = tooltouch_model::MeasureSettings {
+/// Equal steps that divide the fire threshold: every rise from empty passes through it, so
+/// [`Fault::FireThresholdPlusOne`] is observable.
+fn observable_config() -> MeasureConfig {
+    tooltouch_model::MeasureSettings {
         charge_law: tooltouch_model::measure::config::ChargeLaw::Linear {
             charge_step: 4096,
             discharge_step: 4096,
@@ -44,7 +44,12 @@ fn hdl_injected_faults_fail_the_self_checking_testbench() {
         ..Default::default()
     }
     .validate()
-    .expect("valid test configuration");
+    .expect("valid test configuration")
+}
+
+#[test]
+fn hdl_injected_faults_fail_the_self_checking_testbench() {
+    let config = observable_config();
     let s = stimulus(&config);
     // Preconditions that make both faults observable in this stimulus: the charge sits
     // exactly on the fire threshold at some clock, and an index and an FES edge act in the
@@ -99,12 +104,23 @@ fn hdl_injected_faults_fail_the_self_checking_testbench() {
 }
 
 fn check(golden: &Path, dut: &Path) -> (bool, String) {
+    let (code, text) = check_with(golden, dut, &[]);
+    (code == Some(0), text)
+}
+
+/// `tooltouch check --expected golden --dut dut <extra>`: exit code, stdout and stderr.
+pub(crate) fn check_with(
+    golden: &Path,
+    dut: &Path,
+    extra: &[&std::ffi::OsStr],
+) -> (Option<i32>, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_tooltouch"))
         .arg("check")
         .arg("--expected")
         .arg(golden)
         .arg("--dut")
         .arg(dut)
+        .args(extra)
         .output()
         .expect("running tooltouch check");
     let text = format!(
@@ -112,24 +128,160 @@ fn check(golden: &Path, dut: &Path) -> (bool, String) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    (out.status.success(), text)
+    (out.status.code(), text)
+}
+
+/// `text` (a VCD) with the `$var` named `name` declared directly in scope `scope` renamed
+/// to `new`.
+fn rename_var(text: &str, scope: &[&str], name: &str, new: &str) -> String {
+    let mut open: Vec<String> = Vec::new();
+    let mut renamed = 0;
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            let words: Vec<&str> = l.split_whitespace().collect();
+            match words.as_slice() {
+                ["$scope", _, s, "$end"] => open.push((*s).to_string()),
+                ["$upscope", "$end"] => {
+                    open.pop();
+                }
+                ["$var", _, _, _, n, ..] if *n == name && open == scope => {
+                    renamed += 1;
+                    return l.replacen(&format!(" {name}"), &format!(" {new}"), 1);
+                }
+                _ => {}
+            }
+            l.to_string()
+        })
+        .collect();
+    assert_eq!(renamed, 1, "`{name}` declared once in {scope:?}");
+    lines.join("\n") + "\n"
+}
+
+/// The golden VCD of `s` at `config`, written into `dir`.
+fn golden_vcd(dir: &Path, s: &mut Stimulus, config: &MeasureConfig) -> std::path::PathBuf {
+    // The golden VCD writer skips clock 0 when the stimulus starts with all pins low (a
+    // settled front end); start with the next segment so clock 0 is written.
+    if s.segments.first().is_some_and(|seg| seg.pins.0 == 0) {
+        s.segments.remove(0);
+    }
+    let golden = dir.join("golden.vcd");
+    let mut f = std::io::BufWriter::new(std::fs::File::create(&golden).expect("golden.vcd"));
+    tooltouch_vectors::vcd::write_golden(&mut f, s, config, None).expect("writing golden");
+    drop(f);
+    golden
+}
+
+#[test]
+fn hdl_check_matches_by_path_and_reports_every_fault() {
+    let config = observable_config();
+    let mut s = stimulus(&config);
+    let work = tempfile::tempdir().expect("temporary folder");
+    let golden = golden_vcd(work.path(), &mut s, &config);
+    let period_ns = 1_000_000_000 / u64::from(s.clock_hz);
+    // The two faults this random stimulus reveals (tests/hdl/stress.rs runs every fault on
+    // the stress vectors, with the same report checks).
+    for fault in [
+        Fault::None,
+        Fault::FesBeforeIndex,
+        Fault::FireThresholdPlusOne,
+    ] {
+        let dir = work.path().join(format!("{fault:?}"));
+        let report = cosim(
+            &config,
+            std::slice::from_ref(&s),
+            &dir,
+            &plan(fault, &["+vcd", "+nostop"]),
+        )
+        .expect("cosim");
+        let dut = dir.join("case0/dut.vcd");
+        let json_path = dir.join("check.json");
+        let window = dir.join("mismatch.vcd");
+        let (code, text) = check_with(
+            &golden,
+            &dut,
+            &[
+                "--json".as_ref(),
+                json_path.as_os_str(),
+                "--window".as_ref(),
+                window.as_os_str(),
+            ],
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json_path).expect("check.json"))
+                .expect("check.json is JSON");
+        let matches = json["matches"].as_array().expect("matches").clone();
+        assert_eq!(matches.len(), 15, "{json}");
+        for m in &matches {
+            let (g, d) = (m["golden"].as_str().unwrap(), m["dut"].as_str().unwrap());
+            let leaf = g
+                .strip_prefix("tooltouch.outputs.")
+                .expect("a golden output");
+            assert_eq!(d, format!("tt_testbench.dut.{leaf}"), "{m}");
+        }
+        if fault == Fault::None {
+            assert!(report.runs[0].passed);
+            assert_eq!(code, Some(0), "{text}");
+            assert!(text.contains("in DUT scope `tt_testbench.dut`"), "{text}");
+            assert_eq!(json["verdict"], "match");
+            assert!(!window.exists(), "a window written for a pass");
+            // The top-level port renamed: it used to pass on the kernel's own `count`; now
+            // bad input naming where `count` was found instead.
+            let renamed = dir.join("renamed.vcd");
+            let text_vcd = std::fs::read_to_string(&dut).expect("dut.vcd");
+            std::fs::write(
+                &renamed,
+                rename_var(&text_vcd, &["tt_testbench", "dut"], "count", "count_q"),
+            )
+            .expect("renamed.vcd");
+            let (code, text) = check_with(&golden, &renamed, &[]);
+            assert_eq!(code, Some(2), "{text}");
+            assert!(
+                text.contains("no signal named `count`")
+                    && text.contains("`tt_testbench.dut.u_measure")
+                    && text.contains("not compared"),
+                "{text}"
+            );
+            // Naming the scope explicitly: the same refusal.
+            let (code, text) = check_with(
+                &golden,
+                &renamed,
+                &["--dut-scope".as_ref(), "tt_testbench.dut".as_ref()],
+            );
+            assert_eq!(code, Some(2), "{text}");
+            assert!(text.contains("given by --dut-scope"), "{text}");
+            let (code, text) = check_with(
+                &golden,
+                &dut,
+                &["--dut-scope".as_ref(), "tt_testbench.nothing".as_ref()],
+            );
+            assert_eq!(code, Some(2), "{text}");
+            assert!(
+                text.contains("no such scope") && text.contains("`tt_testbench.dut` (15 of 15)"),
+                "{text}"
+            );
+            continue;
+        }
+        assert!(!report.runs[0].passed, "{fault:?} passed the testbench");
+        let tb = report.runs[0].first_mismatch.clone().unwrap_or_default();
+        assert_mismatch_report(
+            &format!("{fault:?}"),
+            code,
+            &text,
+            &json,
+            &tb,
+            &window,
+            period_ns,
+        );
+    }
 }
 
 #[test]
 fn hdl_tooltouch_check_catches_a_broken_verilog_from_its_vcd() {
     let config = MeasureConfig::default();
     let mut s = stimulus(&config);
-    // The golden VCD writer (host/vectors/src/vcd.rs) skips clock 0 when the stimulus starts
-    // with all pins low (a settled front end), leaving the golden trace without values
-    // until the first pin change; start with arm high so clock 0 is written.
-    if s.segments.first().is_some_and(|seg| seg.pins.0 == 0) {
-        s.segments.remove(0);
-    }
     let work = tempfile::tempdir().expect("temporary folder");
-    let golden = work.path().join("golden.vcd");
-    let mut f = std::io::BufWriter::new(std::fs::File::create(&golden).expect("golden.vcd"));
-    tooltouch_vectors::vcd::write_golden(&mut f, &s, &config, None).expect("writing golden");
-    drop(f);
+    let golden = golden_vcd(work.path(), &mut s, &config);
     for fault in [Fault::None, Fault::FesBeforeIndex] {
         let dir = work.path().join(format!("{fault:?}"));
         let report = cosim(
@@ -156,5 +308,105 @@ fn hdl_tooltouch_check_catches_a_broken_verilog_from_its_vcd() {
                 );
             }
         }
+    }
+}
+
+/// Checks `check`'s report of a mismatch (`code`, its output `text`, its `--json` value,
+/// its `--window` folder) against the testbench's first mismatch line `tb`: the same
+/// clock, every differing signal with its DUT path, the pins before it, the MCU read, and
+/// a window VCD and GTKWave file that show the mismatch at that clock.
+pub(crate) fn assert_mismatch_report(
+    what: &str,
+    code: Option<i32>,
+    text: &str,
+    json: &serde_json::Value,
+    tb: &str,
+    window: &Path,
+    period_ns: u64,
+) {
+    assert_eq!(code, Some(1), "{what}: {text}");
+    assert_eq!(json["verdict"], "mismatch");
+    let k = json["first_mismatch"]["cycle"]
+        .as_u64()
+        .expect("a first mismatch");
+    let differing = json["first_mismatch"]["signals"]
+        .as_array()
+        .unwrap()
+        .clone();
+    assert!(!differing.is_empty());
+    // The testbench's own first mismatch is the same clock.
+    assert!(
+        tb.starts_with(&format!("MISMATCH cycle {k} ")),
+        "testbench: {tb}; check: {text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "signals differing at cycle {k} ({} of 15)",
+            differing.len()
+        )),
+        "{text}"
+    );
+    for d in &differing {
+        let name = d["signal"].as_str().unwrap();
+        assert!(text.contains(&format!("tt_testbench.dut.{name}")), "{text}");
+    }
+    assert!(
+        text.contains("golden input pins of the clocks before it"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!("  {k:>12} ")),
+        "the pin table reaches cycle {k}: {text}"
+    );
+    assert!(
+        text.contains(&format!("mcu_rdata at cycle {k}: ")) && text.contains("read at mcu_addr"),
+        "{text}"
+    );
+    // The window: golden and DUT side by side, `differs.<name>` 1 at clock K for each
+    // differing signal; the GTKWave file opens it with the marker on clock K.
+    let vcd = std::fs::read_to_string(window).expect("mismatch.vcd");
+    let w = tooltouch_vectors::vcd::Dump::parse(&vcd, "mismatch.vcd").expect("a VCD");
+    for d in &differing {
+        let name = d["signal"].as_str().unwrap();
+        let flag = w.find_in_scope("differs", name).expect("differs.<name>");
+        let at = |k: u64| {
+            w.value_at(&flag.id, k * period_ns * 1_000_000)
+                .and_then(|v| v.to_u64())
+        };
+        assert_eq!(at(k), Some(1), "differs.{name} at cycle {k}");
+        assert_eq!(at(k - 1), Some(0), "differs.{name} before cycle {k}");
+        let g = w
+            .find_in_scope("outputs", name)
+            .expect("golden.outputs.<name>");
+        let got = w.find_in_scope("dut", name).expect("dut.<name>");
+        let hex = |id: &str| {
+            w.value_at(id, k * period_ns * 1_000_000)
+                .map(|v| format!("0x{}", v.hex_digits()))
+        };
+        assert_eq!(hex(&g.id).as_deref(), d["expected"].as_str(), "{name}");
+        assert_eq!(hex(&got.id).as_deref(), d["got"].as_str(), "{name}");
+    }
+    let gtkw = std::fs::read_to_string(window.with_extension("gtkw")).expect("mismatch.gtkw");
+    assert!(gtkw.contains("[dumpfile] \"mismatch.vcd\""), "{gtkw}");
+    let marker = gtkw
+        .lines()
+        .find(|l| l.starts_with('*'))
+        .expect("the marker line");
+    assert_eq!(
+        marker.split_whitespace().nth(1),
+        Some((k * period_ns).to_string().as_str()),
+        "{marker}"
+    );
+    for line in gtkw
+        .lines()
+        .filter(|l| !l.starts_with(['[', '*', '@', '-']))
+    {
+        let (scope, rest) = line.rsplit_once('.').expect("a signal path");
+        let leaf = rest.split('[').next().unwrap();
+        let scope = scope.rsplit('.').next().unwrap();
+        assert!(
+            w.find_in_scope(scope, leaf).is_some(),
+            "{line} is not in mismatch.vcd"
+        );
     }
 }

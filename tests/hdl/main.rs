@@ -7,6 +7,7 @@
 mod common;
 
 mod abi_c;
+mod contract;
 mod cosim;
 mod faults;
 mod formal;
@@ -15,4 +16,5 @@ mod lathe;
 mod lint;
 mod reference;
 mod scoreboard;
+mod stress;
 mod testbench_tools;

@@ -94,6 +94,24 @@ module tt_testbench;
             default: exp_rdata = 32'd0;
         endcase
     end
+    reg [8*24-1:0] mcu_name;  // the register mcu_addr names, for the mismatch report
+    always @* begin
+        case (mcu_addr)
+            4'd0: mcu_name = "STATUS";
+            4'd1: mcu_name = "POSITION";
+            4'd2: mcu_name = "DECISION_POSITION";
+            4'd3: mcu_name = "FIRST_CONTACT_POSITION";
+            4'd4: mcu_name = "COUNT";
+            4'd5: mcu_name = "LAST_WINDOW_COUNT";
+            4'd6: mcu_name = "CHARGE";
+            4'd7: mcu_name = "REVOLUTIONS";
+            4'd8: mcu_name = "PULSES";
+            4'd9: mcu_name = "SCALE_ERRORS";
+            4'd10: mcu_name = "CONFIG_HASH_LO";
+            4'd11: mcu_name = "CONFIG_HASH_HI";
+            default: mcu_name = "unmapped, reads 0";
+        endcase
+    end
 
     tt_frontend dut (
         .clk(clk), .rst(rst),
@@ -141,11 +159,14 @@ module tt_testbench;
     reg        nostop;
     reg        ready = 1'b0; // the vectors are read and checked
 
+    reg [63:0] k_time;       // k*PERIOD ns: the time `tooltouch check` names clock k by
+
     task report(input [8*24-1:0] name, input [63:0] want, input [63:0] got);
         begin
+            k_time = {32'd0, k} * {32'd0, PERIOD};
             if (bad_cycles == 0 && bad_signals == 0)
-                $display("MISMATCH cycle %0d (time %0t ns): signal %0s expected 0x%0h got 0x%0h",
-                         k, $time, name, want, got);
+                $display("MISMATCH cycle %0d (time %0d ns): signal %0s expected 0x%0h got 0x%0h",
+                         k, k_time, name, want, got);
             bad_signals = bad_signals + 1;
         end
     endtask
@@ -369,6 +390,8 @@ module tt_testbench;
             if (pulses !== exp_pulses) report("pulses", {32'd0, exp_pulses}, {32'd0, pulses});
             if (irq !== exp_register_now) report("irq", {63'd0, exp_register_now}, {63'd0, irq});
             if (mcu_rdata !== exp_rdata) report("mcu_rdata", {32'd0, exp_rdata}, {32'd0, mcu_rdata});
+            if (mcu_rdata !== exp_rdata && bad_cycles == 0)
+                $display("  mcu_rdata read at mcu_addr %0d: %0s", mcu_addr, mcu_name);
             bad_cycles = bad_cycles + 1;
             if (!nostop) $fatal(1, "TESTBENCH FAIL at cycle %0d", k);
         end

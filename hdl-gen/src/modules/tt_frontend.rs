@@ -22,7 +22,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
         conns.push_str(&format!("        .{0}({0}),\n", f.name));
     }
     let conns = conns.trim_end_matches(",\n").to_string();
-    let mcu_read_mux = crate::mcu::mcu_read_mux(&ctx.config, ctx.mcu_diagnostics);
+    let mcu_read_mux = crate::mcu::mcu_read_mux(&ctx.config, ctx.hash, ctx.mcu_diagnostics);
     let pins: Vec<String> = pin::NAMES
         .iter()
         .rev()

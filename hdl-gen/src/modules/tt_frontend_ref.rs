@@ -122,7 +122,7 @@ fn emit(ctx: &Context, module: &str) -> VerilogFile {
         .rev()
         .map(|n| format!("pin_{n}"))
         .collect();
-    let mcu_read_mux = crate::mcu::mcu_read_mux(&ctx.config, ctx.mcu_diagnostics);
+    let mcu_read_mux = crate::mcu::mcu_read_mux(&ctx.config, ctx.hash, ctx.mcu_diagnostics);
     let bit = match s.contact_rule {
         ContactRule::Sampled => "contact_n",
         ContactRule::Sticky => "sticky_n",

@@ -3,7 +3,7 @@
 //! quadrature decoder and the two position latches. The contact rule picks the pulse's
 //! contact bit and the decision method picks which detector drives the decision latch.
 
-use crate::design::VerilogFile;
+use crate::design::{Fault, VerilogFile};
 use crate::emit::{fill, pin_index, Context};
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::pin;
@@ -87,7 +87,7 @@ module tt_measurement (
     // on_fes: the pulse's contact bit, then the sticky bit reloads with the contact level.
     wire        pulse       = fes_pulse;
     wire        contact_bit = ${BIT};
-    wire        sticky_p    = fes_rise ? contact_c : sticky_c;
+    wire        sticky_p    = ${STICKY_RELOAD} ? contact_c : sticky_c;
     // pulses_q + 1 in two 16-bit halves (the upper steps when the lower wraps), so no
     // carry chain is longer than 16 bits.
     wire [15:0] pulses_lo_inc = pulses_q[15:0] + 16'd1;
@@ -120,7 +120,7 @@ module tt_measurement (
     );
 
     tt_position_latch u_first_contact (
-        .clk(clk), .rst(rst), .clear(clear), .take(first_take), .position_in(position),
+        .clk(clk), .rst(rst), .clear(${FIRST_CLEAR}), .take(first_take), .position_in(position),
         .valid(first_contact), .position(first_contact_position)
     );
 
@@ -179,6 +179,22 @@ endmodule
             ("SB_PIN", pin_index(pin::SCALE_B)),
             ("BIT", bit.to_string()),
             ("DECISION", decision.to_string()),
+            (
+                "STICKY_RELOAD",
+                if ctx.fault == Fault::StickyNotReloadedWhileDisarmed {
+                    "(fes_rise && armed_a) /* FAULT: only while armed */".into()
+                } else {
+                    "fes_rise".into()
+                },
+            ),
+            (
+                "FIRST_CLEAR",
+                if ctx.fault == Fault::LatchNotClearedByArm {
+                    "1'b0 /* FAULT: arm does not clear it */".into()
+                } else {
+                    "clear".into()
+                },
+            ),
         ],
     );
     ctx.file("tt_measurement", "the measurement kernel", &body)

@@ -136,7 +136,17 @@ pub fn testbench(
             }
         ));
     }
-    let words = mcu_words(config, "exp_", spec.mcu_diagnostics);
+    let words = mcu_words(config, config.hash(), "exp_", spec.mcu_diagnostics);
+    let mcu_names: String = crate::mcu::MCU_REGISTERS
+        .iter()
+        .map(|r| {
+            format!(
+                "            {}: mcu_name = \"{}\";\n",
+                crate::emit::lit(MCU_ADDR_BITS, r.addr.into()),
+                r.name
+            )
+        })
+        .collect();
     let mut mcu = String::new();
     for (i, w) in words.iter().enumerate() {
         mcu.push_str(&format!(
@@ -204,6 +214,12 @@ module {TESTBENCH};
 {mcu}            default: exp_rdata = {db}'d0;
         endcase
     end
+    reg [8*24-1:0] mcu_name;  // the register mcu_addr names, for the mismatch report
+    always @* begin
+        case (mcu_addr)
+{mcu_names}            default: mcu_name = "unmapped, reads 0";
+        endcase
+    end
 
     {TOP} dut (
         .clk(clk), .rst(rst),
@@ -230,11 +246,14 @@ module {TESTBENCH};
     reg        nostop;
     reg        ready = 1'b0; // the vectors are read and checked
 
+    reg [63:0] k_time;       // k*PERIOD ns: the time `tooltouch check` names clock k by
+
     task report(input [8*24-1:0] name, input [63:0] want, input [63:0] got);
         begin
+            k_time = {{32'd0, k}} * {{32'd0, PERIOD}};
             if (bad_cycles == 0 && bad_signals == 0)
-                $display("MISMATCH cycle %0d (time %0t ns): signal %0s expected 0x%0h got 0x%0h",
-                         k, $time, name, want, got);
+                $display("MISMATCH cycle %0d (time %0d ns): signal %0s expected 0x%0h got 0x%0h",
+                         k, k_time, name, want, got);
             bad_signals = bad_signals + 1;
         end
     endtask
@@ -443,6 +462,8 @@ module {TESTBENCH};
             bad_signals = 0;
 {compare}            if (irq !== exp_register_now) report("irq", {{63'd0, exp_register_now}}, {{63'd0, irq}});
             if (mcu_rdata !== exp_rdata) report("mcu_rdata", {{{dpad}exp_rdata}}, {{{dpad}mcu_rdata}});
+            if (mcu_rdata !== exp_rdata && bad_cycles == 0)
+                $display("  mcu_rdata read at mcu_addr %0d: %0s", mcu_addr, mcu_name);
             bad_cycles = bad_cycles + 1;
             if (!nostop) $fatal(1, "TESTBENCH FAIL at cycle %0d", k);
         end

@@ -14,3 +14,4 @@ pub mod milling;
 pub mod random;
 pub mod reference;
 pub mod stimulus;
+pub mod stress;

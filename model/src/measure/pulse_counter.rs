@@ -3,8 +3,8 @@
 //!
 //! The decision is taken on the very pulse that makes the count exceed `i_def` (the last
 //! pulse of the series, eq. S9, docs/domain.md), not at the following index pulse: the comparator
-//! CU is combinational on the count, and the index pulse only resets a count that did not get
-//! there. Deciding at the pulse removes up to one revolution of latency and decides on the
+//! CU is combinational on the count; the window's last index pulse resets the count at every
+//! window end, whether it got there or not. Deciding at the pulse removes up to one revolution of latency and decides on the
 //! same pulse an index-time compare would have accepted.
 
 use crate::measure::config::MeasureConfig;

@@ -2,7 +2,10 @@
 //! opened as a stream, and compared like with like; an empty, unknown or mixed pair is bad
 //! input naming the file and its role.
 
-use super::{compare_output_sources, compare_vcd_sides, BadInput, VcdSide, Verdict};
+use super::{
+    compare_output_sources, compare_vcd_sides_with, BadInput, CheckOptions, Report, VcdSide,
+    Verdict,
+};
 use crate::vcd::{Changes, Value, VcdError, VcdReader};
 use std::io::{BufRead, BufReader};
 use std::path::Path;
@@ -72,6 +75,16 @@ fn unusable(kind: Kind, name: &str, role: &str, head: &[u8]) -> BadInput {
 
 /// Compares two files (VCD or binary, the same kind both), both read as streams.
 pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
+    check_files(expected, dut, &CheckOptions::default()).map(|r| r.verdict)
+}
+
+/// [`compare_files`] with options, returning the whole [`Report`]: for a VCD mismatch
+/// also the report's lines and, with [`CheckOptions::window`], its window files.
+pub fn check_files(
+    expected: &Path,
+    dut: &Path,
+    options: &CheckOptions,
+) -> Result<Report, BadInput> {
     let (en, dn) = (expected.display().to_string(), dut.display().to_string());
     let mut e = open(expected)?;
     let mut d = open(dut)?;
@@ -85,7 +98,14 @@ pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
     match (ek, dk) {
         (Kind::Binary, Kind::Binary) => {
             drop((e, d));
-            compare_output_sources(&|| open(expected), &en, &|| open(dut), &dn)
+            let verdict = compare_output_sources(&|| open(expected), &en, &|| open(dut), &dn)?;
+            Ok(Report {
+                verdict,
+                dut_scope: None,
+                matches: Vec::new(),
+                first: None,
+                details: Vec::new(),
+            })
         }
         (Kind::Vcd, Kind::Vcd) => {
             let mut e = VcdReader::new(e, &en)?;
@@ -107,9 +127,14 @@ pub fn compare_files(expected: &Path, dut: &Path) -> Result<Verdict, BadInput> {
                     declarations: &dd,
                     changes: &mut d,
                 };
-                compare_vcd_sides(&mut es, &mut ds, &|| late.borrow().clone())?
+                compare_vcd_sides_with(&mut es, &mut ds, &|| late.borrow().clone(), options)?
             };
-            Ok(verdict)
+            let mut report = verdict;
+            if report.first.is_some() {
+                drop((e, d));
+                super::window::add_details(expected, dut, &mut report, options.window.as_deref())?;
+            }
+            Ok(report)
         }
         _ => Err(BadInput(format!(
             "{en} (the golden trace) is {} and {dn} (the DUT trace) is {}: compare like with like",

@@ -16,8 +16,11 @@
 //! overflowed event is a mismatch), record counts, the headers' hashes and tick rates.
 
 mod files;
+pub mod json;
+pub mod resolve;
+pub mod window;
 
-pub use files::compare_files;
+pub use files::{check_files, compare_files};
 
 use super::binary::{self, OutputReader, OutputRecord};
 use super::vcd::{golden_end, Changes, Declarations, Signal, Value, VcdError};
@@ -30,6 +33,67 @@ pub enum Verdict {
     Match(String),
     /// The first difference, as one line.
     Mismatch(String),
+}
+
+/// What `check` was asked beyond the two files.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CheckOptions {
+    /// The DUT's top scope in a VCD, a dotted path (`tt_testbench.dut`); `None`: the
+    /// shallowest scope declaring golden outputs ([`resolve`]).
+    pub dut_scope: Option<String>,
+    /// Where to write the mismatch window's VCD, if anywhere (its GTKWave save file goes
+    /// beside it, extension `.gtkw`).
+    pub window: Option<std::path::PathBuf>,
+}
+
+/// One golden output and the DUT signal compared with it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SignalMatch {
+    /// The golden signal's dotted path (`tooltouch.outputs.count`).
+    pub golden: String,
+    /// The DUT signal's dotted path (`tt_testbench.dut.count`).
+    pub dut: String,
+    /// Declared widths, bits: golden, DUT.
+    pub widths: (u32, u32),
+}
+
+/// One signal differing at the first mismatching clock.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Differing {
+    /// The golden name.
+    pub signal: String,
+    /// Expected and DUT values as printed (`0x1f`, `x`, `x (no value yet)`).
+    pub expected: String,
+    /// The DUT's value.
+    pub got: String,
+}
+
+/// The first mismatching clock of a VCD comparison.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FirstMismatch {
+    /// The clock index `k`.
+    pub cycle: u64,
+    /// Its time `k·P`, ns.
+    pub time_ns: u64,
+    /// Every golden output differing at that clock, in golden declaration order.
+    pub differing: Vec<Differing>,
+}
+
+/// A verdict with what stands behind it: the DUT scope and signal matched for each golden
+/// output, and the first mismatching clock (VCD comparisons; empty for binary streams).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Report {
+    /// The verdict line.
+    pub verdict: Verdict,
+    /// The DUT's top scope (VCD).
+    pub dut_scope: Option<String>,
+    /// Golden output → DUT signal (VCD).
+    pub matches: Vec<SignalMatch>,
+    /// The first mismatching clock of values (not of a trace's end).
+    pub first: Option<FirstMismatch>,
+    /// The mismatch report's further lines (every differing signal, the pins before it,
+    /// the MCU read, the window files), printed after the verdict.
+    pub details: Vec<String>,
 }
 
 /// Bad input to `check`, with the file and what is wrong.
@@ -68,9 +132,27 @@ pub struct VcdSide<'a> {
     pub changes: &'a mut dyn Changes,
 }
 
+/// A differing output at the first mismatching clock: its slot, golden and DUT values.
+type Difference = (usize, Option<Value>, Option<Value>);
+
 /// A compared output: the golden signal.
 struct Compared<'a> {
     golden: &'a Signal,
+}
+
+/// The period of a golden file's clock, femtoseconds, from its stamp.
+fn golden_period_fs(d: &Declarations, name: &str) -> Result<(u64, u32, u64), BadInput> {
+    let (hash, clock_hz) = d.golden_stamp().ok_or_else(|| {
+        BadInput(format!(
+            "{name}: no `$comment tooltouch measure_hash=… clock_hz=…` line: not a golden file"
+        ))
+    })?;
+    if clock_hz == 0 || 1_000_000_000 % clock_hz != 0 {
+        return Err(BadInput(format!(
+            "{name}: clock_hz={clock_hz} does not divide 1e9"
+        )));
+    }
+    Ok((hash, clock_hz, 1_000_000_000_000_000 / u64::from(clock_hz)))
 }
 
 /// Lookahead over one side's changes.
@@ -121,12 +203,19 @@ pub fn compare_vcd_sides(
     d: &mut VcdSide,
     late_comments: &dyn Fn() -> Vec<String>,
 ) -> Result<Verdict, BadInput> {
+    compare_vcd_sides_with(e, d, late_comments, &CheckOptions::default()).map(|r| r.verdict)
+}
+
+/// [`compare_vcd_sides`] with options, returning the whole [`Report`] (its `details` left
+/// empty: [`check_files`] adds them from the files).
+pub fn compare_vcd_sides_with(
+    e: &mut VcdSide,
+    d: &mut VcdSide,
+    late_comments: &dyn Fn() -> Vec<String>,
+    options: &CheckOptions,
+) -> Result<Report, BadInput> {
     let (en, dn) = (e.name.to_string(), d.name.to_string());
-    let (hash, clock_hz) = e.declarations.golden_stamp().ok_or_else(|| {
-        BadInput(format!(
-            "{en}: no `$comment tooltouch measure_hash=… clock_hz=…` line: not a golden file"
-        ))
-    })?;
+    let (hash, clock_hz, period_fs) = golden_period_fs(e.declarations, &en)?;
     if let Some((dut_hash, dut_hz)) = d.declarations.golden_stamp() {
         if dut_hash != hash || dut_hz != clock_hz {
             return Err(BadInput(format!(
@@ -134,12 +223,6 @@ pub fn compare_vcd_sides(
             )));
         }
     }
-    if clock_hz == 0 || 1_000_000_000 % clock_hz != 0 {
-        return Err(BadInput(format!(
-            "{en}: clock_hz={clock_hz} does not divide 1e9"
-        )));
-    }
-    let period_fs = 1_000_000_000_000_000 / u64::from(clock_hz);
     let half = period_fs / 2;
     let outputs: Vec<Compared> = e
         .declarations
@@ -162,16 +245,16 @@ pub fn compare_vcd_sides(
     // Slots per code index, on each side.
     let mut e_slots: Vec<Vec<usize>> = vec![Vec::new(); e.declarations.codes().len()];
     let mut d_slots: Vec<Vec<usize>> = vec![Vec::new(); d.declarations.codes().len()];
-    for (slot, c) in outputs.iter().enumerate() {
-        let ds = d
-            .declarations
-            .find_shallowest(&c.golden.name)
-            .ok_or_else(|| {
-                BadInput(format!(
-                    "{dn}: no signal named `{}` (expected from {en})",
-                    c.golden.name
-                ))
-            })?;
+    let names: Vec<&str> = outputs.iter().map(|c| c.golden.name.as_str()).collect();
+    let resolution = resolve::resolve(&names, d.declarations, options.dut_scope.as_deref(), &dn)?;
+    let dut_scope = resolution.scope_text();
+    let mut matches = Vec::with_capacity(outputs.len());
+    for (slot, (c, ds)) in outputs.iter().zip(&resolution.signals).enumerate() {
+        matches.push(SignalMatch {
+            golden: resolve::path_of(c.golden),
+            dut: resolve::path_of(ds),
+            widths: (c.golden.width, ds.width),
+        });
         let ei = e.declarations.code_index(&c.golden.id);
         let di = d.declarations.code_index(&ds.id);
         if let (Some(ei), Some(di)) = (ei, di) {
@@ -184,7 +267,7 @@ pub fn compare_vcd_sides(
     let mut dv: Vec<Option<Value>> = vec![None; n];
     let mut differs = vec![true; n];
     let mut differing = n;
-    let mut first: Option<(u64, usize, Option<Value>, Option<Value>)> = None;
+    let mut first: Option<(u64, Vec<Difference>)> = None;
     let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
 
     let mut ec = Cursor {
@@ -219,8 +302,12 @@ pub fn compare_vcd_sides(
             let k = now.saturating_sub(half).div_ceil(period_fs);
             let inside = next_time.is_none_or(|t| k * period_fs + half < t);
             if inside && k <= limit {
-                if let Some(slot) = differs.iter().position(|&x| x) {
-                    first = Some((k, slot, ev[slot].clone(), dv[slot].clone()));
+                let all: Vec<_> = (0..n)
+                    .filter(|&slot| differs[slot])
+                    .map(|slot| (slot, ev[slot].clone(), dv[slot].clone()))
+                    .collect();
+                if !all.is_empty() {
+                    first = Some((k, all));
                 }
             }
         }
@@ -278,14 +365,35 @@ pub fn compare_vcd_sides(
             e_end / period_fs
         )));
     }
-    if let Some((k, slot, a, b)) = first {
-        return Ok(Verdict::Mismatch(format!(
-            "cycle {k} (time {} ns): signal {} expected {} got {}",
-            k * period_fs / 1_000_000,
-            outputs[slot].golden.name,
-            hex(a.as_ref()),
-            hex(b.as_ref())
-        )));
+    let report = |verdict: Verdict, first: Option<FirstMismatch>| Report {
+        verdict,
+        dut_scope: Some(dut_scope.clone()),
+        matches: matches.clone(),
+        first,
+        details: Vec::new(),
+    };
+    if let Some((k, all)) = first {
+        let differing: Vec<Differing> = all
+            .iter()
+            .map(|(slot, a, b)| Differing {
+                signal: outputs[*slot].golden.name.clone(),
+                expected: hex(a.as_ref()),
+                got: hex(b.as_ref()),
+            })
+            .collect();
+        let time_ns = k * period_fs / 1_000_000;
+        let line = format!(
+            "cycle {k} (time {time_ns} ns): signal {} expected {} got {}",
+            differing[0].signal, differing[0].expected, differing[0].got
+        );
+        return Ok(report(
+            Verdict::Mismatch(line),
+            Some(FirstMismatch {
+                cycle: k,
+                time_ns,
+                differing,
+            }),
+        ));
     }
     let (e_last, d_last) = (cycles - 1, d_end / period_fs);
     if d_last != e_last {
@@ -294,15 +402,18 @@ pub fn compare_vcd_sides(
         } else {
             ("long", d_last - e_last)
         };
-        return Ok(Verdict::Mismatch(format!(
+        return Ok(report(Verdict::Mismatch(format!(
             "the DUT trace ends at cycle {d_last} (time {} ns), the golden trace at cycle {e_last} (time {} ns): {dn} is {by} cycles too {which}",
             d_end / 1_000_000,
             e_end / 1_000_000
-        )));
+        )), None));
     }
-    Ok(Verdict::Match(format!(
-        "OK: {cycles} cycles × {n} signals of {en} match {dn}"
-    )))
+    Ok(report(
+        Verdict::Match(format!(
+            "OK: {cycles} cycles × {n} signals of {en} match {dn} in DUT scope `{dut_scope}`"
+        )),
+        None,
+    ))
 }
 
 /// Compares two parsed dumps (see [`compare_vcd_sides`]).
@@ -618,7 +729,10 @@ mod tests {
         let padded = golden_wide([&format!("{}101", "0".repeat(97)), &top]);
         assert_eq!(
             compare(&golden, &padded),
-            Verdict::Match("OK: 3 cycles × 1 signals of e.vcd match d.vcd".into())
+            Verdict::Match(
+                "OK: 3 cycles × 1 signals of e.vcd match d.vcd in DUT scope `tooltouch.outputs`"
+                    .into()
+            )
         );
         // Bit 99 missing at clock 2 (the low 64 bits agree): a mismatch naming both whole
         // values.
