@@ -87,7 +87,7 @@ ${MCU_READ_MUX}endmodule
 "#,
         &[
             ("TOP", TOP.to_string()),
-            ("HASH", format!("{:016x}", ctx.config.hash())),
+            ("HASH", format!("{:016x}", ctx.hash)),
             ("LAT", ctx.config.latency_cycles().to_string()),
             ("PIN_PORTS", pin_ports),
             ("AB1", (crate::mcu::MCU_ADDR_BITS - 1).to_string()),
