@@ -44,6 +44,7 @@ macro_rules! out {
     };
 }
 
+pub mod budget;
 pub mod check;
 pub mod control;
 pub mod cosim;
@@ -85,6 +86,9 @@ pub struct Cli {
 enum Command {
     /// Simulate in-process diameter measurements on a lathe with the golden model.
     Measure(measure::Args),
+    /// Predict the decided diameter's bias and scatter from the settings (the error
+    /// budget), optionally beside a simulation.
+    Budget(budget::Args),
     /// Compare a device-under-test trace with the golden expected trace.
     Check(check::Args),
     /// Compute the golden response to your own stimulus (VCD of the pins, event stream,
@@ -154,6 +158,7 @@ pub fn main() -> ExitCode {
     remove_staging_on_signal();
     let result = match cli.command {
         Command::Measure(args) => measure::run(args),
+        Command::Budget(args) => budget::run(args),
         Command::Check(args) => check::run(args),
         Command::Vectors(args) => vectors::run(args),
         Command::Control(args) => control::run(args),

@@ -3,6 +3,7 @@
 //! One test binary per area (`cargo test --release --test measure`); one module per topic
 //! (`cargo test --release --test measure <topic>::`).
 
+mod budget;
 mod levels_agree;
 mod physics;
 mod speed_models_agree;

@@ -76,6 +76,15 @@ pub struct CycleSettings {
     pub retract_at: RetractAt,
     /// Give up an approach (no decision) after this many revolutions, `1..=100000`.
     pub max_approach_revs: u32,
+    /// Measurements at each Z position before the Z step, `1..=1000` (S8 averaging: `m`
+    /// approaches on the same surface; `repeats` counts them all). Written to a settings
+    /// file only when not 1.
+    #[serde(skip_serializing_if = "is_one")]
+    pub averages_per_z: u32,
+}
+
+fn is_one(v: &u32) -> bool {
+    *v == 1
 }
 
 impl Default for CycleSettings {
@@ -93,6 +102,7 @@ impl Default for CycleSettings {
             cnc_reaction_us: 500.0,
             retract_at: RetractAt::PermanentContact,
             max_approach_revs: 200,
+            averages_per_z: 1,
         }
     }
 }
@@ -344,6 +354,7 @@ impl LatheScenario {
         }
         check("cycle.z_dwell_ms", c.z_dwell_ms, 0.0, 10_000.0)?;
         check("cycle.cnc_reaction_us", c.cnc_reaction_us, 0.0, 1e6)?;
+        check("cycle.averages_per_z", c.averages_per_z.into(), 1.0, 1000.0)?;
         check(
             "cycle.max_approach_revs",
             c.max_approach_revs.into(),
@@ -451,6 +462,11 @@ impl Lathe {
             s.seed,
             z_index,
         );
+        self.first_touch = None;
+    }
+
+    /// Clears the first-touch state for another approach at the same Z position.
+    pub fn clear_first_touch(&mut self) {
         self.first_touch = None;
     }
 
