@@ -45,7 +45,8 @@
 //! Where these formulas do not describe the decision, [`predict`] says so
 //! ([`Outcome::Refused`]) instead of guessing: the density detector, an approach that starts
 //! within reach of the surface, a feed that crosses the whole profile within one window
-//! (the fast-feed regime of S6–S7), contact electrics or a glitch filter that remove a
+//! (the fast-feed regime of S6–S7), slow errors large against the feed per window,
+//! contact electrics or a glitch filter that remove a
 //! noticeable part of the contact, an approach that may not decide.
 
 use crate::lathe::surface::ROUGHNESS_CELLS_PER_REV;
@@ -746,8 +747,23 @@ fn refusal(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> Optio
             approach.feed * window
         ));
     }
+    let slow_sigma = slow_sigma_closed_form(s);
+    if slow_sigma > SLOW_TO_FEED_LIMIT * approach.feed * window {
+        return Some(format!(
+            "slow-error regime: the slow spindle errors averaged over a revolution (S10, \
+             {slow_sigma:.2} µm 1σ on the radius) exceed {SLOW_TO_FEED_LIMIT} × the feed per \
+             window ({:.2} µm): the decision then follows the slow errors' phase and the \
+             simulated scatter falls up to 40 % below what the budget's phase average gives",
+            approach.feed * window
+        ));
+    }
     None
 }
+
+/// Above this ratio of the slow errors' revolution-averaged 1σ (S10) to the feed per
+/// window the budget refuses: measured against the simulation, its scatter is then too
+/// large by up to 60 % (docs/accuracy.md).
+pub const SLOW_TO_FEED_LIMIT: f64 = 0.4;
 
 /// The budget of `variant` on the settings `config` and `scenario`.
 pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> Outcome {

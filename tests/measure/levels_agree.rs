@@ -113,6 +113,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                             RetractAt::PermanentContact
                         },
                         max_approach_revs: 40,
+                        averages_per_z: 1,
                     },
                     seed,
                 }
