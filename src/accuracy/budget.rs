@@ -538,7 +538,9 @@ fn counter_moments(
     for w in first_window..max_windows {
         let (mut acc_mu, mut acc_var) = (0.0, 0.0);
         for r in 0..window_revs as usize {
-            let rev = (w as usize * window_revs as usize + r) as f64;
+            // The arming index pulse already counts as one of the first window's, so
+            // windows begin `window_revs − 1` revolutions after the approach's start.
+            let rev = (w as usize * window_revs as usize + r) as f64 + f64::from(window_revs - 1);
             for (j, pts) in points.iter().enumerate() {
                 // A sticky start point's `turn` may be negative (the previous revolution's end).
                 let p = pulse_probability(pts, |turn| {
@@ -594,7 +596,9 @@ fn counter_moments(
             let i = (0..pulses)
                 .find(|&i| mu[i] + sd[i] * z[k] >= target)
                 .unwrap_or(pulses - 1);
-            let tau = (w as usize * window_revs as usize) as f64 + i as f64 / n as f64;
+            let tau = (w as usize * window_revs as usize) as f64
+                + f64::from(window_revs - 1)
+                + i as f64 / n as f64;
             let x = approach.at(tau);
             m.mean += mass[k] * x;
             m.mean_sq += mass[k] * x * x;

@@ -6,5 +6,6 @@
 mod budget;
 mod levels_agree;
 mod physics;
+mod presets;
 mod speed_models_agree;
 mod vectors_files;
