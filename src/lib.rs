@@ -4,5 +4,4 @@
 //! `tooltouch-cosim` (QEMU and HDL runners), `tooltouch-plot`, `tooltouch-tune`. No domain
 //! logic lives here: a subcommand parses, calls a library, prints, and exits.
 
-pub mod accuracy;
 pub mod cli;

@@ -2,67 +2,18 @@
 //! settings as `measure` (docs/accuracy.md), term by term for each method and contact rule;
 //! `--simulate N` puts the simulated figures beside it; `--out DIR` writes a sweep of
 //! predicted against simulated as JSON and a plot. Parsing and printing only: the budget
-//! is `crate::accuracy`.
+//! is `tooltouch_metrology`.
 
-use crate::accuracy::budget::{predict, Outcome, Prediction, TermKind, Variant};
-use crate::accuracy::simulate::{simulate, Simulated};
-use crate::lathe::LatheScenario;
-use crate::output::OutputFolder;
-use crate::settings::Settings;
 use anyhow::Context;
-use clap::ValueEnum;
-use rayon::prelude::*;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
-
-/// The setting a sweep varies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Sweep {
-    /// A factor on every slow spindle error amplitude.
-    SlowGain,
-    /// The radial feed, µm per revolution.
-    FeedUm,
-    /// The non-cancelling fraction of the per-revolution errors.
-    Mismatch,
-    /// The roughness, µm 1σ.
-    Random,
-}
-
-impl Sweep {
-    /// The sweep's default values.
-    fn default_values(self) -> Vec<f64> {
-        match self {
-            Sweep::SlowGain => vec![0.0, 0.5, 1.0, 1.5, 2.0, 3.0],
-            Sweep::FeedUm => vec![0.5, 0.75, 1.0, 1.5, 2.0],
-            Sweep::Mismatch => vec![0.0, 0.1, 0.2, 0.4],
-            Sweep::Random => vec![0.0, 0.1, 0.2, 0.4],
-        }
-    }
-
-    /// `scenario` with the swept setting at `value` (`base`: the scenario as set).
-    fn apply(self, base: &LatheScenario, value: f64) -> LatheScenario {
-        let mut s = base.clone();
-        match self {
-            Sweep::SlowGain => s.slow.iter_mut().for_each(|h| h.amplitude_um *= value),
-            Sweep::FeedUm => s.feed_mm_per_rev = value / 1000.0,
-            Sweep::Mismatch => s.repeating_mismatch = value,
-            Sweep::Random => s.random_um = value,
-        }
-        s
-    }
-
-    /// The axis label.
-    pub fn label(self) -> &'static str {
-        match self {
-            Sweep::SlowGain => "slow-error gain",
-            Sweep::FeedUm => "feed, µm/rev",
-            Sweep::Mismatch => "repeating mismatch",
-            Sweep::Random => "roughness, µm (1σ)",
-        }
-    }
-}
+use tooltouch_metrology::budget::{Outcome, Prediction, TermKind};
+use tooltouch_metrology::simulate::Simulated;
+use tooltouch_metrology::sweep::{predict_variants, simulate_variants, Sweep};
+use tooltouch_plant::lathe::LatheScenario;
+use tooltouch_settings::Settings;
+use tooltouch_vectors::output::OutputFolder;
 
 /// Files `budget --out` writes.
 pub const OUTPUTS: [&str; 2] = ["budget.json", "budget.svg"];
@@ -85,8 +36,8 @@ pub struct Args {
     /// the sweep) into this folder.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// The setting the --out sweep varies.
-    #[arg(long, value_enum, default_value = "slow-gain")]
+    /// The setting the --out sweep varies: slow-gain, feed-um, mismatch or random.
+    #[arg(long, default_value = "slow-gain")]
     pub sweep: Sweep,
     /// The sweep's values, comma-separated (default: per sweep, e.g. slow gain 0,0.5,1,1.5,2,3).
     #[arg(long, value_delimiter = ',')]
@@ -105,8 +56,8 @@ fn fmt_outcome(o: &Outcome, sim: Option<&Simulated>, m: u32) -> String {
         }
         Outcome::Predicted(p) => {
             let reads = match p.reference {
-                crate::accuracy::Reference::Mean => "the mean diameter",
-                crate::accuracy::Reference::Largest => "the largest diameter",
+                tooltouch_metrology::Reference::Mean => "the mean diameter",
+                tooltouch_metrology::Reference::Largest => "the largest diameter",
             };
             s.push_str(&format!("{name}: reads {reads}\n"));
             s.push_str("  term                               formula         µm (Ø)\n");
@@ -141,8 +92,8 @@ fn fmt_outcome(o: &Outcome, sim: Option<&Simulated>, m: u32) -> String {
 
 fn total_line(p: &Prediction, m: u32) -> String {
     let reference = match p.reference {
-        crate::accuracy::Reference::Mean => "true mean",
-        crate::accuracy::Reference::Largest => "true largest",
+        tooltouch_metrology::Reference::Mean => "true mean",
+        tooltouch_metrology::Reference::Largest => "true largest",
     };
     format!(
         "  predicted: bias {:+.2} ± {:.2} µm (1σ) vs {reference}; 2σ repeatability {:.2} µm; \
@@ -169,34 +120,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         } else {
             4
         });
-    let predict_variants = |s: &LatheScenario| -> Vec<Outcome> {
-        Variant::ALL
-            .par_iter()
-            .map(|&v| {
-                let c = crate::accuracy::simulate::config_of(&settings.measure, v)
-                    .unwrap_or_else(|_| config.clone());
-                predict(&c, s, v)
-            })
-            .collect()
-    };
-    let simulate_variants = |s: &LatheScenario, outcomes: &[Outcome], n: u32| {
-        outcomes
-            .par_iter()
-            .map(|o| match o {
-                Outcome::Predicted(p) => {
-                    simulate(&settings.measure, s, p.variant, n, s.seed).map(Some)
-                }
-                Outcome::Refused { .. } => Ok(None),
-            })
-            .collect::<Result<Vec<_>, _>>()
-    };
-    let outcomes = predict_variants(&scenario);
+    let outcomes = predict_variants(&settings.measure, &config, &scenario);
     let predicted_s = started.elapsed().as_secs_f64();
     let sims = match args.simulate {
         Some(n) => {
-            super::measure::check_run_size(
+            tooltouch_plant::measurement_cycle::check_run_size(
                 &LatheScenario {
-                    cycle: crate::lathe::CycleSettings {
+                    cycle: tooltouch_plant::lathe::CycleSettings {
                         repeats: n,
                         ..scenario.cycle
                     },
@@ -204,7 +134,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
                 },
                 &config,
             )?;
-            simulate_variants(&scenario, &outcomes, n)?
+            simulate_variants(&settings.measure, &scenario, &outcomes, n)?
         }
         None => vec![None; outcomes.len()],
     };
@@ -232,18 +162,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             let s = args.sweep.apply(&scenario, v);
             s.validate(&config)
                 .with_context(|| format!("--sweep {:?} value {v}", args.sweep))?;
-            let predicted = predict_variants(&s);
+            let predicted = predict_variants(&settings.measure, &config, &s);
             let simulated = match args.simulate {
-                Some(n) => simulate_variants(&s, &predicted, n)?,
+                Some(n) => simulate_variants(&settings.measure, &s, &predicted, n)?,
                 None => vec![None; predicted.len()],
             };
-            points.push(crate::plot::budget::SweepPoint {
+            points.push(tooltouch_plot::budget::SweepPoint {
                 value: v,
                 predicted,
                 simulated,
             });
         }
-        crate::plot::budget::budget_sweep(&out.path("budget.svg"), args.sweep.label(), &points)?;
+        tooltouch_plot::budget::budget_sweep(&out.path("budget.svg"), args.sweep.label(), &points)?;
         let json = serde_json::json!({
             "measure_hash": format!("{:016x}", config.hash()),
             "settings": settings,

@@ -1,8 +1,8 @@
-//! The error budget (`tooltouch::accuracy::budget`, docs/accuracy.md) against the simulation:
+//! The error budget (`tooltouch_metrology::budget`, docs/accuracy.md) against the simulation:
 //! settings drawn across the slow-error gain, the trajectory mismatch, the roughness, the
 //! feed, the speed, the counting window, `i_def`, the method and the contact rule; each
 //! prediction is compared with 200 simulated measurements of the golden model on the
-//! simulated lathe (`tooltouch::accuracy::simulate`). A regime the budget refuses is
+//! simulated lathe (`tooltouch_metrology::simulate`). A regime the budget refuses is
 //! asserted to be refused, with its reason.
 //!
 //! The bounds, and why:
@@ -27,11 +27,11 @@
 
 use proptest::prelude::*;
 use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
-use tooltouch::accuracy::budget::{predict, Outcome, Variant};
-use tooltouch::accuracy::simulate::{config_of, simulate};
-use tooltouch::lathe::{LatheScenario, RetractAt};
+use tooltouch_metrology::budget::{predict, Outcome, Variant};
+use tooltouch_metrology::simulate::{config_of, simulate};
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::MeasureSettings;
+use tooltouch_plant::lathe::{LatheScenario, RetractAt};
 
 /// Simulated measurements per case.
 const REPEATS: u32 = 200;
@@ -139,12 +139,12 @@ fn the_budget_agrees_with_the_simulation_across_drawn_settings() {
                 Outcome::Refused { reason, .. } => {
                     // Only the regimes the budget names: a fast feed for the counter, slow
                     // errors large against the feed per window.
-                    let slow = tooltouch::accuracy::budget::slow_sigma_closed_form(&scenario);
+                    let slow = tooltouch_metrology::budget::slow_sigma_closed_form(&scenario);
                     let per_window = c.feed_um * f64::from(c.window_revs);
                     prop_assert!(
                         (reason.contains("fast-feed") && c.variant.method == DecisionMethod::Counter)
                             || (reason.contains("slow-error regime")
-                                && slow > tooltouch::accuracy::budget::SLOW_TO_FEED_LIMIT * per_window),
+                                && slow > tooltouch_metrology::budget::SLOW_TO_FEED_LIMIT * per_window),
                         "unexpected refusal of {c:?}: {reason}"
                     );
                 }

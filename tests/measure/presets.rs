@@ -11,10 +11,10 @@
 //!   measurements (the paper's ± is the band of its repeated measurements; 2σ of 40 has a
 //!   sampling error of about 11 %), so 2σ within 1.54–2.86 µm.
 
-use tooltouch::lathe::LatheScenario;
-use tooltouch::measurement_cycle::{self, Summary};
-use tooltouch::settings::Settings;
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::lathe::LatheScenario;
+use tooltouch_plant::measurement_cycle::{self, Summary};
+use tooltouch_settings::Settings;
 
 fn preset(name: &str) -> (MeasureConfig, LatheScenario) {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,12 +1,12 @@
 //! `tooltouch budget --out`: the predicted bias and scatter of each method against the
 //! simulated ones, over a sweep of one setting.
 
-use super::{draw_legend, err, with_legend_panel, Drawn, LegendEntry, PlotError, Swatch, CATEGORY};
-use crate::accuracy::budget::{Outcome, Variant};
-use crate::accuracy::simulate::Simulated;
+use crate::{draw_legend, err, with_legend_panel, Drawn, LegendEntry, PlotError, Swatch, CATEGORY};
 use plotters::prelude::*;
 use serde::Serialize;
 use std::path::Path;
+use tooltouch_metrology::budget::{Outcome, Variant};
+use tooltouch_metrology::simulate::Simulated;
 
 /// One value of the sweep: each variant's prediction and (if simulated) simulation.
 #[derive(Clone, Debug, Serialize)]

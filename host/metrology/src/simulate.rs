@@ -8,14 +8,14 @@
 //! and the slow harmonics' phases shifted by a golden-ratio sequence (evenly spread, not
 //! random), and pooled.
 
-use super::budget::{Reference, Variant};
-use crate::lathe::surface::mix;
-use crate::lathe::{LatheScenario, ScenarioError};
-use crate::measurement_cycle::{self, Summary};
+use crate::budget::{Reference, Variant};
 use rayon::prelude::*;
 use serde::Serialize;
 use tooltouch_model::validation::ConfigError;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_plant::lathe::surface::mix;
+use tooltouch_plant::lathe::{LatheScenario, ScenarioError};
+use tooltouch_plant::measurement_cycle::{self, Summary};
 
 /// Simulated figures of one variant.
 #[derive(Clone, Debug, Serialize)]

@@ -49,12 +49,12 @@
 //! contact electrics or a glitch filter that remove a
 //! noticeable part of the contact, an approach that may not decide.
 
-use crate::lathe::surface::ROUGHNESS_CELLS_PER_REV;
-use crate::lathe::LatheScenario;
 use serde::Serialize;
 use std::f64::consts::{PI, TAU};
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
+use tooltouch_plant::lathe::surface::ROUGHNESS_CELLS_PER_REV;
+use tooltouch_plant::lathe::LatheScenario;
 
 /// Slow-error phases the prediction averages over (a Kronecker low-discrepancy set in the
 /// harmonics' phases and amplitude jitters).

@@ -3,8 +3,8 @@
 //! them — the slow spindle errors, the decision grid's phase, the quantization — averages
 //! out: the paper's Δ_2 = e + ω_Δφ/√m keeps its systematic part e.
 
-use crate::measurement_cycle::{MeasurementReport, Spread};
 use serde::Serialize;
+use tooltouch_plant::measurement_cycle::{MeasurementReport, Spread};
 
 /// The mean of one Z position's measurements.
 #[derive(Clone, Debug, Serialize)]
