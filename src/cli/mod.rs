@@ -45,6 +45,7 @@ macro_rules! out {
 }
 
 pub mod budget;
+pub mod calibrate;
 pub mod check;
 pub mod control;
 pub mod cosim;
@@ -89,6 +90,9 @@ enum Command {
     /// Predict the decided diameter's bias and scatter from the settings (the error
     /// budget), optionally beside a simulation.
     Budget(budget::Args),
+    /// Measure a reference part of known diameter with each method and contact rule and
+    /// write the offsets as a calibration file (`measure --calibration` applies it).
+    Calibrate(calibrate::Args),
     /// Compare a device-under-test trace with the golden expected trace.
     Check(check::Args),
     /// Compute the golden response to your own stimulus (VCD of the pins, event stream,
@@ -159,6 +163,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Measure(args) => measure::run(args),
         Command::Budget(args) => budget::run(args),
+        Command::Calibrate(args) => calibrate::run(args),
         Command::Check(args) => check::run(args),
         Command::Vectors(args) => vectors::run(args),
         Command::Control(args) => control::run(args),

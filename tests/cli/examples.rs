@@ -98,3 +98,8 @@ fn the_first_rig_preset_runs_measure_and_budget() {
 fn the_second_rig_preset_runs_measure_and_budget() {
     run_example("rig2.toml", 2);
 }
+
+#[test]
+fn the_spindle_path_example_runs_budget_and_measure() {
+    run_example("spindle_path.toml", 2);
+}

@@ -332,8 +332,11 @@ struct SurfaceModel {
 }
 
 impl SurfaceModel {
-    fn new(s: &LatheScenario, mismatch: f64) -> SurfaceModel {
+    /// `mismatch`: the non-cancelling fraction of the per-revolution errors; `path`: with
+    /// the spindle path's difference from its loads ([`LatheScenario::spindle_path`]).
+    fn new(s: &LatheScenario, mismatch: f64, path: bool) -> SurfaceModel {
         let c = ROUGHNESS_CELLS_PER_REV;
+        let difference = s.spindle_path.difference(s.rpm);
         let mut seen = Vec::with_capacity(c);
         let mut truth = Vec::with_capacity(c);
         for k in 0..c {
@@ -341,7 +344,8 @@ impl SurfaceModel {
             let form: f64 = s.profile.iter().map(|h| h.at(phi)).sum();
             let rep: f64 = s.repeating.iter().map(|h| h.at(phi)).sum();
             truth.push(form);
-            seen.push(form - mismatch * rep);
+            let loads = if path { difference.at(phi) } else { 0.0 };
+            seen.push(form - mismatch * rep + loads);
         }
         SurfaceModel {
             seen,
@@ -693,7 +697,7 @@ pub fn slow_sigma_closed_form(scenario: &LatheScenario) -> f64 {
 
 /// Why the budget does not predict `variant` on these settings, if it does not.
 fn refusal(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> Option<String> {
-    let model = SurfaceModel::new(s, s.repeating_mismatch);
+    let model = SurfaceModel::new(s, s.repeating_mismatch, true);
     let approach = Approach::new(s);
     let slow_bound: f64 = s
         .slow
@@ -774,8 +778,24 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
     if let Some(reason) = refusal(config, s, variant) {
         return Outcome::Refused { variant, reason };
     }
-    let model = SurfaceModel::new(s, s.repeating_mismatch);
-    let matched = SurfaceModel::new(s, 0.0);
+    let model = SurfaceModel::new(s, s.repeating_mismatch, true);
+    let unloaded = SurfaceModel::new(s, s.repeating_mismatch, false);
+    let matched = SurfaceModel::new(s, 0.0, false);
+    let path = s.spindle_path.difference(s.rpm);
+    let path_detail = format!(
+        "supports b {} mm, a {} mm, play {} µm; F_p {} N machining only, belt {} N, \
+         unbalance {:.1} N machining / {:.1} N measuring: offset {:+.3} µm, \
+         1st harmonic {:.3} µm (radius)",
+        s.spindle_path.span_mm,
+        s.spindle_path.overhang_mm,
+        s.spindle_path.clearance_um,
+        s.spindle_path.cutting_force_n,
+        s.spindle_path.belt_load_n,
+        path.unbalance_machining_n,
+        path.unbalance_measuring_n,
+        path.offset_um,
+        path.first_harmonic.amplitude_um
+    );
     let approach = Approach::new(s);
     let res = s.scale_resolution_um;
     let quantization = 2.0 * res / 12f64.sqrt();
@@ -790,6 +810,7 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
     let max_revs = u64::from(s.cycle.max_approach_revs);
     let true_largest = SurfaceModel::expected_max(&model.truth, model.sigma);
     let seen_largest = SurfaceModel::expected_max(&model.seen, model.sigma);
+    let unloaded_largest = SurfaceModel::expected_max(&unloaded.seen, unloaded.sigma);
     let slow_closed = 2.0 * slow_sigma_closed_form(s);
     let moments = |with_slow: bool| -> Moments {
         let samples = slow_samples(s, with_slow);
@@ -851,6 +872,8 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
             let n = config.pulses_per_rev();
             let level_matched =
                 static_level(&pulse_points(&matched, n, ContactRule::Sampled), w, i_def);
+            let level_unloaded =
+                static_level(&pulse_points(&unloaded, n, ContactRule::Sampled), w, i_def);
             let level_seen = static_level(&pulse_points(&model, n, ContactRule::Sampled), w, i_def);
             let level_rule = static_level(&pulse_points(&model, n, variant.rule), w, i_def);
             lag_revs = (level_rule - still.mean) / approach.feed;
@@ -870,12 +893,19 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
                 name: "trajectory mismatch",
                 formula: "Δ1 (E)",
                 kind: TermKind::Bias,
-                value_um: 2.0 * (level_seen - level_matched),
+                value_um: 2.0 * (level_unloaded - level_matched),
                 detail: format!(
                     "repeating_mismatch {} of the per-revolution errors changes the seen \
                      surface's share level",
                     s.repeating_mismatch
                 ),
+            });
+            terms.push(Term {
+                name: "spindle path from its loads",
+                formula: "Δ1 (E, Fig. 1)",
+                kind: TermKind::Bias,
+                value_um: 2.0 * (level_seen - level_unloaded),
+                detail: path_detail,
             });
             terms.push(Term {
                 name: "contact rule",
@@ -928,11 +958,18 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
                 name: "trajectory mismatch",
                 formula: "Δ1 (E)",
                 kind: TermKind::Bias,
-                value_um: 2.0 * (seen_largest - true_largest),
+                value_um: 2.0 * (unloaded_largest - true_largest),
                 detail: format!(
                     "repeating_mismatch {}: the largest seen radius against the true one",
                     s.repeating_mismatch
                 ),
+            });
+            terms.push(Term {
+                name: "spindle path from its loads",
+                formula: "Δ1 (E, Fig. 1)",
+                kind: TermKind::Bias,
+                value_um: 2.0 * (seen_largest - unloaded_largest),
+                detail: path_detail,
             });
             terms.push(Term {
                 name: "feed step",

@@ -25,11 +25,13 @@
 pub mod electrics;
 pub mod scale;
 pub mod spindle;
+pub mod spindle_path;
 pub mod surface;
 
 pub use electrics::{ContactElectrics, Intervals};
 pub use scale::Motion;
 pub use spindle::{SlowHarmonic, Spindle};
+pub use spindle_path::{PathDifference, SpindlePath};
 pub use surface::{Harmonic, Surface};
 
 use crate::stimulus::{Segment, Stimulus};
@@ -132,6 +134,10 @@ pub struct LatheScenario {
     /// Fraction of the repeating errors that does not cancel, `0..=1` (0: machining and
     /// measuring trajectories coincide).
     pub repeating_mismatch: f64,
+    /// The spindle's supports and loads, from which its path while measuring differs from
+    /// its path while machining ([`SpindlePath`]); the default has no loads.
+    #[serde(skip_serializing_if = "SpindlePath::is_default")]
+    pub spindle_path: SpindlePath,
     /// Spindle errors with a period longer than one revolution (radius, µm).
     pub slow: Vec<SlowHarmonic>,
     /// Standard deviation of the random radius error (hardness scatter, cutting-force
@@ -161,6 +167,7 @@ impl Default for LatheScenario {
             profile: vec![h(2, 2.0, 0.4), h(3, 1.0, 1.9), h(5, 0.4, 4.0)],
             repeating: vec![h(1, 0.8, 0.0), h(4, 0.3, 2.5)],
             repeating_mismatch: 0.0,
+            spindle_path: SpindlePath::default(),
             slow: vec![
                 SlowHarmonic {
                     amplitude_um: 0.4,
@@ -275,6 +282,9 @@ impl LatheScenario {
             }
         }
         check("repeating_mismatch", self.repeating_mismatch, 0.0, 1.0)?;
+        if let Some((field, value, lo, hi)) = self.spindle_path.out_of_range() {
+            check(field, value, lo, hi)?;
+        }
         for (i, h) in self.slow.iter().enumerate() {
             check(
                 &format!("slow[{i}].amplitude_um"),
@@ -461,7 +471,8 @@ impl Lathe {
             s.random_um,
             s.seed,
             z_index,
-        );
+        )
+        .with_path_difference(&s.spindle_path.difference(s.rpm));
         self.first_touch = None;
     }
 
