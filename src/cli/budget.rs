@@ -120,6 +120,19 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         } else {
             4
         });
+    // The sweep's values checked before any work or output.
+    let values = args
+        .sweep_values
+        .clone()
+        .unwrap_or_else(|| args.sweep.default_values());
+    if args.out.is_some() {
+        for &v in &values {
+            args.sweep
+                .apply(&scenario, v)
+                .validate(&config)
+                .with_context(|| format!("--sweep-values {v} (--sweep {:?})", args.sweep))?;
+        }
+    }
     let outcomes = predict_variants(&settings.measure, &config, &scenario);
     let predicted_s = started.elapsed().as_secs_f64();
     let sims = match args.simulate {
@@ -153,15 +166,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
     if let Some(dir) = &args.out {
         let out = OutputFolder::create(dir, OUTPUTS)?;
-        let values = args
-            .sweep_values
-            .clone()
-            .unwrap_or_else(|| args.sweep.default_values());
         let mut points = Vec::new();
         for &v in &values {
             let s = args.sweep.apply(&scenario, v);
-            s.validate(&config)
-                .with_context(|| format!("--sweep {:?} value {v}", args.sweep))?;
             let predicted = predict_variants(&settings.measure, &config, &s);
             let simulated = match args.simulate {
                 Some(n) => simulate_variants(&settings.measure, &s, &predicted, n)?,

@@ -10,7 +10,7 @@ use anyhow::Context;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
-use tooltouch_metrology::calibration::{calibrate, residuals, ReferencePart};
+use tooltouch_metrology::calibration::{calibrate, residuals, CalibrationError, ReferencePart};
 use tooltouch_metrology::Variant;
 use tooltouch_plant::lathe::{CycleSettings, LatheScenario};
 use tooltouch_plant::measurement_cycle::check_run_size;
@@ -39,7 +39,7 @@ pub struct Args {
           value_parser = clap::value_parser!(u32).range(2..=1000))]
     pub repeats: u32,
     /// The calibration file to write (JSON), whole or not at all.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub out: PathBuf,
     /// Also print the residual bias on the settings' workpiece (at the calibrated
     /// conditions, at half and twice the feed, at 600 and 1000 rpm), from this many
@@ -76,11 +76,26 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         roughness_um: args.reference_roughness_um,
         as_cut: args.reference_as_cut,
     };
-    let calibration = calibrate(&settings.measure, &machine, &reference, args.repeats)?;
+    let calibration =
+        calibrate(&settings.measure, &machine, &reference, args.repeats).map_err(|e| match e {
+            CalibrationError::Reference { field, .. } => {
+                let flag = if field == "diameter_mm" {
+                    "--reference-mm"
+                } else {
+                    "--reference-roughness-um"
+                };
+                anyhow::anyhow!("{flag}: {e}")
+            }
+            e => e.into(),
+        })?;
     outln!(
-        "calibration on a {} reference of {} mm (roughness {} µm), {} measurements per variant, \
+        "calibration on {} reference of {} mm (roughness {} µm), {} measurements per variant, \
          f_r = {} mm/rev, {} rpm",
-        if reference.as_cut { "as-cut" } else { "round" },
+        if reference.as_cut {
+            "an as-cut"
+        } else {
+            "a round"
+        },
         reference.diameter_mm,
         reference.roughness_um,
         args.repeats,

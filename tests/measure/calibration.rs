@@ -93,7 +93,7 @@ fn a_file_from_another_configuration_or_feed_is_refused() {
     assert!(cal.entry_for(&config, machine.feed_mm_per_rev).is_ok());
     let other = MeasureSettings {
         i_def: 600,
-        ..measure.clone()
+        ..measure
     }
     .validate()
     .unwrap();
@@ -107,7 +107,7 @@ fn a_file_from_another_configuration_or_feed_is_refused() {
     ));
     let density = MeasureSettings {
         method: DecisionMethod::Density,
-        ..measure.clone()
+        ..measure
     }
     .validate()
     .unwrap();

@@ -627,6 +627,8 @@ fn counter_moments(
 /// The single pulse's first-contact radius for one slow-error sample: node by node in the
 /// order the tool passes them, the probability that the node's (Gaussian) radius reaches
 /// the tool at this pass and not at its previous one.
+// `k` indexes the surface nodes, the previous pass and the node's time together.
+#[allow(clippy::needless_range_loop)]
 fn single_pulse_moments(
     model: &SurfaceModel,
     approach: Approach,

@@ -17,6 +17,7 @@ use crate::simulate::{config_of, simulate, SimulateError};
 use serde::{Deserialize, Serialize};
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_plant::lathe::surface::mix;
 use tooltouch_plant::lathe::LatheScenario;
 
 /// The calibration file's format name.
@@ -192,7 +193,9 @@ pub fn calibrate(
     let mut entries = Vec::new();
     for variant in calibrated_variants() {
         let config = config_of(measure, variant).map_err(SimulateError::Measure)?;
-        let sim = simulate(measure, &scenario, variant, repeats, scenario.seed)?;
+        // Other Z positions than the workpiece's runs (the reference is another surface).
+        let seed = mix(scenario.seed, 0xca1b_0001, 0);
+        let sim = simulate(measure, &scenario, variant, repeats, seed)?;
         if sim.decided == 0 {
             return Err(CalibrationError::Undecided {
                 variant: variant.name(),

@@ -55,7 +55,7 @@ pub fn config_of(
     MeasureSettings {
         method: variant.method,
         contact_rule: variant.rule,
-        ..settings.clone()
+        ..*settings
     }
     .validate()
 }
@@ -76,7 +76,7 @@ pub fn simulate(
         .into_par_iter()
         .map(|k| {
             let mut s = scenario.clone();
-            s.seed = mix(seed, 0xb0d6_e7, u64::from(k));
+            s.seed = mix(seed, 0x00b0_d6e7, u64::from(k));
             s.cycle.repeats = RUN_LENGTH.min(repeats - k * RUN_LENGTH);
             for (i, h) in s.slow.iter_mut().enumerate() {
                 let shift = (f64::from(k) * golden * (i as f64 + 1.0)).fract();

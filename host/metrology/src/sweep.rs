@@ -89,7 +89,7 @@ pub fn predict_variants(
     Variant::ALL
         .par_iter()
         .map(|&v| {
-            let c = config_of(measure, v).unwrap_or_else(|_| config.clone());
+            let c = config_of(measure, v).unwrap_or(*config);
             predict(&c, scenario, v)
         })
         .collect()

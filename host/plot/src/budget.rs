@@ -19,11 +19,14 @@ pub struct SweepPoint {
     pub simulated: Vec<Option<Simulated>>,
 }
 
+/// (swept value, µm) pairs of one variant.
+type Series = Vec<(f64, f64)>;
+
 /// Two panels, bias (top) and 1σ (bottom), µm on the diameter, against the swept value:
 /// predictions as lines, simulations as dots, one colour per variant.
 pub fn budget_sweep(path: &Path, x_label: &str, points: &[SweepPoint]) -> Result<(), PlotError> {
     let n = Variant::ALL.len();
-    let series = |i: usize, bias: bool| -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+    let series = |i: usize, bias: bool| -> (Series, Series) {
         let mut pred = Vec::new();
         let mut sim = Vec::new();
         for p in points {
@@ -82,8 +85,7 @@ pub fn budget_sweep(path: &Path, x_label: &str, points: &[SweepPoint]) -> Result
                 .x_desc(x_label)
                 .y_desc(if bias { "bias, µm" } else { "1σ, µm" })
                 .draw()?;
-            for i in 0..n {
-                let c = CATEGORY[i];
+            for (i, &c) in CATEGORY.iter().enumerate().take(n) {
                 let (pred, sim) = series(i, bias);
                 chart.draw_series(LineSeries::new(pred, c.stroke_width(2)))?;
                 chart.draw_series(sim.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
