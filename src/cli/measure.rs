@@ -17,10 +17,12 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
+use tooltouch_metrology::averaging::{per_z_means, ZMean};
+use tooltouch_metrology::calibration::{corrected_mm, Calibration, CalibrationEntry};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::lathe::RetractAt;
-use tooltouch_plant::measurement_cycle::{self, check_run_size, CycleRun};
+use tooltouch_plant::measurement_cycle::{self, check_run_size, CycleRun, Spread};
 use tooltouch_settings::{Settings, SettingsError};
 use tooltouch_vectors::output::OutputFolder;
 use tooltouch_vectors::{self as vectors, binary, vcd};
@@ -112,6 +114,11 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub no_progress: bool,
+    /// Calibration file (`tooltouch calibrate`): subtract its offset for this method,
+    /// contact rule and feed from the decided diameters; refused when made with another
+    /// configuration or feed.
+    #[arg(long, value_name = "FILE")]
+    pub calibration: Option<PathBuf>,
     /// The settings' flags.
     #[command(flatten)]
     pub flags: Box<SettingFlags>,
@@ -598,6 +605,80 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
     s
 }
 
+/// The calibration entry for this run from the file at `path`.
+fn load_calibration(
+    path: &std::path::Path,
+    config: &MeasureConfig,
+    feed_mm_per_rev: f64,
+) -> anyhow::Result<CalibrationEntry> {
+    let text =
+        tooltouch_settings::read_text_file(path, "calibration file").map_err(anyhow::Error::msg)?;
+    let file: Calibration = serde_json::from_str(&text)
+        .with_context(|| format!("reading the calibration file {}", path.display()))?;
+    let entry = file
+        .entry_for(config, feed_mm_per_rev)
+        .with_context(|| format!("--calibration {}", path.display()))?;
+    Ok(entry.clone())
+}
+
+/// The calibrated figures: a line to print and the JSON for summary.json.
+struct Calibrated {
+    line: String,
+    json: serde_json::Value,
+}
+
+/// The run's decided diameters with the calibration's offset subtracted.
+fn calibrated_summary(run: &CycleRun, entry: &CalibrationEntry) -> Calibrated {
+    let corrected: Vec<Option<f64>> = run
+        .measurements
+        .iter()
+        .map(|m| m.diameter_mm.map(|d| corrected_mm(d, entry)))
+        .collect();
+    let d = Spread::of(corrected.iter().copied());
+    let e = Spread::of(
+        run.measurements
+            .iter()
+            .map(|m| m.error_vs_mean_um.map(|x| x - entry.offset_um)),
+    );
+    let line = format!(
+        "calibrated (offset {:+.2} µm subtracted): diameter {:.4} mm ± {:.2} µm (1σ); \
+         error vs true mean {:+.2} ± {:.2} µm\n",
+        entry.offset_um,
+        d.mean,
+        d.std * 1000.0,
+        e.mean,
+        e.std
+    );
+    let json = serde_json::json!({
+        "entry": entry,
+        "diameter_mm": corrected,
+        "error_vs_mean_um": e,
+    });
+    Calibrated { line, json }
+}
+
+/// S8: the mean of each Z's measurements and its 1σ `σ/√m` (with `averages_per_z` > 1).
+fn per_z_table(means: &[ZMean]) -> String {
+    let mut s = String::from(
+        "S8 means at one Z:\n  Z mm    m   mean Ø mm    σ µm   σ/√m µm   error vs true mean µm\n",
+    );
+    for z in means {
+        s.push_str(&format!(
+            "{:>6.3} {:>4}   {:>9.4}   {:>5.2}   {:>7.2}   {:>+8.2}\n",
+            z.z_mm, z.m, z.diameter_mm, z.sigma_um, z.sigma_of_mean_um, z.error_vs_mean_um
+        ));
+    }
+    let spread = Spread::of(means.iter().map(|z| Some(z.diameter_mm)));
+    if spread.n > 1 {
+        s.push_str(&format!(
+            "the {} means: 1σ {:.2} µm between Z positions (each Z's roughness stays in its mean)\n",
+            spread.n,
+            spread.std * 1000.0
+        ));
+    }
+    s
+}
+
 /// Runs `tooltouch measure`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let started = Instant::now();
@@ -606,6 +687,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .resolve()
         .map_err(|e| args.flags.explain(e, args.config.as_deref()))?;
     check_run_size(&scenario, &config)?;
+    let calibration = match &args.calibration {
+        Some(path) => Some(load_calibration(path, &config, scenario.feed_mm_per_rev)?),
+        None => None,
+    };
     let out = OutputFolder::create(&args.out, OUTPUTS)?;
 
     let bar = if args.no_progress {
@@ -622,6 +707,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let simulated = started.elapsed();
 
     out!("{}", table(&run, &config));
+    let calibrated = calibration
+        .as_ref()
+        .map(|entry| calibrated_summary(&run, entry));
+    if let Some(c) = &calibrated {
+        out!("{}", c.line);
+    }
+    let per_z = (scenario.cycle.averages_per_z > 1).then(|| per_z_means(&run.measurements));
+    if let Some(means) = &per_z {
+        out!("{}", per_z_table(means));
+    }
 
     tooltouch_plot::contact_density(
         &out.path("contact_density.svg"),
@@ -659,7 +754,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         binary::encode_outputs(&outputs, &config, scenario.clock_hz),
     )?;
 
-    let summary = serde_json::json!({
+    let mut summary = serde_json::json!({
         "measure_hash": format!("{:016x}", config.hash()),
         "settings": settings,
         "summary": run.summary,
@@ -674,6 +769,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         "wall_seconds_simulation": simulated.as_secs_f64(),
         "wall_seconds_total": started.elapsed().as_secs_f64(),
     });
+    if let Some(means) = &per_z {
+        summary["per_z_means"] = serde_json::json!(means);
+    }
+    if let Some(c) = calibrated {
+        summary["calibration"] = c.json;
+    }
     write(
         "summary.json",
         serde_json::to_vec_pretty(&summary).context("encoding summary.json")?,

@@ -44,6 +44,8 @@ macro_rules! out {
     };
 }
 
+pub mod budget;
+pub mod calibrate;
 pub mod check;
 pub mod control;
 pub mod cosim;
@@ -87,6 +89,12 @@ pub struct Cli {
 enum Command {
     /// Simulate in-process diameter measurements on a lathe with the golden model.
     Measure(measure::Args),
+    /// Predict the decided diameter's bias and scatter from the settings (the error
+    /// budget), optionally beside a simulation.
+    Budget(budget::Args),
+    /// Measure a reference part of known diameter with each method and contact rule and
+    /// write the offsets as a calibration file (`measure --calibration` applies it).
+    Calibrate(calibrate::Args),
     /// Compare a device-under-test trace with the golden expected trace.
     Check(check::Args),
     /// Compute the golden response to your own stimulus (VCD of the pins, event stream,
@@ -163,6 +171,8 @@ pub fn main() -> ExitCode {
     remove_staging_on_signal();
     let result = match cli.command {
         Command::Measure(args) => measure::run(args),
+        Command::Budget(args) => budget::run(args),
+        Command::Calibrate(args) => calibrate::run(args),
         Command::Check(args) => check::run(args),
         Command::Vectors(args) => vectors::run(args),
         Command::Coverage(args) => coverage::run(args),

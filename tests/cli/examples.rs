@@ -88,3 +88,18 @@ fn the_control_example_runs() {
 fn the_wear_example_runs() {
     run_example("wear.toml", 1);
 }
+
+#[test]
+fn the_first_rig_preset_runs_measure_and_budget() {
+    run_example("rig1.toml", 2);
+}
+
+#[test]
+fn the_second_rig_preset_runs_measure_and_budget() {
+    run_example("rig2.toml", 2);
+}
+
+#[test]
+fn the_spindle_path_example_runs_budget_and_measure() {
+    run_example("spindle_path.toml", 2);
+}

@@ -394,6 +394,13 @@ fn base_args(sub: &str, f: &Fixtures, out: &Path) -> Vec<(String, Option<String>
             ("--vcd", v("none")),
             ("--no-progress", None),
         ],
+        "budget" => vec![("--out", o.clone()), ("--sweep-values", v("1"))],
+        "calibrate" => vec![
+            ("--config", p(&f.settings)),
+            ("--reference-mm", v("40")),
+            ("--repeats", v("2")),
+            ("--out", o),
+        ],
         "check" => vec![("--expected", p(&f.expected)), ("--dut", p(&f.expected))],
         "vectors" => vec![("--stimulus", p(&f.events)), ("--out", o)],
         "coverage" => vec![("--stimulus", p(&f.events))],

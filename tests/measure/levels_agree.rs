@@ -84,6 +84,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                         phase_rad: 0.0,
                     }],
                     repeating_mismatch: mismatch,
+                    spindle_path: Default::default(),
                     slow: vec![SlowHarmonic {
                         amplitude_um: slow_um,
                         period_revs: 2.3,
@@ -113,6 +114,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                             RetractAt::PermanentContact
                         },
                         max_approach_revs: 40,
+                        averages_per_z: 1,
                     },
                     seed,
                 }

@@ -3,7 +3,12 @@
 //! One test binary per area (`cargo test --release --test measure`); one module per topic
 //! (`cargo test --release --test measure <topic>::`).
 
+mod averaging;
+mod budget;
+mod calibration;
 mod levels_agree;
 mod physics;
+mod presets;
 mod speed_models_agree;
+mod spindle_path;
 mod vectors_files;

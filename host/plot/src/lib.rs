@@ -7,6 +7,7 @@
 //! One module per subcommand's figures ([`measure`], [`control`], [`wear`], [`pareto`]);
 //! this module holds the pieces they share, so the plots look alike.
 
+pub mod budget;
 pub mod control;
 pub mod estimator;
 pub mod measure;

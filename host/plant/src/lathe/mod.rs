@@ -25,11 +25,13 @@
 pub mod electrics;
 pub mod scale;
 pub mod spindle;
+pub mod spindle_path;
 pub mod surface;
 
 pub use electrics::{ContactElectrics, Intervals};
 pub use scale::Motion;
 pub use spindle::{SlowHarmonic, Spindle};
+pub use spindle_path::{PathDifference, SpindlePath};
 pub use surface::{Harmonic, Surface};
 
 use crate::stimulus::{Segment, Stimulus};
@@ -76,6 +78,15 @@ pub struct CycleSettings {
     pub retract_at: RetractAt,
     /// Give up an approach (no decision) after this many revolutions, `1..=100000`.
     pub max_approach_revs: u32,
+    /// Measurements at each Z position before the Z step, `1..=1000` (S8 averaging: `m`
+    /// approaches on the same surface; `repeats` counts them all). Written to a settings
+    /// file only when not 1.
+    #[serde(skip_serializing_if = "is_one")]
+    pub averages_per_z: u32,
+}
+
+fn is_one(v: &u32) -> bool {
+    *v == 1
 }
 
 impl Default for CycleSettings {
@@ -93,6 +104,7 @@ impl Default for CycleSettings {
             cnc_reaction_us: 500.0,
             retract_at: RetractAt::PermanentContact,
             max_approach_revs: 200,
+            averages_per_z: 1,
         }
     }
 }
@@ -122,6 +134,10 @@ pub struct LatheScenario {
     /// Fraction of the repeating errors that does not cancel, `0..=1` (0: machining and
     /// measuring trajectories coincide).
     pub repeating_mismatch: f64,
+    /// The spindle's supports and loads, from which its path while measuring differs from
+    /// its path while machining ([`SpindlePath`]); the default has no loads.
+    #[serde(skip_serializing_if = "SpindlePath::is_default")]
+    pub spindle_path: SpindlePath,
     /// Spindle errors with a period longer than one revolution (radius, µm).
     pub slow: Vec<SlowHarmonic>,
     /// Standard deviation of the random radius error (hardness scatter, cutting-force
@@ -151,6 +167,7 @@ impl Default for LatheScenario {
             profile: vec![h(2, 2.0, 0.4), h(3, 1.0, 1.9), h(5, 0.4, 4.0)],
             repeating: vec![h(1, 0.8, 0.0), h(4, 0.3, 2.5)],
             repeating_mismatch: 0.0,
+            spindle_path: SpindlePath::default(),
             slow: vec![
                 SlowHarmonic {
                     amplitude_um: 0.4,
@@ -265,6 +282,9 @@ impl LatheScenario {
             }
         }
         check("repeating_mismatch", self.repeating_mismatch, 0.0, 1.0)?;
+        if let Some((field, value, lo, hi)) = self.spindle_path.out_of_range() {
+            check(field, value, lo, hi)?;
+        }
         for (i, h) in self.slow.iter().enumerate() {
             check(
                 &format!("slow[{i}].amplitude_um"),
@@ -344,6 +364,7 @@ impl LatheScenario {
         }
         check("cycle.z_dwell_ms", c.z_dwell_ms, 0.0, 10_000.0)?;
         check("cycle.cnc_reaction_us", c.cnc_reaction_us, 0.0, 1e6)?;
+        check("cycle.averages_per_z", c.averages_per_z.into(), 1.0, 1000.0)?;
         check(
             "cycle.max_approach_revs",
             c.max_approach_revs.into(),
@@ -450,7 +471,13 @@ impl Lathe {
             s.random_um,
             s.seed,
             z_index,
-        );
+        )
+        .with_path_difference(&s.spindle_path.difference(s.rpm));
+        self.first_touch = None;
+    }
+
+    /// Clears the first-touch state for another approach at the same Z position.
+    pub fn clear_first_touch(&mut self) {
         self.first_touch = None;
     }
 

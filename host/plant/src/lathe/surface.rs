@@ -94,6 +94,19 @@ impl Surface {
         Surface { seen_um, true_um }
     }
 
+    /// The surface as the tool sees it when the spindle's measuring path differs from its
+    /// machining path by `d` (docs/domain.md §2.6, [`super::SpindlePath`]): the seen radius
+    /// only changes, the true one is the part's. No change when the paths coincide.
+    pub fn with_path_difference(mut self, d: &super::PathDifference) -> Surface {
+        if !d.is_zero() {
+            let n = self.seen_um.len();
+            for (i, r) in self.seen_um.iter_mut().enumerate() {
+                *r += d.at(TAU * i as f64 / n as f64);
+            }
+        }
+        self
+    }
+
     /// Radius seen by the tool at `turn` (fraction of a revolution from the index, any
     /// real; only the fractional part matters), µm, linearly interpolated.
     #[inline]

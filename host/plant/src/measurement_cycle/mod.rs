@@ -168,8 +168,14 @@ pub fn run(
     let diameter = |count: i64| 2.0 * (count as f64 + 0.5) * res / 1000.0;
     let mut measurements = Vec::new();
 
+    let per_z = cycle.averages_per_z.max(1) as usize;
     for m in 0..cycle.repeats as usize {
-        d.lathe.set_z(m as u64);
+        let z_index = m / per_z;
+        if m % per_z == 0 {
+            d.lathe.set_z(z_index as u64);
+        } else {
+            d.lathe.clear_first_touch();
+        }
         let true_mean = 2.0 * d.lathe.surface().mean_radius_um() / 1000.0;
         let true_largest = 2.0 * d.lathe.surface().largest_radius_um() / 1000.0;
         // Wait at the start point for the next index pulse (at least 64 clocks after
@@ -282,7 +288,7 @@ pub fn run(
         };
         measurements.push(MeasurementReport {
             index: m,
-            z_mm: m as f64 * cycle.z_step_mm,
+            z_mm: z_index as f64 * cycle.z_step_mm,
             arm_cycle: k0,
             first_contact_cycle: watch.first_contact,
             decision_cycle: watch.decision,

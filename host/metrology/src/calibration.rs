@@ -1,0 +1,333 @@
+//! Calibration on a reference part (docs/accuracy.md "Calibration on a reference part";
+//! papers' S1–S3: a second system determines the real position of the size-determining tool
+//! point, Δ_P = X_M − X_P,D, and the systematic error is compensated by it).
+//!
+//! The calibration cycle measures a reference of known diameter `m` times with each method
+//! and contact rule, on the machine as set (its spindle errors, its path from the loads, the
+//! speed, the feed, the contact electrics); the reference itself is round (no form error)
+//! with its own roughness. The offset of a variant is the mean of (decided − known)
+//! diameter: what the method adds on that machine at that feed. A later measurement with the
+//! same configuration (the model configuration's hash, which names the method and the rule)
+//! and feed subtracts it. What stays is the residual: the part of the bias that depends on
+//! the workpiece (its form moves the 50 % share level; its largest diameter is what the
+//! single pulse reads) and on conditions other than the calibrated ones.
+
+use crate::budget::Variant;
+use crate::simulate::{config_of, simulate, SimulateError};
+use serde::{Deserialize, Serialize};
+use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
+use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_plant::lathe::surface::mix;
+use tooltouch_plant::lathe::LatheScenario;
+
+/// The calibration file's format name.
+pub const FORMAT: &str = "tooltouch-calibration/1";
+
+/// The reference part.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReferencePart {
+    /// Its known diameter, mm, `0.1..=2000`.
+    pub diameter_mm: f64,
+    /// Its roughness, µm 1σ, `0..=10` (a ground ring: about 0.05).
+    pub roughness_um: f64,
+    /// False: a round reference (a ring or a ground cylinder, no form error) mounted on
+    /// the spindle. True: a surface cut in this set-up and its diameter measured off the
+    /// machine, so it carries the workpiece's form error and roughness (`roughness_um` is
+    /// then not used).
+    pub as_cut: bool,
+}
+
+/// One variant's offset at one feed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CalibrationEntry {
+    /// The decision method.
+    pub method: DecisionMethod,
+    /// The contact rule.
+    pub contact_rule: ContactRule,
+    /// The model configuration's hash for this method and rule (hex, as `measure_hash` in
+    /// `measure`'s summary.json).
+    pub measure_hash: String,
+    /// The approach feed calibrated at, mm/rev.
+    pub feed_mm_per_rev: f64,
+    /// The spindle speed calibrated at, rpm.
+    pub rpm: f64,
+    /// The mean of (decided − known) diameter on the reference, µm.
+    pub offset_um: f64,
+    /// Its standard error, µm.
+    pub standard_error_um: f64,
+    /// The 1σ of one reference measurement, µm.
+    pub sigma_um: f64,
+    /// Measurements that decided.
+    pub decided: usize,
+}
+
+/// A calibration file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// [`FORMAT`].
+    pub format: String,
+    /// The reference part measured.
+    pub reference: ReferencePart,
+    /// Measurements per variant.
+    pub repeats: u32,
+    /// One entry per variant.
+    pub entries: Vec<CalibrationEntry>,
+}
+
+/// A calibration that cannot be made or applied.
+#[derive(Debug, thiserror::Error)]
+pub enum CalibrationError {
+    /// The simulation could not run.
+    #[error(transparent)]
+    Simulate(#[from] SimulateError),
+    /// A reference part's field is out of range.
+    #[error("reference part: {field} = {value} is out of range: allowed {range}")]
+    Reference {
+        /// The field.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// The allowed range.
+        range: &'static str,
+    },
+    /// No measurement on the reference decided.
+    #[error("{variant}: no measurement of the reference decided")]
+    Undecided {
+        /// The variant's name.
+        variant: String,
+    },
+    /// The file is not a calibration file of this format.
+    #[error("not a {FORMAT} file (format `{0}`)")]
+    Format(String),
+    /// The file holds no entry for this method and rule.
+    #[error(
+        "the calibration file holds no entry for method {method:?}, contact rule {rule:?}: \
+         calibrate with this configuration (`tooltouch calibrate`)"
+    )]
+    NoEntry {
+        /// The method.
+        method: DecisionMethod,
+        /// The rule.
+        rule: ContactRule,
+    },
+    /// The file was made with another configuration.
+    #[error(
+        "the calibration was made with another configuration (measure hash {file}, this run \
+         {run}): recalibrate with these settings"
+    )]
+    OtherConfiguration {
+        /// The file's hash.
+        file: String,
+        /// This run's hash.
+        run: String,
+    },
+    /// The file was made at another feed.
+    #[error(
+        "the calibration was made at f_r = {file} mm/rev, this run approaches at {run} mm/rev: \
+         the offset is mostly the decision lag, proportional to the feed; recalibrate at this feed"
+    )]
+    OtherFeed {
+        /// The file's feed.
+        file: f64,
+        /// This run's feed.
+        run: f64,
+    },
+}
+
+/// The hash of `config` as the files write it.
+pub fn hash_hex(config: &MeasureConfig) -> String {
+    format!("{:016x}", config.hash())
+}
+
+/// The machine as set, holding the reference part instead of the workpiece: a round one
+/// has no form error and its own roughness; an as-cut one keeps the workpiece's.
+pub fn reference_scenario(machine: &LatheScenario, reference: &ReferencePart) -> LatheScenario {
+    LatheScenario {
+        diameter_mm: reference.diameter_mm,
+        profile: if reference.as_cut {
+            machine.profile.clone()
+        } else {
+            Vec::new()
+        },
+        random_um: if reference.as_cut {
+            machine.random_um
+        } else {
+            reference.roughness_um
+        },
+        ..machine.clone()
+    }
+}
+
+/// The variants a calibration covers: every method and rule but the density detector,
+/// whose decision the budget does not model either (it can be calibrated the same way; it
+/// is left out to keep the cycle short).
+pub fn calibrated_variants() -> impl Iterator<Item = Variant> {
+    Variant::ALL
+        .into_iter()
+        .filter(|v| v.method != DecisionMethod::Density)
+}
+
+/// Measures `reference` on the machine `machine` `repeats` times per variant and returns
+/// the calibration.
+pub fn calibrate(
+    measure: &MeasureSettings,
+    machine: &LatheScenario,
+    reference: &ReferencePart,
+    repeats: u32,
+) -> Result<Calibration, CalibrationError> {
+    if !(0.1..=2000.0).contains(&reference.diameter_mm) {
+        return Err(CalibrationError::Reference {
+            field: "diameter_mm",
+            value: reference.diameter_mm,
+            range: "0.1..=2000",
+        });
+    }
+    if !(0.0..=10.0).contains(&reference.roughness_um) {
+        return Err(CalibrationError::Reference {
+            field: "roughness_um",
+            value: reference.roughness_um,
+            range: "0..=10",
+        });
+    }
+    let scenario = reference_scenario(machine, reference);
+    let mut entries = Vec::new();
+    for variant in calibrated_variants() {
+        let config = config_of(measure, variant).map_err(SimulateError::Measure)?;
+        // Other Z positions than the workpiece's runs (the reference is another surface).
+        let seed = mix(scenario.seed, 0xca1b_0001, 0);
+        let sim = simulate(measure, &scenario, variant, repeats, seed)?;
+        if sim.decided == 0 {
+            return Err(CalibrationError::Undecided {
+                variant: variant.name(),
+            });
+        }
+        // The known diameter is the reference's mean diameter; its roughness is drawn per Z,
+        // so the error against each Z's true mean is the offset's estimate.
+        entries.push(CalibrationEntry {
+            method: variant.method,
+            contact_rule: variant.rule,
+            measure_hash: hash_hex(&config),
+            feed_mm_per_rev: machine.feed_mm_per_rev,
+            rpm: machine.rpm,
+            offset_um: sim.bias_vs_mean_um,
+            standard_error_um: sim.bias_standard_error_um,
+            sigma_um: sim.sigma_um,
+            decided: sim.decided,
+        });
+    }
+    Ok(Calibration {
+        format: FORMAT.into(),
+        reference: *reference,
+        repeats,
+        entries,
+    })
+}
+
+impl Calibration {
+    /// The entry for a run with `config` approaching at `feed_mm_per_rev`: refused when the
+    /// file is of another format, holds no entry for the method and rule, was made with
+    /// another configuration or at another feed (relative difference over 1e-9).
+    pub fn entry_for(
+        &self,
+        config: &MeasureConfig,
+        feed_mm_per_rev: f64,
+    ) -> Result<&CalibrationEntry, CalibrationError> {
+        if self.format != FORMAT {
+            return Err(CalibrationError::Format(self.format.clone()));
+        }
+        let (method, rule) = (config.settings().method, config.settings().contact_rule);
+        let entry = self
+            .entries
+            .iter()
+            .find(|e| e.method == method && e.contact_rule == rule)
+            .ok_or(CalibrationError::NoEntry { method, rule })?;
+        let run = hash_hex(config);
+        if entry.measure_hash != run {
+            return Err(CalibrationError::OtherConfiguration {
+                file: entry.measure_hash.clone(),
+                run,
+            });
+        }
+        if (entry.feed_mm_per_rev - feed_mm_per_rev).abs() > 1e-9 * feed_mm_per_rev.abs() {
+            return Err(CalibrationError::OtherFeed {
+                file: entry.feed_mm_per_rev,
+                run: feed_mm_per_rev,
+            });
+        }
+        Ok(entry)
+    }
+}
+
+/// A diameter with the calibration's offset removed, mm.
+pub fn corrected_mm(diameter_mm: f64, entry: &CalibrationEntry) -> f64 {
+    diameter_mm - entry.offset_um / 1000.0
+}
+
+/// The residual bias of one variant on the workpiece after the calibration.
+#[derive(Clone, Debug, Serialize)]
+pub struct Residual {
+    /// The variant's name.
+    pub variant: String,
+    /// The condition, in words (`calibrated`, `f_r 0.0005 mm/rev`, `600 rpm`).
+    pub condition: String,
+    /// The raw bias against the true mean diameter, µm.
+    pub raw_bias_um: f64,
+    /// The raw bias against the true largest diameter, µm (what the single pulse reads).
+    pub raw_bias_vs_largest_um: f64,
+    /// The offset applied, µm.
+    pub offset_um: f64,
+    /// What stays: raw bias − offset, µm.
+    pub residual_um: f64,
+    /// The residual's standard error (the two simulations'), µm.
+    pub standard_error_um: f64,
+}
+
+/// The residual bias on the workpiece `machine` of each variant with `calibration`'s offset
+/// applied, at the calibrated conditions and with the feed and speed changed to each of
+/// `feeds` and `speeds` (the offset kept: the file is made once).
+pub fn residuals(
+    measure: &MeasureSettings,
+    machine: &LatheScenario,
+    calibration: &Calibration,
+    repeats: u32,
+    feeds: &[f64],
+    speeds: &[f64],
+) -> Result<Vec<Residual>, CalibrationError> {
+    let mut conditions = vec![("calibrated".to_string(), machine.clone())];
+    for &f in feeds {
+        conditions.push((
+            format!("f_r {f} mm/rev"),
+            LatheScenario {
+                feed_mm_per_rev: f,
+                ..machine.clone()
+            },
+        ));
+    }
+    for &n in speeds {
+        conditions.push((
+            format!("{n} rpm"),
+            LatheScenario {
+                rpm: n,
+                ..machine.clone()
+            },
+        ));
+    }
+    let mut out = Vec::new();
+    for variant in calibrated_variants() {
+        let config = config_of(measure, variant).map_err(SimulateError::Measure)?;
+        let entry = calibration.entry_for(&config, machine.feed_mm_per_rev)?;
+        for (condition, scenario) in &conditions {
+            let sim = simulate(measure, scenario, variant, repeats, scenario.seed)?;
+            out.push(Residual {
+                variant: variant.name(),
+                condition: condition.clone(),
+                raw_bias_um: sim.bias_vs_mean_um,
+                raw_bias_vs_largest_um: sim.bias_vs_largest_um,
+                offset_um: entry.offset_um,
+                residual_um: sim.bias_vs_mean_um - entry.offset_um,
+                standard_error_um: sim.bias_standard_error_um.hypot(entry.standard_error_um),
+            });
+        }
+    }
+    Ok(out)
+}

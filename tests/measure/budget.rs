@@ -1,0 +1,239 @@
+//! The error budget (`tooltouch_metrology::budget`, docs/accuracy.md) against the simulation:
+//! settings drawn across the slow-error gain, the trajectory mismatch, the roughness, the
+//! feed, the speed, the counting window, `i_def`, the method and the contact rule; each
+//! prediction is compared with 200 simulated measurements of the golden model on the
+//! simulated lathe (`tooltouch_metrology::simulate`). A regime the budget refuses is
+//! asserted to be refused, with its reason.
+//!
+//! The bounds, and why:
+//! - **bias** within 0.50 µm + 3 standard errors of the simulated mean (σ/√200 ≈ 0.05 µm at
+//!   σ = 0.7 µm). 0.50 µm is 2.5 counts of the scale on the diameter. Where either the
+//!   slow errors or the roughness is off, prediction and simulation agree within 0.1 µm
+//!   (the default lathe without slow errors: −1.90 / −1.94 µm; without roughness −2.34 /
+//!   −2.44 µm); with both at their defaults the simulation reads 0.3–0.45 µm lower than
+//!   the prediction (counter: −2.30 predicted, −2.69 simulated), an interaction of the
+//!   within-revolution slow errors with the roughness the budget does not capture
+//!   (docs/accuracy.md, "What the budget leaves out"). The bound holds that gap with the
+//!   sampling error, and no more.
+//! - **scatter** within 40 % of the simulated 1σ plus 0.10 µm: the sampling error of a
+//!   standard deviation from 200 values is 1/√400 = 5 % (3σ: 15 %); the rest is the
+//!   model's. Around a slow-error gain of 1.5 the simulated scatter dips below the
+//!   prediction (0.55–0.67 µm simulated against 0.82 µm predicted, −33 %), a non-monotone
+//!   effect of the decision grid the budget's phase average does not capture; elsewhere
+//!   they agree within 20 %. The 0.10 µm floor is half a count on the diameter, where
+//!   the quantization and the decision grid make σ a handful of discrete values.
+//!
+//! `TT_BUDGET_CASES` sets the number of drawn cases (default 6).
+
+use proptest::prelude::*;
+use proptest::test_runner::{RngAlgorithm, TestRng, TestRunner};
+use tooltouch_metrology::budget::{predict, Outcome, Variant};
+use tooltouch_metrology::simulate::{config_of, simulate};
+use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
+use tooltouch_model::MeasureSettings;
+use tooltouch_plant::lathe::{LatheScenario, RetractAt};
+
+/// Simulated measurements per case.
+const REPEATS: u32 = 200;
+/// Bias bound beyond the simulation's sampling error, µm.
+const BIAS_BOUND_UM: f64 = 0.50;
+/// Relative scatter bound, and its floor, µm.
+const SIGMA_RELATIVE: f64 = 0.40;
+const SIGMA_FLOOR_UM: f64 = 0.10;
+
+#[derive(Clone, Debug)]
+struct Case {
+    slow_gain: f64,
+    mismatch: f64,
+    random_um: f64,
+    feed_um: f64,
+    rpm: f64,
+    window_revs: u8,
+    share: f64,
+    variant: Variant,
+    seed: u64,
+}
+
+fn case() -> impl Strategy<Value = Case> {
+    (
+        (0.0..2.0f64, 0.0..0.3f64, 0.0..0.3f64, 0.5..2.0f64),
+        (
+            600.0..1200.0f64,
+            1u8..=2,
+            0.35..0.65f64,
+            0usize..3,
+            1u64..1000,
+        ),
+    )
+        .prop_map(
+            |((slow_gain, mismatch, random_um, feed_um), (rpm, window_revs, share, v, seed))| {
+                let variant = [
+                    (DecisionMethod::Counter, ContactRule::Sampled),
+                    (DecisionMethod::Counter, ContactRule::Sticky),
+                    (DecisionMethod::SinglePulse, ContactRule::Sticky),
+                ][v];
+                Case {
+                    slow_gain,
+                    mismatch,
+                    random_um,
+                    feed_um,
+                    rpm,
+                    window_revs,
+                    share,
+                    variant: Variant {
+                        method: variant.0,
+                        rule: variant.1,
+                    },
+                    seed,
+                }
+            },
+        )
+}
+
+fn settings_of(c: &Case) -> (MeasureSettings, LatheScenario) {
+    let window_pulses = 1024 * u32::from(c.window_revs);
+    let measure = MeasureSettings {
+        window_revs: c.window_revs,
+        i_def: (c.share * f64::from(window_pulses)) as u32,
+        ..Default::default()
+    };
+    let mut s = LatheScenario {
+        rpm: c.rpm,
+        feed_mm_per_rev: c.feed_um / 1000.0,
+        repeating_mismatch: c.mismatch,
+        random_um: c.random_um,
+        seed: c.seed,
+        ..Default::default()
+    };
+    s.slow
+        .iter_mut()
+        .for_each(|h| h.amplitude_um *= c.slow_gain);
+    // The latched position does not depend on when the tool retracts; retracting at the
+    // decision keeps the run short.
+    s.cycle.retract_at = RetractAt::Decision;
+    (measure, s)
+}
+
+fn cases() -> u32 {
+    std::env::var("TT_BUDGET_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(6)
+}
+
+#[test]
+fn the_budget_agrees_with_the_simulation_across_drawn_settings() {
+    let mut runner = TestRunner::new_with_rng(
+        ProptestConfig {
+            cases: cases(),
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        },
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    );
+    runner
+        .run(&case(), |c| {
+            let (measure, scenario) = settings_of(&c);
+            let config = config_of(&measure, c.variant).unwrap();
+            match predict(&config, &scenario, c.variant) {
+                Outcome::Refused { reason, .. } => {
+                    // Only the regimes the budget names: a fast feed for the counter, slow
+                    // errors large against the feed per window.
+                    let slow = tooltouch_metrology::budget::slow_sigma_closed_form(&scenario);
+                    let per_window = c.feed_um * f64::from(c.window_revs);
+                    prop_assert!(
+                        (reason.contains("fast-feed") && c.variant.method == DecisionMethod::Counter)
+                            || (reason.contains("slow-error regime")
+                                && slow > tooltouch_metrology::budget::SLOW_TO_FEED_LIMIT * per_window),
+                        "unexpected refusal of {c:?}: {reason}"
+                    );
+                }
+                Outcome::Predicted(p) => {
+                    let sim = simulate(&measure, &scenario, c.variant, REPEATS, c.seed).unwrap();
+                    prop_assert_eq!(sim.decided, REPEATS as usize);
+                    let bias_bound = BIAS_BOUND_UM + 3.0 * sim.bias_standard_error_um;
+                    prop_assert!(
+                        (p.bias_um - sim.bias_um).abs() <= bias_bound,
+                        "{c:?}: bias predicted {:.3} µm, simulated {:.3} µm (bound {bias_bound:.3})",
+                        p.bias_um,
+                        sim.bias_um
+                    );
+                    let sigma_bound = SIGMA_RELATIVE * sim.sigma_um + SIGMA_FLOOR_UM;
+                    prop_assert!(
+                        (p.sigma_um - sim.sigma_um).abs() <= sigma_bound,
+                        "{c:?}: 1σ predicted {:.3} µm, simulated {:.3} µm (bound {sigma_bound:.3})",
+                        p.sigma_um,
+                        sim.sigma_um
+                    );
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+}
+
+#[test]
+fn the_budget_refuses_what_its_formulas_do_not_describe() {
+    let measure = MeasureSettings::default();
+    let refused = |s: &LatheScenario, v: Variant, what: &str| {
+        let config = config_of(&measure, v).unwrap();
+        match predict(&config, s, v) {
+            Outcome::Refused { reason, .. } => {
+                assert!(reason.contains(what), "{}: {reason}", v.name())
+            }
+            Outcome::Predicted(p) => {
+                panic!("{} predicted, expected refused ({what}): {p:?}", v.name())
+            }
+        }
+    };
+    let counter = Variant::ALL[0];
+    let density = Variant::ALL[3];
+    refused(&LatheScenario::default(), density, "density detector");
+    // Feeding 5 µm per revolution crosses the whole 6 µm profile within one window.
+    refused(
+        &LatheScenario {
+            feed_mm_per_rev: 0.005,
+            ..Default::default()
+        },
+        counter,
+        "fast-feed",
+    );
+    // An approach that starts 1 µm above R0 begins in contact.
+    let mut s = LatheScenario::default();
+    s.cycle.clearance_um = 1.0;
+    refused(&s, counter, "within reach");
+    refused(&s, Variant::ALL[2], "within reach");
+    // A long non-conduction after first touch hides contact from the count.
+    let mut s = LatheScenario::default();
+    s.electrics.non_conduction_us = 5000.0;
+    refused(&s, counter, "non-conduction");
+    // Slow errors three times the default against a 0.5 µm/rev feed.
+    let mut s = LatheScenario {
+        feed_mm_per_rev: 0.0005,
+        ..Default::default()
+    };
+    s.slow.iter_mut().for_each(|h| h.amplitude_um *= 3.0);
+    refused(&s, counter, "slow-error regime");
+    // Too few revolutions allowed to decide.
+    let mut s = LatheScenario::default();
+    s.cycle.max_approach_revs = 9;
+    refused(&s, counter, "would not decide");
+}
+
+#[test]
+fn the_budget_command_says_what_it_does_not_predict_and_prints_every_term() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_tooltouch"))
+        .args(["budget", "--feed-mm-per-rev", "0.005"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{text}");
+    assert!(text.contains("density: not predicted"), "{text}");
+    assert!(
+        text.contains("counter/sampled: not predicted — fast-feed regime"),
+        "{text}"
+    );
+    for term in ["S4", "S5", "S10", "Δ1 (E)", "Δ2 (E)", "2σ repeatability"] {
+        assert!(text.contains(term), "{term}: {text}");
+    }
+}
