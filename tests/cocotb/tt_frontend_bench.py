@@ -9,12 +9,13 @@ run, the wall and CPU time and the first mismatch, if any).
 Clocking: the bench drives ``clk`` itself, two timer waits per clock (a ``Clock``
 coroutine plus an edge trigger costs more), and writes immediately
 (``cocotb_compat.immediate_writer``: a ``.value =`` write costs a ReadWrite trigger per
-time step, half of the bench's CPU time under cocotb 1.8). The pins and ``mcu_addr`` of clock ``k`` are applied at the falling edge before
-rising edge ``k``, as tt_testbench.v does (applying them at the rising edge itself races
-the flip-flops); nothing in the design reacts to them before that rising edge, so the
-immediate writes are race-free. Every output, ``irq`` and ``mcu_rdata`` are read at the
-end of the high phase, before the next falling edge. Reset (``rst``, active high,
-synchronous) is held for three clocks with every pin low.
+time step, half of the bench's CPU time under cocotb 1.8). The pins and ``mcu_addr`` of
+clock ``k`` are applied at the falling edge before rising edge ``k``, as tt_testbench.v
+does (applying them at the rising edge itself races the flip-flops); nothing in the
+design reacts to them before that rising edge, so the immediate writes are race-free.
+Every output, ``irq`` and ``mcu_rdata`` are read at the end of the high phase, before the
+next falling edge. Reset (``rst``, active high, synchronous) is held for three clocks
+with every pin low.
 """
 
 from __future__ import annotations
