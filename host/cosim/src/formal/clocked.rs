@@ -27,8 +27,9 @@ pub const REPLAY_BENCH: &str = "tt_formal_replay.v";
 /// The first difference of the clocked replay.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ClockedMismatch {
-    /// Clocks since power-on after which it shows.
-    pub clock: usize,
+    /// The cycle (as `tooltouch check` counts: the value registered by clock `cycle`,
+    /// 0-based) at which it shows.
+    pub cycle: usize,
     /// The signal (`mcu_rdata` or an output's name).
     pub signal: String,
     /// For `mcu_rdata`: the address and the register's name (`-` for an unlisted one).
@@ -44,13 +45,13 @@ impl std::fmt::Display for ClockedMismatch {
         match self.register {
             Some((addr, name)) => write!(
                 f,
-                "after clock {}: mcu_rdata at address {addr} ({name}): design 0x{}, model 0x{:x}",
-                self.clock, self.design, self.model
+                "cycle {}: mcu_rdata at address {addr} ({name}): design 0x{}, model 0x{:x}",
+                self.cycle, self.design, self.model
             ),
             None => write!(
                 f,
-                "after clock {}: {}: design 0x{}, model 0x{:x}",
-                self.clock, self.signal, self.design, self.model
+                "cycle {}: {}: design 0x{}, model 0x{:x}",
+                self.cycle, self.signal, self.design, self.model
             ),
         }
     }
@@ -201,6 +202,9 @@ pub fn replay_clocked(
     compare(config, mcu_diagnostics, cex, &text)
 }
 
+/// One value compared: signal, the design's text, the model's value, the MCU register.
+type Check<'a> = (&'a str, &'a str, u64, Option<(u32, &'static str)>);
+
 /// Compares the replay testbench's printout `text` with the golden model driven by `cex`.
 pub fn compare(
     config: &MeasureConfig,
@@ -233,17 +237,20 @@ pub fn compare(
                 .iter()
                 .find(|r| r.addr == addr)
                 .map_or("unlisted, reads 0", |r| r.name);
-            let mut checks = vec![("mcu_rdata", words[1], word, Some((addr, name)))];
-            for (i, field) in fields.iter().enumerate() {
-                checks.push((field.name, words[i + 2], values[i], None));
-            }
+            let mut checks: Vec<Check> = fields
+                .iter()
+                .enumerate()
+                .map(|(i, field)| (field.name, words[i + 2], values[i], None))
+                .collect();
+            checks.push(("mcu_rdata", words[1], word, Some((addr, name))));
             for (signal, design, model_value, register) in checks {
-                if u64::from_str_radix(design, 16).ok() != Some(model_value) {
+                let parsed = u64::from_str_radix(design, 16).ok();
+                if parsed != Some(model_value) {
                     return Ok(Some(ClockedMismatch {
-                        clock: f,
+                        cycle: f - 1,
                         signal: signal.to_string(),
                         register,
-                        design: design.to_string(),
+                        design: parsed.map_or_else(|| design.to_string(), |v| format!("{v:x}")),
                         model: model_value,
                     }));
                 }
@@ -322,7 +329,7 @@ mod tests {
         assert_eq!(compare(&c, false, &cex, &good).unwrap(), None);
         let bad = format!("{}\n{}\n{}\n", line(0, "0"), line(1, "10"), line(2, "0"));
         let m = compare(&c, false, &cex, &bad).unwrap().expect("a mismatch");
-        assert_eq!(m.clock, 2);
+        assert_eq!(m.cycle, 1);
         assert_eq!(m.register, Some((10, "CONFIG_HASH_LO")));
         assert!(m.to_string().contains("design 0x0"), "{m}");
         assert!(compare(&c, false, &cex, &format!("0 0 {zeros}\n")).is_err());

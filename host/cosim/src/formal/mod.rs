@@ -94,7 +94,7 @@ pub enum Outcome {
         /// The inputs, clock by clock.
         counterexample: Counterexample,
         /// Its replay against the golden model (when asked for).
-        replay: Option<Replay>,
+        replay: Option<Box<Replay>>,
     },
     /// No engine concluded within its limit.
     Undecided,
@@ -176,7 +176,7 @@ pub fn prove(request: &Request, dir: &Path) -> Result<Report, FormalError> {
                         &request.top,
                         dir,
                     )?;
-                    Some(replay(
+                    Some(Box::new(replay(
                         &request.config,
                         request.mcu_diagnostics,
                         &counterexample,
@@ -184,7 +184,7 @@ pub fn prove(request: &Request, dir: &Path) -> Result<Report, FormalError> {
                         &files,
                         &request.top,
                         dir,
-                    )?)
+                    )?))
                 } else {
                     None
                 };
