@@ -19,8 +19,10 @@ use tooltouch_vectors::output::OutputFolder;
 pub const UNDECIDED: u8 = 3;
 
 /// The files `tooltouch formal` may leave in its output folder.
-const KNOWN: [&str; 17] = [
+const KNOWN: [&str; 19] = [
     "tt_frontend_props.sv",
+    "replay.txt",
+    "tt_formal_replay.v",
     "counterexample.vcd",
     "golden.vcd",
     "stim.hex",
@@ -45,7 +47,8 @@ const KNOWN: [&str; 17] = [
 Exit codes: 0 proven (equal on every input sequence from power-on); 1 not equal (a \
 counterexample: counterexample.vcd holds its pins and the design's outputs, golden.vcd the \
 model's; `tooltouch check --expected golden.vcd --dut counterexample.vcd` shows the first \
-difference); 2 bad input (missing file, syntax error, missing port, wrong width, missing \
+difference; a counterexample that needs a reset after power-on has no golden.vcd, the \
+golden vectors cannot carry rst: the report shows its clock-by-clock replay); 2 bad input (missing file, syntax error, missing port, wrong width, missing \
 tool); 3 undecided (no engine concluded within its time limit: NOT proven). See docs/formal.md.")]
 pub struct Args {
     /// Settings TOML (`[measure]`, `[lathe]`): the configuration the reference is generated

@@ -10,7 +10,11 @@
 //!   and a small configuration;
 //! - single-point faults injected into them each give a counterexample whose replay
 //!   (`tooltouch vectors` on its pins, `tooltouch check` against the design's simulated
-//!   trace) is a mismatch: three by default, all of them with `TT_FORMAL_ALL=1`;
+//!   trace) is a mismatch: three by default, all of them with `TT_FORMAL_ALL=1`; a fault
+//!   only `mcu_rdata` shows is reported with its clock, address, register and both values by
+//!   the clock-by-clock replay, and a register `rst` does not clear (`rst` is a free input
+//!   of the miter) by the clock-by-clock replay of a trace that resets (the golden vectors
+//!   cannot carry `rst`), with a counterexample VCD holding `rst`;
 //! - bad input (a missing file, a syntax error, a missing port, a wrong width) exits 2 with
 //!   the culprit named.
 //!
@@ -46,7 +50,7 @@ impl Independent {
 }
 
 /// A single-point fault of the independent designs (their `FAULT` parameter).
-const FAULTS: [(u32, &str); 12] = [
+const FAULTS: [(u32, &str); 14] = [
     (1, "i_def + 1"),
     (2, "i_def - 1"),
     (3, "fire threshold + 1"),
@@ -59,7 +63,14 @@ const FAULTS: [(u32, &str); 12] = [
     (10, "discharge step - 1"),
     (11, "sticky bit not reloaded while disarmed"),
     (12, "first-contact latch not cleared by arm"),
+    (13, "position not cleared by rst"),
+    (14, "mcu_rdata at address 3 reads the position"),
 ];
+
+/// Fault 13 needs a reset after power-on: the golden vectors cannot carry it.
+const RESET_FAULT: u32 = 13;
+/// Fault 14 shows only on `mcu_rdata`: the golden VCD has no `mcu_rdata`.
+const MCU_FAULT: u32 = 14;
 
 /// Writes the independent design's file and a `tt_frontend` wrapper setting its
 /// parameters from `config` into `dir`; returns both paths.
@@ -276,6 +287,33 @@ fn assert_fault_found(design: Independent, fault: (u32, &str), work: &Path) -> u
         "{design:?} with {}: expected not equal:\n{out_text}",
         fault.1
     );
+    if fault.0 == RESET_FAULT {
+        assert!(
+            out_text.contains("replayed clock by clock (rst high at clock")
+                && out_text.contains(": position: design 0x"),
+            "{design:?} with {}: the replay must reset and show the position:\n{out_text}",
+            fault.1
+        );
+        let vcd = std::fs::read_to_string(out.join("counterexample.vcd")).expect("the VCD");
+        assert!(
+            vcd.contains(" rst $end"),
+            "the counterexample VCD holds rst"
+        );
+        assert!(
+            !out.join("golden.vcd").exists(),
+            "no golden VCD without rst"
+        );
+        return cex_clocks(&out_text);
+    }
+    if fault.0 == MCU_FAULT {
+        assert!(
+            out_text.contains("the 15 outputs match")
+                && out_text.contains("mcu_rdata at address 3 (FIRST_CONTACT_POSITION): design 0x"),
+            "{design:?} with {}: the replay must name the address and register:\n{out_text}",
+            fault.1
+        );
+        return cex_clocks(&out_text);
+    }
     assert!(
         out_text.contains("replayed against the golden model: cycle"),
         "{design:?} with {}: the replay must show a mismatch:\n{out_text}",
@@ -318,6 +356,16 @@ fn assert_fault_found(design: Independent, fault: (u32, &str), work: &Path) -> u
         .expect("the golden VCD's end comment")
 }
 
+/// The counterexample's length from the report's `… of a N-clock trace …`.
+fn cex_clocks(report: &str) -> usize {
+    report
+        .split("-clock trace")
+        .next()
+        .and_then(|h| h.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect("the report's trace length")
+}
+
 #[test]
 fn formal_dut_faults_in_independent_designs_give_replayable_counterexamples() {
     let work = tempfile::tempdir().expect("temporary folder");
@@ -332,6 +380,8 @@ fn formal_dut_faults_in_independent_designs_give_replayable_counterexamples() {
             (Independent::Registered, FAULTS[0]),
             (Independent::Previous, FAULTS[3]),
             (Independent::Registered, FAULTS[10]),
+            (Independent::Previous, FAULTS[12]),
+            (Independent::Registered, FAULTS[13]),
         ]
     };
     for (design, fault) in cases {

@@ -178,7 +178,8 @@ module tt_alt_previous #(
             revs_left <= WR8;
             seen <= 54'd0;
             register_now <= 0; decision_position <= 0;
-            first_contact <= 0; first_contact_position <= 0; position <= 0; scale_errors <= 0;
+            first_contact <= 0; first_contact_position <= 0; scale_errors <= 0;
+            if (FAULT != 13) position <= 0;  // fault 13: rst leaves the position
             count <= 0; last_window_count <= 0; charge <= 0; density_armed <= 1'b1;
             density_fired <= 0; revolutions <= 0; pulses <= 0;
         end else begin
@@ -203,7 +204,7 @@ module tt_alt_previous #(
             4'd0: mcu_rdata = {26'd0, density_fired, density_armed, first_contact, register_now, contact, armed};
             4'd1: mcu_rdata = pos_x[31:0];
             4'd2: mcu_rdata = dpos_x[31:0];
-            4'd3: mcu_rdata = fpos_x[31:0];
+            4'd3: mcu_rdata = (FAULT == 14) ? pos_x[31:0] : fpos_x[31:0];  // fault 14: wrong word
             4'd4: mcu_rdata = {{(32-CB){1'b0}}, count};
             4'd5: mcu_rdata = {{(32-CB){1'b0}}, last_window_count};
             4'd6: mcu_rdata = {{(32-QB){1'b0}}, charge};

@@ -6,16 +6,21 @@
 //! generated testbench run on the user's design in Icarus (its VCD dump,
 //! `counterexample.vcd`, holds the pins and the design's outputs), and `tooltouch check`'s
 //! comparison of the two, whose first mismatch names the clock, signal and both values.
+//! Then [`super::clocked`] replays the counterexample's own `mcu_addr` (and `rst`) clock
+//! by clock, so a difference only in `mcu_rdata` is shown too. A counterexample that
+//! raises `rst` after power-on is replayed by [`super::clocked`] only (its VCD is that
+//! replay's dump): the golden vectors cannot carry a reset (the stimulus holds the six
+//! pins, the generated testbench drives `rst` low).
 
 use super::error::FormalError;
+use super::inputs::Counterexample;
 use super::miter::map_inputs;
 use crate::hdl::runner::{build, run, CxxOpt, Simulator};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tooltouch_hdl_gen::{testbench, TestbenchSpec, TESTBENCH, TOP};
-use tooltouch_model::measure::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
-use tooltouch_plant::stimulus::Stimulus;
 use tooltouch_vectors::check::Verdict;
 use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 
@@ -23,33 +28,6 @@ use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 pub const COUNTEREXAMPLE_VCD: &str = "counterexample.vcd";
 /// File name of the golden model's response to the counterexample's pins.
 pub const GOLDEN_VCD: &str = "golden.vcd";
-
-/// The inputs of a difference, clock by clock from power-on.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Counterexample {
-    /// Pins sampled by clock `k` (bits as [`pin`]), `k = 0 … clocks − 1`; the designs'
-    /// outputs registered after the last clock differ.
-    pub pins: Vec<u8>,
-    /// The MCU address at each frame `0 … clocks` (the last one is the address read when
-    /// the difference shows).
-    pub mcu_addr: Vec<u32>,
-}
-
-impl Counterexample {
-    /// Clocks of the trace.
-    pub fn clocks(&self) -> usize {
-        self.pins.len()
-    }
-
-    /// The pins as a stimulus at `clock_hz`.
-    pub fn stimulus(&self, clock_hz: u32) -> Stimulus {
-        let mut s = Stimulus::new(clock_hz);
-        for &p in &self.pins {
-            s.push(Pins(p), 1);
-        }
-        s
-    }
-}
 
 /// The `# COUNTEREXAMPLE LENGTH: n` of ABC's `write_cex` text (frames `0 … n − 1`).
 pub fn cex_length(text: &str) -> Option<u32> {
@@ -90,6 +68,7 @@ pub fn read_cex(text: &str, map: &str, frame: u32) -> Result<Counterexample, For
     let value = |index: usize, f: u32| values.get(&(index, f)).copied().unwrap_or(false);
     let mut pins = vec![0u8; frame as usize];
     let mut mcu_addr = vec![0u32; frame as usize + 1];
+    let mut rst = vec![false; frame as usize + 1];
     for (index, bit, name) in &inputs {
         if let Some(p) = name
             .strip_prefix("pin_")
@@ -100,6 +79,10 @@ pub fn read_cex(text: &str, map: &str, frame: u32) -> Result<Counterexample, For
                     *slot |= 1 << p;
                 }
             }
+        } else if name == "rst" {
+            for (f, slot) in rst.iter_mut().enumerate() {
+                *slot = value(*index, f as u32);
+            }
         } else if name == "mcu_addr" {
             for (f, slot) in mcu_addr.iter_mut().enumerate() {
                 if value(*index, f as u32) {
@@ -108,21 +91,63 @@ pub fn read_cex(text: &str, map: &str, frame: u32) -> Result<Counterexample, For
             }
         }
     }
-    Ok(Counterexample { pins, mcu_addr })
+    Ok(Counterexample {
+        pins,
+        mcu_addr,
+        rst,
+    })
+}
+
+/// `cex` with `rst` held low, when that trace still makes the design differ from the model
+/// (an engine sets every free input, `rst` too, so a reset in its trace may be needless);
+/// otherwise `cex` itself. Checked by [`super::clocked::replay_clocked`] in `dir`.
+pub fn without_needless_resets(
+    config: &MeasureConfig,
+    mcu_diagnostics: bool,
+    cex: Counterexample,
+    clock_hz: u32,
+    files: &[PathBuf],
+    top: &str,
+    dir: &Path,
+) -> Result<Counterexample, FormalError> {
+    if !cex.resets() {
+        return Ok(cex);
+    }
+    let lowered = Counterexample {
+        rst: vec![false; cex.rst.len()],
+        ..cex.clone()
+    };
+    let differs = super::clocked::replay_clocked(
+        config,
+        mcu_diagnostics,
+        &lowered,
+        clock_hz,
+        files,
+        top,
+        dir,
+        None,
+    )?
+    .is_some();
+    Ok(if differs { lowered } else { cex })
 }
 
 /// What the replay of a counterexample showed.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Replay {
-    /// `check`'s verdict on the design's simulated trace against the golden model.
-    pub check: Verdict,
+    /// `check`'s verdict on the design's simulated trace against the golden model (`None`
+    /// when the counterexample resets after power-on, which the golden vectors cannot
+    /// carry).
+    pub check: Option<Verdict>,
+    /// The first difference of the clock-by-clock replay (the counterexample's own
+    /// `mcu_addr` and `rst`, `mcu_rdata` against the model's register map).
+    pub clocked: Option<super::clocked::ClockedMismatch>,
     /// The generated testbench's own first mismatch (it also compares `mcu_rdata`, at
     /// address `k mod 16` at clock `k`).
     pub testbench: Option<String>,
     /// The files written: the counterexample's VCD and the golden VCD.
     pub counterexample_vcd: PathBuf,
-    /// The golden model's response.
-    pub golden_vcd: PathBuf,
+    /// The golden model's response (`None` with a reset).
+    pub golden_vcd: Option<PathBuf>,
 }
 
 /// Replays `cex` in `dir`: writes the golden model's response to its pins (golden VCD and
@@ -138,6 +163,25 @@ pub fn replay(
     top: &str,
     dir: &Path,
 ) -> Result<Replay, FormalError> {
+    if cex.resets() {
+        let clocked = super::clocked::replay_clocked(
+            config,
+            mcu_diagnostics,
+            cex,
+            clock_hz,
+            files,
+            top,
+            dir,
+            Some(COUNTEREXAMPLE_VCD),
+        )?;
+        return Ok(Replay {
+            check: None,
+            clocked,
+            testbench: None,
+            counterexample_vcd: dir.join(COUNTEREXAMPLE_VCD),
+            golden_vcd: None,
+        });
+    }
     let stimulus = cex.stimulus(clock_hz);
     let golden_vcd = dir.join(GOLDEN_VCD);
     {
@@ -177,11 +221,22 @@ pub fn replay(
     let _ = std::fs::remove_dir_all(&build_dir);
     let check = tooltouch_vectors::check::compare_files(&golden_vcd, &counterexample_vcd)
         .map_err(|e| FormalError::Tool(format!("replaying the counterexample: {e}")))?;
+    let clocked = super::clocked::replay_clocked(
+        config,
+        mcu_diagnostics,
+        cex,
+        clock_hz,
+        files,
+        top,
+        dir,
+        None,
+    )?;
     Ok(Replay {
-        check,
+        check: Some(check),
+        clocked,
         testbench: r.first_mismatch,
         counterexample_vcd,
-        golden_vcd,
+        golden_vcd: Some(golden_vcd),
     })
 }
 
@@ -199,15 +254,17 @@ mod tests {
     #[test]
     fn abc_counterexamples_read_back_as_pins_per_clock() {
         let map = "input 0 0 clk\ninput 1 0 pin_arm\ninput 2 0 pin_contact\n\
-                   input 3 0 mcu_addr\ninput 4 1 mcu_addr\n";
+                   input 3 0 mcu_addr\ninput 4 1 mcu_addr\ninput 5 0 rst\n";
         let cex = "# FALSIFYING OUTPUTS: po0\n# COUNTEREXAMPLE LENGTH: 3\nlo000@0=0\n\
-                   pi00@0=0\npi01@0=1\npi02@0=0\npi03@0=0\npi04@0=0\n\
-                   pi00@1=1\npi01@1=1\npi02@1=1\npi03@1=1\npi04@1=0\n\
+                   pi00@0=0\npi01@0=1\npi02@0=0\npi03@0=0\npi04@0=0\npi05@0=0\n\
+                   pi00@1=1\npi01@1=1\npi02@1=1\npi03@1=1\npi04@1=0\npi05@1=1\n\
                    pi00@2=0\npi01@2=0\npi02@2=0\npi03@2=1\npi04@2=1\n";
         assert_eq!(cex_length(cex), Some(3));
         let c = read_cex(cex, map, 2).unwrap();
         assert_eq!(c.pins, vec![pin::ARM, pin::ARM | pin::CONTACT]);
         assert_eq!(c.mcu_addr, vec![0, 1, 3]);
+        assert_eq!(c.rst, vec![false, true, false]);
+        assert!(c.resets());
         assert_eq!(c.stimulus(1_000_000).total_cycles(), 2);
         assert!(read_cex("pi0x@1=1", map, 2).is_err());
     }

@@ -5,7 +5,8 @@
 //! contract (every port present, input or output as it should be, with the contract's
 //! width), so a wrong design is refused with the port's name before any proof.
 //! [`wrapper`] writes the miter's top module: both designs driven by the same pins and MCU
-//! address every clock, the power-on state of each (its initializers), `rst` low, and one
+//! address and the same `rst` every clock (a free input: the proof covers a reset at any
+//! clock, including none), the power-on state of each (its initializers), and one
 //! output `differ` that is 1 after a clock at which any output, `irq` or `mcu_rdata` (at the
 //! address of that clock, any of the 16) differs. [`build_aiger`] flattens it with yosys
 //! to an And-Inverter graph (`miter.aig`, zero-initialized latches) and its symbol map.
@@ -222,7 +223,7 @@ fn dir_name(d: Direction) -> &'static str {
 }
 
 /// The miter's top module: the reference and the DUT (renamed [`DUT_MODULE`]) on the
-/// same pins and `mcu_addr`, `rst` low; `differ` is 1 when, after at least one clock, any
+/// same pins, `mcu_addr` and `rst` (synchronous, at any clock); `differ` is 1 when, after at least one clock, any
 /// compared port differs.
 pub fn wrapper(config: &MeasureConfig) -> String {
     let ports = contract_ports(config);
@@ -230,10 +231,13 @@ pub fn wrapper(config: &MeasureConfig) -> String {
     let _ = writeln!(
         s,
         "// Miter of tooltouch formal: the design under test against the reference written\n\
-         // from the model (tt_frontend_ref), same pins and MCU address every clock, rst low,\n\
+         // from the model (tt_frontend_ref), same pins, MCU address and rst every clock,\n\
          // from power-on. differ = 1 after a clock at which any output differs."
     );
-    let _ = writeln!(s, "module {MITER_TOP} (\n    input wire clk,");
+    let _ = writeln!(
+        s,
+        "module {MITER_TOP} (\n    input wire clk,\n    input wire rst,"
+    );
     for n in pin::NAMES {
         let _ = writeln!(s, "    input wire pin_{n},");
     }
@@ -255,7 +259,7 @@ pub fn wrapper(config: &MeasureConfig) -> String {
     let _ = writeln!(s, "    reg clocked = 1'b0;");
     let _ = writeln!(s, "    always @(posedge clk) clocked <= 1'b1;");
     for (side, module) in [("ref", REFERENCE_TOP), ("dut", DUT_MODULE)] {
-        let _ = writeln!(s, "    {module} u_{side} (\n        .clk(clk), .rst(1'b0),");
+        let _ = writeln!(s, "    {module} u_{side} (\n        .clk(clk), .rst(rst),");
         for n in pin::NAMES {
             let _ = writeln!(s, "        .pin_{n}(pin_{n}),");
         }
@@ -378,7 +382,8 @@ mod tests {
                 );
             }
         }
-        assert!(w.contains(".rst(1'b0)"));
+        assert_eq!(w.matches(".rst(rst)").count(), 2);
+        assert!(w.contains("input wire rst,"));
     }
 
     #[test]

@@ -13,23 +13,29 @@
 //!    finds nothing is never reported as proven.
 //! 3. [`counterexample`]: a difference becomes the pins per clock, the golden model's
 //!    response and the design's simulated trace (`counterexample.vcd`), which `tooltouch
-//!    check` compares.
+//!    check` compares; [`clocked`] replays the counterexample's own `mcu_addr` and `rst`
+//!    clock by clock against the model's cycle level and MCU register map.
 //!
-//! Reset: `rst` is held low and both designs start from their power-on values (the
-//! initializers), as the golden model and the generated testbench do; a register without
-//! an initializer starts from any value, so a design relying on `rst` to start is not
-//! proven equal.
+//! Reset and power-on: both designs start from their power-on values (the initializers),
+//! as the golden model and the generated testbench do; a register without an initializer
+//! starts from any value, so a design relying on `rst` to start is not proven equal.
+//! `rst` is a free input, the same for both designs every clock: the proof covers a
+//! synchronous reset at any clock (the contract's: every register 0 but `density_armed`
+//! after a clock with `rst` high), so a register `rst` leaves is a difference.
 
 pub mod assertions;
+pub mod clocked;
 pub mod counterexample;
 pub mod engines;
 mod error;
+pub mod inputs;
 pub mod miter;
 
-use counterexample::{read_cex, replay, Counterexample, Replay};
+use counterexample::{read_cex, replay, without_needless_resets, Replay};
 use engines::{run_engine, Attempt, Engine, EngineResult};
 use error::io;
 pub use error::FormalError;
+pub use inputs::Counterexample;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tooltouch_model::MeasureConfig;
@@ -90,7 +96,7 @@ pub enum Outcome {
         /// The inputs, clock by clock.
         counterexample: Counterexample,
         /// Its replay against the golden model (when asked for).
-        replay: Option<Replay>,
+        replay: Option<Box<Replay>>,
     },
     /// No engine concluded within its limit.
     Undecided,
@@ -161,9 +167,18 @@ pub fn prove(request: &Request, dir: &Path) -> Result<Report, FormalError> {
             EngineResult::Different { frame, cex } => {
                 let map_path = dir.join(miter::MAP_FILE);
                 let map = std::fs::read_to_string(&map_path).map_err(io(&map_path))?;
-                let counterexample = read_cex(&cex, &map, frame)?;
+                let mut counterexample = read_cex(&cex, &map, frame)?;
                 let replay = if request.replay {
-                    Some(replay(
+                    counterexample = without_needless_resets(
+                        &request.config,
+                        request.mcu_diagnostics,
+                        counterexample,
+                        request.clock_hz,
+                        &files,
+                        &request.top,
+                        dir,
+                    )?;
+                    Some(Box::new(replay(
                         &request.config,
                         request.mcu_diagnostics,
                         &counterexample,
@@ -171,7 +186,7 @@ pub fn prove(request: &Request, dir: &Path) -> Result<Report, FormalError> {
                         &files,
                         &request.top,
                         dir,
-                    )?)
+                    )?))
                 } else {
                     None
                 };
@@ -218,22 +233,45 @@ impl Report {
                     self.seconds
                 ));
                 if let Some(r) = replay {
+                    let clocked = r.clocked.as_ref().map_or_else(
+                        || "no difference (the replay disagrees with the miter)".to_string(),
+                        ToString::to_string,
+                    );
                     match &r.check {
-                        tooltouch_vectors::check::Verdict::Mismatch(m) => {
+                        Some(tooltouch_vectors::check::Verdict::Mismatch(m)) => {
                             out.push(format!("replayed against the golden model: {m}"));
+                            out.push(format!("replayed clock by clock: {clocked}"));
                         }
-                        tooltouch_vectors::check::Verdict::Match(m) => out.push(format!(
+                        Some(tooltouch_vectors::check::Verdict::Match(m)) => out.push(format!(
                             "replayed against the golden model: the 15 outputs match ({m}); \
-                             the difference is in mcu_rdata at address {} (testbench: {})",
-                            counterexample.mcu_addr.last().copied().unwrap_or(0),
-                            r.testbench.as_deref().unwrap_or("no mismatch at its addresses")
+                             replayed clock by clock with the counterexample's mcu_addr: {clocked}"
+                        )),
+                        None => {
+                            let resets: Vec<String> = counterexample
+                                .rst
+                                .iter()
+                                .take(counterexample.clocks())
+                                .enumerate()
+                                .filter(|(_, &r)| r)
+                                .map(|(k, _)| k.to_string())
+                                .collect();
+                            out.push(format!(
+                                "replayed clock by clock (rst high at clock {}; the golden vectors cannot carry a reset, so tooltouch check cannot replay it): {clocked}",
+                                resets.join(", ")
+                            ));
+                        }
+                    }
+                    match &r.golden_vcd {
+                        Some(g) => out.push(format!(
+                            "counterexample: {} (pins and outputs), golden: {}",
+                            r.counterexample_vcd.display(),
+                            g.display()
+                        )),
+                        None => out.push(format!(
+                            "counterexample: {} (pins, rst, mcu_addr and the design's signals)",
+                            r.counterexample_vcd.display()
                         )),
                     }
-                    out.push(format!(
-                        "counterexample: {} (pins and outputs), golden: {}",
-                        r.counterexample_vcd.display(),
-                        r.golden_vcd.display()
-                    ));
                 }
             }
             Outcome::Undecided => out.push(format!(
