@@ -131,6 +131,30 @@ pub(crate) fn check_with(
     (out.status.code(), text)
 }
 
+/// `check_with` writing its `--json` (`dir/check.json`, returned parsed) and `--window`
+/// (`dir/mismatch.vcd`, its path returned) reports.
+pub(crate) fn check_with_reports(
+    golden: &Path,
+    dut: &Path,
+    dir: &Path,
+) -> (Option<i32>, String, serde_json::Value, std::path::PathBuf) {
+    let json_path = dir.join("check.json");
+    let window = dir.join("mismatch.vcd");
+    let (code, text) = check_with(
+        golden,
+        dut,
+        &[
+            "--json".as_ref(),
+            json_path.as_os_str(),
+            "--window".as_ref(),
+            window.as_os_str(),
+        ],
+    );
+    let json = serde_json::from_str(&std::fs::read_to_string(&json_path).expect("check.json"))
+        .expect("check.json is JSON");
+    (code, text, json, window)
+}
+
 /// `text` (a VCD) with the `$var` named `name` declared directly in scope `scope` renamed
 /// to `new`.
 fn rename_var(text: &str, scope: &[&str], name: &str, new: &str) -> String {
@@ -195,21 +219,7 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
         )
         .expect("cosim");
         let dut = dir.join("case0/dut.vcd");
-        let json_path = dir.join("check.json");
-        let window = dir.join("mismatch.vcd");
-        let (code, text) = check_with(
-            &golden,
-            &dut,
-            &[
-                "--json".as_ref(),
-                json_path.as_os_str(),
-                "--window".as_ref(),
-                window.as_os_str(),
-            ],
-        );
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&json_path).expect("check.json"))
-                .expect("check.json is JSON");
+        let (code, text, json, window) = check_with_reports(&golden, &dut, &dir);
         let matches = json["matches"].as_array().expect("matches").clone();
         assert_eq!(matches.len(), 15, "{json}");
         for m in &matches {

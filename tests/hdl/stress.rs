@@ -9,7 +9,7 @@
 //! Short by default (seed 1, a 2 000-clock random tail); `TOOLTOUCH_STRESS_SEEDS=1,2,3` and
 //! `TOOLTOUCH_STRESS_RANDOM=<clocks>` run more.
 
-use crate::faults::{assert_mismatch_report, check_with};
+use crate::faults::{assert_mismatch_report, check_with_reports};
 use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
 use tooltouch_cosim::hdl::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
@@ -140,21 +140,7 @@ fn hdl_stress_vectors_catch_every_fault() {
                     cosim(&config, std::slice::from_ref(&s), &run_dir, &plan).expect("cosim");
                 let run = &report.runs[0];
                 let dut = run_dir.join("case0/dut.vcd");
-                let json_path = run_dir.join("check.json");
-                let window = run_dir.join("mismatch.vcd");
-                let (code, text) = check_with(
-                    &golden,
-                    &dut,
-                    &[
-                        "--json".as_ref(),
-                        json_path.as_os_str(),
-                        "--window".as_ref(),
-                        window.as_os_str(),
-                    ],
-                );
-                let json: serde_json::Value =
-                    serde_json::from_str(&std::fs::read_to_string(&json_path).expect("check.json"))
-                        .expect("JSON");
+                let (code, text, json, window) = check_with_reports(&golden, &dut, &run_dir);
                 let first = text.lines().next().unwrap_or("").to_string();
                 table.push(format!(
                     "{name:<20} {seed:>4} {fault:<32?} testbench {:<6} check {}",
