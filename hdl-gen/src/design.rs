@@ -124,6 +124,29 @@ impl Fault {
         s.validate().ok()
     }
 
+    /// The fault's name in kebab case, as `tooltouch hdl --inject-fault` takes it
+    /// (`"none"` for the correct design).
+    pub fn name(self) -> &'static str {
+        match self {
+            Fault::None => "none",
+            Fault::FesBeforeIndex => "fes-before-index",
+            Fault::FireThresholdPlusOne => "fire-threshold-plus-one",
+            Fault::FireThresholdMinusOne => "fire-threshold-minus-one",
+            Fault::RearmThresholdPlusOne => "rearm-threshold-plus-one",
+            Fault::RearmThresholdMinusOne => "rearm-threshold-minus-one",
+            Fault::IdefPlusOne => "idef-plus-one",
+            Fault::IdefMinusOne => "idef-minus-one",
+            Fault::GlitchFilterPlusOne => "glitch-filter-plus-one",
+            Fault::GlitchFilterMinusOne => "glitch-filter-minus-one",
+            Fault::ChargeStepPlusOne => "charge-step-plus-one",
+            Fault::ChargeStepMinusOne => "charge-step-minus-one",
+            Fault::DischargeStepPlusOne => "discharge-step-plus-one",
+            Fault::DischargeStepMinusOne => "discharge-step-minus-one",
+            Fault::StickyNotReloadedWhileDisarmed => "sticky-not-reloaded-while-disarmed",
+            Fault::LatchNotClearedByArm => "latch-not-cleared-by-arm",
+        }
+    }
+
     /// Whether the fault can be injected at `config` (a parameter fault whose changed value
     /// is still valid, e.g. not `GlitchFilterMinusOne` at `glitch_cycles = 0`).
     pub fn applies_to(self, config: &MeasureConfig) -> bool {

@@ -77,22 +77,28 @@ pub struct Args {
     pub inject_fault: Option<InjectedFault>,
 }
 
-/// A fault `--inject-fault` puts into the generated design (see [`Fault`]).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InjectedFault {
-    /// [`Fault::FesBeforeIndex`]: an FES pulse with a same-clock index is counted in the
-    /// old window instead of the new one.
-    FesBeforeIndex,
-    /// [`Fault::FireThresholdPlusOne`]: the density detector fires one LSB late.
-    FireThresholdPlusOne,
-}
+/// A fault `--inject-fault` puts into the generated design: any of [`Fault::ALL`], by its
+/// [`Fault::name`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InjectedFault(pub Fault);
 
-impl From<InjectedFault> for Fault {
-    fn from(fault: InjectedFault) -> Self {
-        match fault {
-            InjectedFault::FesBeforeIndex => Fault::FesBeforeIndex,
-            InjectedFault::FireThresholdPlusOne => Fault::FireThresholdPlusOne,
-        }
+/// Every injectable fault, in [`Fault::ALL`]'s order.
+const INJECTABLE: [InjectedFault; Fault::ALL.len()] = {
+    let mut all = [InjectedFault(Fault::None); Fault::ALL.len()];
+    let mut i = 0;
+    while i < all.len() {
+        all[i] = InjectedFault(Fault::ALL[i]);
+        i += 1;
+    }
+    all
+};
+
+impl clap::ValueEnum for InjectedFault {
+    fn value_variants<'a>() -> &'a [Self] {
+        &INJECTABLE
+    }
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.0.name()))
     }
 }
 
@@ -221,9 +227,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             "clock {clock_hz} Hz: the clock period 1e9 / clock_hz ns must be a whole number, at least 2"
         );
     };
+    let fault = args.inject_fault.map_or(Fault::None, |f| f.0);
+    if !fault.applies_to(&config) {
+        bail!(
+            "--inject-fault {}: the changed parameter would leave its valid range in this configuration",
+            fault.name()
+        );
+    }
     let options = Options {
         mcu_diagnostics: args.mcu_diagnostics,
-        fault: args.inject_fault.map_or(Fault::None, Fault::from),
+        fault,
     };
     let design = generate(&config, &options);
     let mut known: Vec<String> = design.files.iter().map(|f| f.name.clone()).collect();

@@ -11,6 +11,7 @@ mod check_inputs;
 mod check_truncated;
 mod examples;
 mod hdl_clock;
+mod hdl_faults;
 mod hdl_vectors;
 mod hostile_inputs;
 mod measure_check;
