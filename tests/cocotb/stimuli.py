@@ -147,3 +147,13 @@ def draw_stimulus(rng: random.Random, settings: tooltouch.Settings, cycles: int)
         [rng.randrange(MCU_ADDRESSES) for _ in range(cycles)], dtype=np.uint8
     )
     return Stimulus(pins=pin_array, mcu_addr=addresses)
+
+
+def stimulus_from_file(rng: random.Random, path: Path, settings: tooltouch.Settings) -> Stimulus:
+    """The pins of a stimulus file (``tooltouch.read_stimulus``: a VCD or ``stim.hex``) at
+    ``settings``' clock, every clock of it, with a random MCU address per clock."""
+    pins = tooltouch.read_stimulus(path, settings.clock_hz).per_clock()
+    addresses = np.array(
+        [rng.randrange(MCU_ADDRESSES) for _ in range(len(pins))], dtype=np.uint8
+    )
+    return Stimulus(pins=np.asarray(pins, dtype=np.uint8), mcu_addr=addresses)

@@ -7,7 +7,9 @@ holds what differs between them.
 For each drawn configuration: the settings file is written, ``tooltouch hdl --config``
 generates the Verilog from it, cocotb's runner builds it and runs tt_frontend_bench.py
 against the tooltouch package. Then each fault hdl-gen can inject (``tooltouch hdl
---inject-fault``) must make the bench fail with a mismatch report.
+--inject-fault``) must make the bench fail with a mismatch report: two on a configuration
+where random pins reveal them, all fifteen on the stress vectors of the default
+configuration (``tooltouch vectors --stress``), which the correct design passes.
 
 Environment: ``TOOLTOUCH_BIN`` (the CLI; default target/release/tooltouch),
 ``TOOLTOUCH_COCOTB_CYCLES`` (clocks per random run, default 50000),
@@ -32,6 +34,7 @@ from typing import List, Optional, Tuple
 import pytest
 
 import cocotb_compat
+import tooltouch
 from stimuli import Configuration, draw_configuration
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -92,6 +95,35 @@ FAULTS = {
     },
 }
 
+# Every fault `tooltouch hdl --inject-fault` offers (hdl-gen's `Fault::ALL`, by name). The
+# stress vectors of the default configuration reach each of them (tests/hdl/stress.rs);
+# the cocotb 2 lane runs the first three, the 1.8 lane all.
+ALL_FAULTS = [
+    "fes-before-index",
+    "fire-threshold-plus-one",
+    "fire-threshold-minus-one",
+    "rearm-threshold-plus-one",
+    "rearm-threshold-minus-one",
+    "idef-plus-one",
+    "idef-minus-one",
+    "glitch-filter-plus-one",
+    "glitch-filter-minus-one",
+    "charge-step-plus-one",
+    "charge-step-minus-one",
+    "discharge-step-plus-one",
+    "discharge-step-minus-one",
+    "sticky-not-reloaded-while-disarmed",
+    "latch-not-cleared-by-arm",
+]
+STRESS_FAULTS = ALL_FAULTS if cocotb_compat.COCOTB_MAJOR < 2 else ALL_FAULTS[:3]
+# The default configuration (its 50 MHz clock) and the stress stimulus the README's RTL
+# recipe uses: directed sequences onto every threshold, then 2 000 random clocks.
+STRESS_CONFIGURATION = Configuration(
+    toml="[measure]\n\n[lathe]\nclock_hz = 50000000\n", mcu_diagnostics=False
+)
+STRESS_SEED = 1
+STRESS_RANDOM_CLOCKS = 2000
+
 
 def tooltouch_bin() -> Path:
     path = Path(os.environ.get("TOOLTOUCH_BIN", ROOT / "target/release/tooltouch"))
@@ -124,9 +156,11 @@ def run_bench(
     cycles: int,
     fault: Optional[str] = None,
     module: Optional[Tuple[str, str]] = None,
+    stimulus: Optional[Path] = None,
 ) -> dict:
     """Generates, builds and runs one bench (tt_frontend_bench, or ``module``: a test
-    module's name and text); returns its report. Raises ``SystemExit`` (cocotb's runner)
+    module's name and text; with ``stimulus`` the pins of that file, every clock of it, in
+    place of ``cycles`` random ones); returns its report. Raises ``SystemExit`` (cocotb's runner)
     when the cocotb test fails."""
     for tool in {"icarus": ["iverilog", "vvp"], "verilator": ["verilator"]}[simulator]:
         if shutil.which(tool) is None:
@@ -165,6 +199,7 @@ def run_bench(
             "TT_BENCH_CYCLES": str(cycles),
             "TT_BENCH_MCU_DIAGNOSTICS": "1" if configuration.mcu_diagnostics else "0",
             "TT_BENCH_REPORT": str(report),
+            "TT_BENCH_STIMULUS": "" if stimulus is None else str(stimulus),
         },
     )
     return json.loads(report.read_text()) if report.is_file() else {}
@@ -256,3 +291,64 @@ def test_the_docs_scoreboard_runs_as_written() -> None:
     (results_file,) = (WORK / "icarus" / name).glob("*result*.xml")
     results = results_file.read_text()
     assert 'name="outputs_match_the_model"' in results and "<failure" not in results, results
+
+
+def stress_vectors() -> Path:
+    """``tooltouch vectors --stress`` of the default configuration (written once per lane):
+    its golden VCD, the pin stimulus the bench replays."""
+    out = WORK / "stress-vectors"
+    golden = out / "golden.vcd"
+    if golden.is_file():
+        return golden
+    settings = WORK / "stress-settings.toml"
+    WORK.mkdir(parents=True, exist_ok=True)
+    STRESS_CONFIGURATION.write(settings)
+    command = [
+        str(tooltouch_bin()),
+        "vectors",
+        "--config",
+        str(settings),
+        "--stress",
+        str(STRESS_SEED),
+        "--stress-random",
+        str(STRESS_RANDOM_CLOCKS),
+        "--out",
+        str(out),
+    ]
+    done = subprocess.run(command, capture_output=True, text=True)
+    assert done.returncode == 0, f"{' '.join(command)}:\n{done.stdout}{done.stderr}"
+    return golden
+
+
+@pytest.mark.parametrize("simulator", SIMULATORS)
+def test_the_stress_vectors_match_the_model(simulator: str) -> None:
+    golden = stress_vectors()
+    clocks = len(tooltouch.read_stimulus(golden, 50_000_000).per_clock())
+    name = "stress"
+    try:
+        report = run_bench(simulator, name, STRESS_CONFIGURATION, SEED, 0, stimulus=golden)
+    except SystemExit as failure:
+        report_file = WORK / simulator / name / "report.json"
+        detail = report_file.read_text() if report_file.is_file() else "(no report)"
+        pytest.fail(f"{failure}\nreport: {detail}")
+    assert report["mismatch"] is None, report
+    assert report["cycles"] == clocks, report
+    record(simulator, name, report)
+
+
+@pytest.mark.parametrize("fault", STRESS_FAULTS)
+def test_the_stress_vectors_catch_every_fault(fault: str) -> None:
+    golden = stress_vectors()
+    clocks = len(tooltouch.read_stimulus(golden, 50_000_000).per_clock())
+    name = f"stress-{fault}"
+    with pytest.raises(SystemExit):
+        run_bench("icarus", name, STRESS_CONFIGURATION, SEED, 0, fault=fault, stimulus=golden)
+    report = json.loads((WORK / "icarus" / name / "report.json").read_text())
+    mismatch = report["mismatch"]
+    assert mismatch is not None, report
+    assert mismatch["cycle"] < clocks, mismatch
+    assert re.fullmatch(
+        r"MISMATCH at cycle \d+: \w+ expected \d+ \(0x[0-9a-f]+\), got .+",
+        mismatch["message"],
+    ), mismatch
+    print(f"icarus stress {fault}: {mismatch['message']}")

@@ -4,7 +4,10 @@ Run by test_tt_frontend.py through cocotb's runner, which passes the run in envi
 variables: ``TT_BENCH_SETTINGS`` (the settings TOML the design was generated from),
 ``TT_BENCH_SEED``, ``TT_BENCH_CYCLES``, ``TT_BENCH_MCU_DIAGNOSTICS`` (``1`` when generated
 with ``--mcu-diagnostics``) and ``TT_BENCH_REPORT`` (a JSON file this writes: the cycles
-run, the wall and CPU time and the first mismatch, if any).
+run, the wall and CPU time and the first mismatch, if any). With ``TT_BENCH_STIMULUS`` (a
+pin stimulus file as ``tooltouch vectors --stimulus`` reads it, e.g. the golden VCD of
+``tooltouch vectors --stress``) the pins are that file's, every clock of it, in place of
+the random ones; the MCU addresses stay random (seeded).
 
 Clocking: the bench drives ``clk`` itself, two timer waits per clock (a ``Clock``
 coroutine plus an edge trigger costs more), and writes immediately
@@ -32,7 +35,7 @@ from cocotb.triggers import Timer
 import tooltouch
 from cocotb_compat import binary_reader, immediate_writer
 from scoreboard import Reference, first_mismatch
-from stimuli import draw_stimulus
+from stimuli import draw_stimulus, stimulus_from_file
 
 RESET_CLOCKS = 3
 # Clocks of model output computed at a time (bounds the memory of long runs).
@@ -48,7 +51,12 @@ async def tt_frontend_matches_the_model(dut):
     diagnostics = os.environ.get("TT_BENCH_MCU_DIAGNOSTICS") == "1"
     report_path = Path(os.environ["TT_BENCH_REPORT"])
 
-    stimulus = draw_stimulus(random.Random(seed), settings, cycles)
+    stimulus_file = os.environ.get("TT_BENCH_STIMULUS")
+    if stimulus_file:
+        stimulus = stimulus_from_file(random.Random(seed), Path(stimulus_file), settings)
+        cycles = len(stimulus.pins)
+    else:
+        stimulus = draw_stimulus(random.Random(seed), settings, cycles)
     reference = Reference(settings, diagnostics)
 
     period_ns = 1_000_000_000 // settings.clock_hz
