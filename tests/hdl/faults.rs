@@ -419,4 +419,36 @@ pub(crate) fn assert_mismatch_report(
             "{line} is not in mismatch.vcd"
         );
     }
+    // The Surfer command file: the same rows, the cursor on clock K.
+    let sucl = std::fs::read_to_string(window.with_extension("sucl")).expect("mismatch.sucl");
+    assert!(sucl.starts_with("load_file mismatch.vcd\n"), "{sucl}");
+    assert!(
+        sucl.lines()
+            .any(|l| l == format!("cursor_set {}", k * period_ns)),
+        "{sucl}"
+    );
+    let added: Vec<&str> = sucl
+        .lines()
+        .filter_map(|l| l.strip_prefix("variable_add "))
+        .collect();
+    let gtkw_rows = gtkw
+        .lines()
+        .filter(|l| !l.starts_with(['[', '*', '@', '-']))
+        .count();
+    assert_eq!(added.len(), gtkw_rows, "{sucl}");
+    for path in added {
+        let (scope, leaf) = path.rsplit_once('.').expect("a signal path");
+        let scope = scope.rsplit('.').next().unwrap();
+        assert!(
+            w.find_in_scope(scope, leaf).is_some(),
+            "{path} is not in mismatch.vcd"
+        );
+    }
+    for d in &differing {
+        let name = d["signal"].as_str().unwrap();
+        assert!(
+            sucl.contains(&format!("variable_add differs.{name}\n")),
+            "{sucl}"
+        );
+    }
 }

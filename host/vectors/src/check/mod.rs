@@ -18,6 +18,7 @@
 mod files;
 pub mod json;
 pub mod resolve;
+pub mod surfer;
 pub mod window;
 
 pub use files::{check_files, compare_files};

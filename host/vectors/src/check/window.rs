@@ -12,9 +12,11 @@
 //!   golden (`golden.inputs`, `golden.outputs`) and DUT (`dut`, under the golden names,
 //!   plus its MCU port) side by side, with a 1-bit `differs.<name>` per output, every value
 //!   at `k·P`; and beside it (extension `.gtkw`) a GTKWave save file that opens it with golden, DUT and
-//!   difference of each output grouped and the cursor (primary marker) on clock `K`.
+//!   difference of each output grouped and the cursor (primary marker) on clock `K`, and a
+//!   Surfer command file (extension `.sucl`, [`super::surfer`]) that does the same.
 
 use super::resolve::path_of;
+use super::surfer::Group;
 use super::{golden_period_fs, BadInput, FirstMismatch, Report};
 use crate::vcd::{Changes, Declarations, Value, VcdReader};
 use std::fmt::Write as _;
@@ -266,9 +268,10 @@ pub fn add_details(
                 ))
             })?;
         lines.push(format!(
-            "window: {} (clocks {k0}..={k1}, golden and DUT side by side); open with `gtkwave {}`",
+            "window: {} (clocks {k0}..={k1}, golden and DUT side by side); open with `gtkwave {}` or `surfer --command-file {}`",
             written.0.display(),
-            written.1.display()
+            written.1.display(),
+            written.0.with_extension("sucl").display()
         ));
     }
     report.details = lines;
@@ -320,8 +323,8 @@ fn range(width: u32) -> String {
     }
 }
 
-/// Writes the window VCD at `vcd_path` and its GTKWave save file beside it (extension
-/// `.gtkw`); returns their paths.
+/// Writes the window VCD at `vcd_path`, its GTKWave save file (extension `.gtkw`) and its
+/// Surfer command file (`.sucl`) beside it; returns the paths of the first two.
 #[allow(clippy::too_many_arguments)]
 fn write_window(
     vcd_path: &Path,
@@ -484,6 +487,11 @@ fn write_window(
     };
     let differing: Vec<&str> = first.differing.iter().map(|d| d.signal.as_str()).collect();
     let _ = writeln!(gtkw, "@200\n-differing at cycle {}", first.cycle);
+    // The Surfer command file's groups, in the save file's order.
+    let mut groups = vec![Group {
+        title: format!("differing at cycle {}", first.cycle),
+        variables: Vec::new(),
+    }];
     let ordered = names
         .iter()
         .zip(matches)
@@ -498,6 +506,10 @@ fn write_window(
     for (name, m) in ordered {
         if !differing.contains(&name.as_str()) && !others_started {
             let _ = writeln!(gtkw, "@200\n-the other outputs");
+            groups.push(Group {
+                title: "the other outputs".into(),
+                variables: Vec::new(),
+            });
             others_started = true;
         }
         let fmt = |w: u32| if w > 1 { "@22" } else { "@28" };
@@ -514,8 +526,20 @@ fn write_window(
             sig("dut", name, m.widths.1)
         );
         let _ = writeln!(gtkw, "@28\n{}", sig("differs", name, 1));
+        if let Some(g) = groups.last_mut() {
+            for scope in ["golden.outputs", "dut", "differs"] {
+                g.variables.push(format!("{scope}.{name}"));
+            }
+        }
     }
     let _ = writeln!(gtkw, "@200\n-golden input pins");
+    groups.push(Group {
+        title: "golden input pins".into(),
+        variables: pins
+            .iter()
+            .map(|p| format!("golden.inputs.{}", p.rsplit('.').next().unwrap_or(p)))
+            .collect(),
+    });
     for p in pins {
         let _ = writeln!(
             gtkw,
@@ -525,6 +549,10 @@ fn write_window(
     }
     if has_mcu {
         let _ = writeln!(gtkw, "@200\n-DUT MCU port");
+        groups.push(Group {
+            title: "DUT MCU port".into(),
+            variables: vec!["dut.mcu_addr".into(), "dut.mcu_rdata".into()],
+        });
         let _ = writeln!(
             gtkw,
             "@22\n{}",
@@ -538,5 +566,7 @@ fn write_window(
     }
     let gtkw_path = vcd_path.with_extension("gtkw");
     crate::output::write_file(&gtkw_path, gtkw.as_bytes())?;
+    let sucl = super::surfer::command_file(&vcd_name, &groups, marker);
+    crate::output::write_file(&vcd_path.with_extension("sucl"), sucl.as_bytes())?;
     Ok((vcd_path.to_path_buf(), gtkw_path))
 }
