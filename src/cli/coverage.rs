@@ -1,6 +1,7 @@
 //! `tooltouch coverage`: which of the front end's behaviours a stimulus makes the golden
-//! model go through, as a table of bins in the domain's words and as JSON
-//! ([`tooltouch_vectors::coverage`]; docs/vectors.md, "Coverage").
+//! model go through, as a table of bins in the domain's words, as JSON
+//! ([`tooltouch_vectors::coverage`]) and as cocotb-coverage's YAML
+//! ([`tooltouch_vectors::cocotb_coverage`]; docs/vectors.md, "Coverage").
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -23,11 +24,15 @@ pub struct Args {
     /// Also write the bins as JSON to FILE.
     #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub json: Option<PathBuf>,
+    /// Also write the bins as cocotb-coverage's YAML export to FILE, for its
+    /// `merge_coverage` with a bench's own covergroups (docs/vectors.md).
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
+    pub cocotb_coverage: Option<PathBuf>,
 }
 
 /// Runs `tooltouch coverage`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    if let Some(path) = &args.json {
+    for path in args.json.iter().chain(&args.cocotb_coverage) {
         tooltouch_vectors::output::check_output_file(path)?;
     }
     let settings = load_settings(args.config.as_deref(), args.clock_hz)?;
@@ -54,6 +59,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(path) = &args.json {
         let mut text = serde_json::to_string_pretty(&cov.json())?;
         text.push('\n');
+        tooltouch_vectors::output::write_file(path, text.as_bytes())?;
+    }
+    if let Some(path) = &args.cocotb_coverage {
+        let text = tooltouch_vectors::cocotb_coverage::yaml(&cov, cycle.config.hash());
         tooltouch_vectors::output::write_file(path, text.as_bytes())?;
     }
     Ok(ExitCode::SUCCESS)

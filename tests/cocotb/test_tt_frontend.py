@@ -352,3 +352,69 @@ def test_the_stress_vectors_catch_every_fault(fault: str) -> None:
         mismatch["message"],
     ), mismatch
     print(f"icarus stress {fault}: {mismatch['message']}")
+
+
+def test_coverage_merges_with_a_benchs_own_covergroups(tmp_path: Path) -> None:
+    # `tooltouch coverage --cocotb-coverage` writes cocotb-coverage's YAML export: two runs
+    # of one configuration merge bin by bin with cocotb-coverage's own merge_coverage, and
+    # beside them a bench's own cover point.
+    try:
+        from cocotb_coverage.coverage import CoverPoint, coverage_db, merge_coverage
+        import yaml
+    except ImportError as missing:
+        pytest.fail(f"{missing}: cocotb-coverage is not in this venv: run `cargo xtask setup`")
+
+    settings = WORK / "stress-settings.toml"
+    first = stress_vectors()
+    second = tmp_path / "seed2"
+    done = subprocess.run(
+        [str(tooltouch_bin()), "vectors", "--config", str(settings), "--stress", "2",
+         "--stress-random", "500", "--out", str(second)],
+        capture_output=True, text=True,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    runs = []
+    for name, golden in (("first", first), ("second", second / "golden.vcd")):
+        yml, js = tmp_path / f"{name}.yml", tmp_path / f"{name}.json"
+        command = [str(tooltouch_bin()), "coverage", "--config", str(settings), "--stimulus",
+                   str(golden), "--json", str(js), "--cocotb-coverage", str(yml)]
+        done = subprocess.run(command, capture_output=True, text=True)
+        assert done.returncode == 0, f"{' '.join(command)}:\n{done.stdout}{done.stderr}"
+        runs.append((yml, json.loads(js.read_text())))
+
+    @CoverPoint("bench.mcu_addr", xf=lambda address: address, bins=list(range(16)))
+    def sample(address: int) -> None:
+        pass
+
+    for address in (0, 3, 7, 11):
+        sample(address)
+    own = tmp_path / "bench.yml"
+    coverage_db.export_to_yaml(str(own))
+
+    merged = tmp_path / "merged.yml"
+    merge_coverage(lambda message: None, str(merged), str(runs[0][0]), str(runs[1][0]), str(own))
+    db = yaml.safe_load(merged.read_text())
+
+    # Every applicable bin: the hits of both runs added, under its group's cover point.
+    hit_in_either = 0
+    groups = set()
+    for bin_a, bin_b in zip(runs[0][1]["bins"], runs[1][1]["bins"]):
+        assert (bin_a["group"], bin_a["name"]) == (bin_b["group"], bin_b["name"])
+        if bin_a["not_applicable"] is not None:
+            continue
+        point = next(k for k in db if k.startswith("tooltouch.config_")
+                     and k.count(".") == 2 and bin_a["name"] in db[k].get("bins:_hits", {}))
+        groups.add(point)
+        assert db[point]["bins:_hits"][bin_a["name"]] == bin_a["hits"] + bin_b["hits"], point
+        hit_in_either += bin_a["hits"] + bin_b["hits"] > 0
+    assert db["tooltouch"]["coverage"] == hit_in_either, db["tooltouch"]
+    assert db["tooltouch"]["size"] == runs[0][1]["applicable"], db["tooltouch"]
+    assert hit_in_either >= max(runs[0][1]["reached"], runs[1][1]["reached"])
+    assert sum(db[g]["coverage"] for g in groups) == hit_in_either
+    # The bench's own cover point sits beside them, as the bench exported it.
+    assert db["bench.mcu_addr"]["coverage"] == 4, db["bench.mcu_addr"]
+    print(
+        f"merged coverage: tooltouch {db['tooltouch']['coverage']} of {db['tooltouch']['size']} "
+        f"bins ({runs[0][1]['reached']} and {runs[1][1]['reached']} in the two runs), "
+        f"bench {db['bench.mcu_addr']['coverage']} of {db['bench.mcu_addr']['size']}"
+    )

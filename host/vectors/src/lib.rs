@@ -22,6 +22,7 @@
 
 pub mod binary;
 pub mod check;
+pub mod cocotb_coverage;
 pub mod coverage;
 pub mod firmware_error;
 pub mod force_run;
