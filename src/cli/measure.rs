@@ -21,7 +21,7 @@ use tooltouch_metrology::averaging::{per_z_means, ZMean};
 use tooltouch_metrology::calibration::{corrected_mm, Calibration, CalibrationEntry};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::MeasureConfig;
-use tooltouch_plant::lathe::RetractAt;
+use tooltouch_plant::lathe::{LatheScenario, RetractAt};
 use tooltouch_plant::measurement_cycle::{self, check_run_size, CycleRun, Spread};
 use tooltouch_settings::{Settings, SettingsError};
 use tooltouch_vectors::output::OutputFolder;
@@ -609,14 +609,14 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
 fn load_calibration(
     path: &std::path::Path,
     config: &MeasureConfig,
-    feed_mm_per_rev: f64,
+    scenario: &LatheScenario,
 ) -> anyhow::Result<CalibrationEntry> {
     let text =
         tooltouch_settings::read_text_file(path, "calibration file").map_err(anyhow::Error::msg)?;
     let file: Calibration = serde_json::from_str(&text)
         .with_context(|| format!("reading the calibration file {}", path.display()))?;
     let entry = file
-        .entry_for(config, feed_mm_per_rev)
+        .entry_for(config, scenario.feed_mm_per_rev, scenario.rpm)
         .with_context(|| format!("--calibration {}", path.display()))?;
     Ok(entry.clone())
 }
@@ -688,7 +688,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .map_err(|e| args.flags.explain(e, args.config.as_deref()))?;
     check_run_size(&scenario, &config)?;
     let calibration = match &args.calibration {
-        Some(path) => Some(load_calibration(path, &config, scenario.feed_mm_per_rev)?),
+        Some(path) => Some(load_calibration(path, &config, &scenario)?),
         None => None,
     };
     let out = OutputFolder::create(&args.out, OUTPUTS)?;

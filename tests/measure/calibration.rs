@@ -86,11 +86,13 @@ fn a_round_reference_leaves_the_form_part_of_the_bias() {
 }
 
 #[test]
-fn a_file_from_another_configuration_or_feed_is_refused() {
+fn a_file_from_another_configuration_feed_or_speed_is_refused() {
     let (config, machine) = Settings::default().resolve().unwrap();
     let measure = MeasureSettings::default();
     let cal = calibrate(&measure, &machine, &reference(false), 4).unwrap();
-    assert!(cal.entry_for(&config, machine.feed_mm_per_rev).is_ok());
+    assert!(cal
+        .entry_for(&config, machine.feed_mm_per_rev, machine.rpm)
+        .is_ok());
     let other = MeasureSettings {
         i_def: 600,
         ..measure
@@ -98,12 +100,16 @@ fn a_file_from_another_configuration_or_feed_is_refused() {
     .validate()
     .unwrap();
     assert!(matches!(
-        cal.entry_for(&other, machine.feed_mm_per_rev),
+        cal.entry_for(&other, machine.feed_mm_per_rev, machine.rpm),
         Err(CalibrationError::OtherConfiguration { .. })
     ));
     assert!(matches!(
-        cal.entry_for(&config, 0.002),
+        cal.entry_for(&config, 0.002, machine.rpm),
         Err(CalibrationError::OtherFeed { .. })
+    ));
+    assert!(matches!(
+        cal.entry_for(&config, machine.feed_mm_per_rev, machine.rpm + 200.0),
+        Err(CalibrationError::OtherSpeed { .. })
     ));
     let density = MeasureSettings {
         method: DecisionMethod::Density,
@@ -112,13 +118,13 @@ fn a_file_from_another_configuration_or_feed_is_refused() {
     .validate()
     .unwrap();
     assert!(matches!(
-        cal.entry_for(&density, machine.feed_mm_per_rev),
+        cal.entry_for(&density, machine.feed_mm_per_rev, machine.rpm),
         Err(CalibrationError::NoEntry { .. })
     ));
     let mut bad = cal.clone();
     bad.format = "something else".into();
     assert!(matches!(
-        bad.entry_for(&config, machine.feed_mm_per_rev),
+        bad.entry_for(&config, machine.feed_mm_per_rev, machine.rpm),
         Err(CalibrationError::Format(_))
     ));
     let bad_reference = ReferencePart {
@@ -168,4 +174,11 @@ fn calibrate_then_measure_with_the_file_and_refuse_another_configuration() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("another configuration"), "{stderr}");
+    let o = measure(&["--rpm", "1000"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("made at 800 rpm, this run measures at 1000 rpm"),
+        "{stderr}"
+    );
 }

@@ -132,6 +132,17 @@ pub enum CalibrationError {
         /// This run's feed.
         run: f64,
     },
+    /// The file was made at another spindle speed.
+    #[error(
+        "the calibration was made at {file} rpm, this run measures at {run} rpm: the speed \
+         changes the spindle's path and the time a window takes; recalibrate at this speed"
+    )]
+    OtherSpeed {
+        /// The file's speed, rpm.
+        file: f64,
+        /// This run's speed, rpm.
+        run: f64,
+    },
 }
 
 /// The hash of `config` as the files write it.
@@ -224,13 +235,15 @@ pub fn calibrate(
 }
 
 impl Calibration {
-    /// The entry for a run with `config` approaching at `feed_mm_per_rev`: refused when the
-    /// file is of another format, holds no entry for the method and rule, was made with
-    /// another configuration or at another feed (relative difference over 1e-9).
+    /// The entry for a run with `config` approaching at `feed_mm_per_rev` with the spindle
+    /// at `rpm`: refused when the file is of another format, holds no entry for the method
+    /// and rule, was made with another configuration, at another feed or at another speed
+    /// (relative difference over 1e-9).
     pub fn entry_for(
         &self,
         config: &MeasureConfig,
         feed_mm_per_rev: f64,
+        rpm: f64,
     ) -> Result<&CalibrationEntry, CalibrationError> {
         if self.format != FORMAT {
             return Err(CalibrationError::Format(self.format.clone()));
@@ -252,6 +265,12 @@ impl Calibration {
             return Err(CalibrationError::OtherFeed {
                 file: entry.feed_mm_per_rev,
                 run: feed_mm_per_rev,
+            });
+        }
+        if (entry.rpm - rpm).abs() > 1e-9 * rpm.abs() {
+            return Err(CalibrationError::OtherSpeed {
+                file: entry.rpm,
+                run: rpm,
             });
         }
         Ok(entry)
@@ -315,7 +334,7 @@ pub fn residuals(
     let mut out = Vec::new();
     for variant in calibrated_variants() {
         let config = config_of(measure, variant).map_err(SimulateError::Measure)?;
-        let entry = calibration.entry_for(&config, machine.feed_mm_per_rev)?;
+        let entry = calibration.entry_for(&config, machine.feed_mm_per_rev, machine.rpm)?;
         for (condition, scenario) in &conditions {
             let sim = simulate(measure, scenario, variant, repeats, scenario.seed)?;
             out.push(Residual {
