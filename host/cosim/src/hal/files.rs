@@ -83,10 +83,12 @@ pub struct SamplerError {
     pub what: String,
 }
 
-/// The integer columns of every line of `halsampler` output with `columns` values per line
-/// (a first `-t` sample-number column, when present, is dropped: lines of `columns + 1`).
+/// The integer columns of every line of `halsampler` output with `columns` values per line.
+/// A first `-t` sample-number column, when present (lines of `columns + 1`), must count up
+/// by one from line to line (a jump is a sample the sampler's FIFO dropped) and is dropped.
 pub fn sampler_rows(text: &str, file: &str, columns: usize) -> Result<Vec<Vec<i64>>, SamplerError> {
     let mut rows = Vec::new();
+    let mut last_tag: Option<i64> = None;
     for (i, line) in text.lines().enumerate() {
         let err = |what: String| SamplerError {
             file: file.to_string(),
@@ -95,10 +97,24 @@ pub fn sampler_rows(text: &str, file: &str, columns: usize) -> Result<Vec<Vec<i6
         };
         let words: Vec<&str> = line.split_whitespace().collect();
         let words = match words.len() {
-            n if n == columns => &words[..],
-            n if n == columns + 1 => &words[1..],
+            n if n == columns || n == columns + 1 => &words[..],
             n => return Err(err(format!("{n} values, expected {columns}"))),
         };
+        let (tag, words) = match words.len() {
+            n if n == columns + 1 => (Some(words[0]), &words[1..]),
+            _ => (None, words),
+        };
+        if let Some(tag) = tag {
+            let tag: i64 = tag
+                .parse()
+                .map_err(|_| err(format!("sample number `{tag}` is not an integer")))?;
+            if let Some(last) = last_tag.filter(|&l| tag != l + 1) {
+                return Err(err(format!(
+                    "sample number {tag} after {last}: the sampler dropped samples (its FIFO overflowed)"
+                )));
+            }
+            last_tag = Some(tag);
+        }
         let row = words
             .iter()
             .map(|w| {
@@ -280,6 +296,12 @@ mod tests {
         assert_eq!(sampler_rows(&text, "s0", 15).unwrap()[0], mline);
         let e = sampler_rows("1 2 3\n", "s0.txt", 15).unwrap_err();
         assert_eq!(e.to_string(), "s0.txt: line 1: 3 values, expected 15");
+        let e = sampler_rows("4 1\n5 1\n7 0\n", "s1.txt", 1).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("s1.txt: line 3: sample number 7 after 5"),
+            "{e}"
+        );
         let mut bad = mline.clone();
         bad[0] = 2;
         assert_eq!(measure_outputs(&bad).unwrap_err(), "armed = 2 is not a bit");
