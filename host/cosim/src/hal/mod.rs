@@ -6,4 +6,5 @@
 
 pub mod files;
 pub mod period;
+pub mod size_loop;
 pub mod stimulus;
