@@ -13,3 +13,4 @@ mod common;
 mod bit_for_bit;
 mod hal;
 mod refusal;
+mod size_loop;
