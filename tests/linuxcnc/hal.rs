@@ -190,7 +190,7 @@ pub fn stream_hal_file(
          loadusr -w halsampler -c 0 -t -n {periods} {measure}\n\
          loadusr -w halsampler -c 1 -t -n {periods} {force}\n\
          stop\n\
-         show pin tooltouch.0.overruns\nshow pin tooltouch.0.abi-errors\nshow pin tooltouch.0.exec-time\n",
+         show pin tooltouch.0.overruns\nshow pin tooltouch.0.abi-errors\nshow pin tooltouch.0.exec-time\nshow param tooltouch.0.update.tmax\n",
         stim = s(&dir.join("stim.txt")),
         measure = s(&dir.join("measure.txt")),
         force = s(&dir.join("force.txt")),
