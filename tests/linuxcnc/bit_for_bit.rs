@@ -102,6 +102,7 @@ fn linuxcnc_the_component_in_halrun_matches_the_golden_model_every_field_every_p
         golden[k].0.pulses ^ 1
     );
     assert!(m.contains(&want), "{m}");
+    println!("{m}");
     std::fs::write(&dut_file, outputs_stream(h, &dut[..dut.len() - 1])).unwrap();
     let o = tooltouch(&[
         "check",
@@ -119,4 +120,5 @@ fn linuxcnc_the_component_in_halrun_matches_the_golden_model_every_field_every_p
         )),
         "{m}"
     );
+    println!("{m}");
 }
