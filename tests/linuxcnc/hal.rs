@@ -112,17 +112,12 @@ pub fn work_dir() -> tempfile::TempDir {
     dir
 }
 
-/// `halrun -f FILE` in `dir` as [`HAL_USER`] (`su USER -c …`), with a clean HAL after it.
-pub fn halrun(dir: &Path, hal_file: &str) -> Output {
-    // One HAL session at a time: they share realtime and its shared memory.
+/// `command` in `dir` as [`HAL_USER`] (`su USER -c …`), one session at a time (HAL
+/// sessions share realtime and its shared memory), a clean HAL after it.
+pub fn as_hal_user(dir: &Path, command: &str) -> Output {
     static SESSION: Mutex<()> = Mutex::new(());
     let _session = SESSION.lock().unwrap_or_else(|e| e.into_inner());
-    let path = dir.join("run.hal");
-    std::fs::write(&path, hal_file).unwrap();
-    let cmd = format!(
-        "export HOME=/home/{HAL_USER}; cd '{}' && halrun -f run.hal",
-        s(dir)
-    );
+    let cmd = format!("export HOME=/home/{HAL_USER}; cd '{}' && {command}", s(dir));
     let o = Command::new("su")
         .args([HAL_USER, "-c", &cmd])
         .output()
@@ -136,6 +131,12 @@ pub fn halrun(dir: &Path, hal_file: &str) -> Output {
         ])
         .output();
     o
+}
+
+/// `halrun -f FILE` in `dir` as [`HAL_USER`].
+pub fn halrun(dir: &Path, hal_file: &str) -> Output {
+    std::fs::write(dir.join("run.hal"), hal_file).unwrap();
+    as_hal_user(dir, "halrun -f run.hal")
 }
 
 /// `tooltouch cosim config --config SETTINGS --out OUT` (the component's configuration

@@ -11,6 +11,7 @@
 mod common;
 
 mod bit_for_bit;
+mod gcode;
 mod hal;
 mod refusal;
 mod size_loop;
