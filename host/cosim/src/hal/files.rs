@@ -202,7 +202,7 @@ pub fn header(measure: &MeasureConfig, force: &ForceConfig) -> Header {
 
 /// The Outputs stream of per-period outputs: a measurement then a force record per
 /// period, at the period's index.
-pub fn outputs_stream(header: Header, periods: &[(MeasureOutputs, ForceOutputs)]) -> Vec<u8> {
+pub fn outputs_stream(header: Header, periods: &[PeriodOutputs]) -> Vec<u8> {
     let records: Vec<(u64, Output)> = periods
         .iter()
         .enumerate()
@@ -216,12 +216,15 @@ pub fn outputs_stream(header: Header, periods: &[(MeasureOutputs, ForceOutputs)]
     encode_output_stream(header, &records)
 }
 
+/// One period's outputs: the measurement's and the force path's.
+pub type PeriodOutputs = (MeasureOutputs, ForceOutputs);
+
 /// The golden outputs of `rows`: the component's period semantics over the model.
 pub fn golden_outputs(
     measure: &MeasureConfig,
     force: &ForceConfig,
     rows: &[PeriodInputs],
-) -> Vec<(MeasureOutputs, ForceOutputs)> {
+) -> Vec<PeriodOutputs> {
     let mut k = PeriodKernel::new(measure, force);
     rows.iter().map(|r| k.step(r)).collect()
 }
@@ -232,7 +235,7 @@ pub fn golden_outputs(
 pub fn dut_outputs(
     measure: (&str, &str),
     force: (&str, &str),
-) -> Result<(Vec<(MeasureOutputs, ForceOutputs)>, Vec<u32>), SamplerError> {
+) -> Result<(Vec<PeriodOutputs>, Vec<u32>), SamplerError> {
     let m = sampler_rows(measure.0, measure.1, MEASURE_PINS.len())?;
     let f = sampler_rows(force.0, force.1, FORCE_PINS.len())?;
     let mut out = Vec::with_capacity(m.len().min(f.len()));
