@@ -53,7 +53,7 @@ pub fn installed_component() -> &'static Path {
         for tool in ["halrun", "halcompile", "make", "cc"] {
             require(tool);
         }
-        let dir = std::env::temp_dir().join(format!("tooltouch-hal-build-{}", std::process::id()));
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("linuxcnc-build");
         std::fs::create_dir_all(&dir).unwrap();
         let o = Command::new("make")
             .arg("-C")
