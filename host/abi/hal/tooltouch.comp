@@ -97,7 +97,7 @@ pin out float wear_power "low-passed spindle power, W";
 // ---- health
 pin out u32 overruns "periods whose work did not fit: events carried over, or longer than the thread's period";
 pin out u32 backlog "index, FES and scale events waiting for the next period";
-pin out u32 count_errors "periods in which index-counts or fes-counts went down (ignored)";
+pin out u32 count_errors "times index-counts or fes-counts went down from one period to the next (ignored)";
 pin out u32 abi_errors "calls into the model that failed (never expected)";
 pin out s32 exec_time "this period's run time, ns";
 pin out bit rate_mismatch "the thread's period is not the configuration's ADC sample period";

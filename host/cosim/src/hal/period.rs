@@ -104,7 +104,7 @@ pub struct PeriodHealth {
     pub backlog: u32,
     /// Periods that ran out of events budget so far (the budget half of `overruns`).
     pub overruns: u32,
-    /// Periods in which a counts pin went down (`count-errors`).
+    /// Times a counts pin went down from one period to the next (`count-errors`).
     pub count_errors: u32,
 }
 
