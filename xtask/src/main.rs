@@ -26,7 +26,8 @@ usage: cargo xtask <verb>
 
 verbs:
   setup        install rustup targets and Debian packages (qemu-system-arm, verilator,
-               iverilog, yosys, nextpnr-ice40, g++ for libFuzzer) that are missing; the
+               iverilog, yosys, nextpnr-ice40, g++ for libFuzzer, linuxcnc-uspace and
+               linuxcnc-uspace-dev for tests/linuxcnc) that are missing; the
                Python venvs with the wheel: target/py-venv (pinned by
                python/requirements-dev.txt: cocotb 1.8.1 among them) and
                target/py-venv-cocotb2 (python/requirements-cocotb2.txt: cocotb 2.1.0, the

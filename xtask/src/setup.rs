@@ -25,6 +25,10 @@ const TOOLS: &[(&str, &str)] = &[
     ("prlimit", "util-linux"),
     // libFuzzer's C++ sources, built by `libfuzzer-sys` for `cargo xtask fuzz`.
     ("c++", "g++"),
+    // LinuxCNC's HAL (halrun, streamer, sampler) for tests/linuxcnc (docs/linuxcnc.md).
+    ("halrun", "linuxcnc-uspace"),
+    // halcompile and the rtapi headers build the HAL component over the C ABI.
+    ("halcompile", "linuxcnc-uspace-dev"),
 ];
 
 fn on_path(program: &str) -> bool {

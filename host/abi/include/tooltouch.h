@@ -275,6 +275,17 @@ enum TtStatus tt_config_output_width(const struct TtConfig *config, uint32_t ind
 // `config` is NULL or a live handle; `out` is NULL or writable.
 enum TtStatus tt_config_latency_cycles(const struct TtConfig *config, uint32_t *out);
 
+// The force path's sampling: the ADC sample rate, Hz, into `*sample_hz` and the samples
+// per control period (one tick after every that many samples) into `*samples_per_period`
+// (the settings file's `[force]` rates; a HAL component derives its tick from them).
+//
+// # Safety
+// `config` is NULL or a live handle; `sample_hz` and `samples_per_period` are NULL or
+// writable.
+enum TtStatus tt_config_force_rates(const struct TtConfig *config,
+                                    uint32_t *sample_hz,
+                                    uint32_t *samples_per_period);
+
 // A front end in its reset state for `config`, into `*out`; free it with
 // [`tt_frontend_free`].
 //

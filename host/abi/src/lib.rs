@@ -665,6 +665,35 @@ pub unsafe extern "C" fn tt_config_latency_cycles(
     })
 }
 
+/// The force path's sampling: the ADC sample rate, Hz, into `*sample_hz` and the samples
+/// per control period (one tick after every that many samples) into `*samples_per_period`
+/// (the settings file's `[force]` rates; a HAL component derives its tick from them).
+///
+/// # Safety
+/// `config` is NULL or a live handle; `sample_hz` and `samples_per_period` are NULL or
+/// writable.
+#[no_mangle]
+pub unsafe extern "C" fn tt_config_force_rates(
+    config: *const TtConfig,
+    sample_hz: *mut u32,
+    samples_per_period: *mut u32,
+) -> TtStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let (config, sample_hz, samples_per_period) = unsafe {
+            (
+                deref(config, "config")?,
+                deref_mut(sample_hz, "sample_hz")?,
+                deref_mut(samples_per_period, "samples_per_period")?,
+            )
+        };
+        let s = config.force.settings();
+        *sample_hz = u32::from(s.sample_hz);
+        *samples_per_period = u32::from(s.samples_per_period);
+        Ok(())
+    })
+}
+
 // ---------------------------------------------------------------------------------------
 // Outputs.
 

@@ -305,6 +305,18 @@ fn bad_input_is_a_status_and_a_message() {
         );
         assert_eq!(tt_config_output_width(config, 3, &mut width), TtStatus::Ok);
         assert_eq!(width, 24);
+        // The default force settings' sampling (this configuration has no force part).
+        let (mut hz, mut spp) = (0, 0);
+        assert_eq!(
+            tt_config_force_rates(config, &mut hz, &mut spp),
+            TtStatus::Ok
+        );
+        assert_eq!((hz, spp), (1000, 50));
+        assert_eq!(
+            tt_config_force_rates(config, null_mut(), &mut spp),
+            TtStatus::NullPointer
+        );
+        assert!(last_error().contains("sample_hz is NULL"));
         let mut m = null_mut();
         tt_measurement_new(config, &mut m);
         let e = TtMeasureEvent {

@@ -19,6 +19,7 @@
 pub mod error;
 pub mod force_scenario;
 pub mod formal;
+pub mod hal;
 pub mod hdl;
 pub mod qemu;
 pub mod scenario;

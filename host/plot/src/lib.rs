@@ -12,6 +12,7 @@ pub mod control;
 pub mod estimator;
 pub mod measure;
 pub mod pareto;
+pub mod size_loop;
 pub mod wear;
 
 pub use measure::{contact_density, diameters};

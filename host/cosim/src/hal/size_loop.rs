@@ -1,0 +1,448 @@
+//! The measure-then-correct size loop of an in-process measuring lathe, with every
+//! measurement made by the HAL component's period semantics ([`PeriodKernel`], the
+//! component under `halrun` bit for bit).
+//!
+//! N parts are turned to a nominal diameter. Between parts the tool wears (its edge
+//! recedes, the diameter grows by twice the radial wear) and the machine warms up (a
+//! radial thermal drift approaching its end value exponentially). After each part the
+//! cutting tool measures it in process, comparatively: it touches a master of known
+//! diameter, then the part, with the same feed and spindle speed, and the diameter is the
+//! master's plus twice the difference of the two latched scale positions — wear and drift
+//! shift both touches alike and cancel, the touches' decision depths leave the
+//! measurement's own scatter. The tool offset is then corrected by a feedback percentage of
+//! the measured error, unless the error is inside a dead zone (as industrial probing
+//! macros do); the same parts without correction are the reference.
+//!
+//! Every touch is a servo-rate stream of the component's pins (arm, contact chattering
+//! over the surface's roughness, FES and index counts, the scale): the stream of all
+//! touches is what the HAL test feeds `halrun`, and the loop's table is recomputed from
+//! the positions the component latched there.
+
+use super::period::{PeriodInputs, PeriodKernel};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use tooltouch_model::force::config::ForceConfig;
+use tooltouch_model::MeasureConfig;
+
+/// The loop's set-up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SizeLoopSettings {
+    /// Parts machined.
+    pub parts: usize,
+    /// Nominal diameter, mm.
+    pub nominal_mm: f64,
+    /// Tolerance, ± mm around the nominal.
+    pub tolerance_mm: f64,
+    /// Offset correction: this percentage of the measured error.
+    pub feedback_pct: f64,
+    /// No correction while |measured error| ≤ this, mm (diameter).
+    pub dead_zone_mm: f64,
+    /// Radial tool wear per part, µm.
+    pub wear_um_per_part: f64,
+    /// Radial thermal drift at the end of the warm-up, µm.
+    pub thermal_um: f64,
+    /// Warm-up time constant, parts.
+    pub thermal_parts: f64,
+    /// Scatter of the turned diameter (1σ), µm.
+    pub cut_sigma_um: f64,
+    /// The master's diameter, mm.
+    pub master_mm: f64,
+    /// Scale resolution, µm per count.
+    pub scale_um: f64,
+    /// Spindle speed while measuring, rpm.
+    pub rpm: f64,
+    /// Measuring feed, µm per revolution.
+    pub feed_um_per_rev: f64,
+    /// Surface roughness the contact chatters over (Rz), µm.
+    pub roughness_um: f64,
+    /// Seed of every random draw.
+    pub seed: u64,
+}
+
+impl Default for SizeLoopSettings {
+    /// 20 parts of Ø40 ± 0.010 mm; 70 % feedback, 2 µm dead zone; 0.8 µm wear per part,
+    /// 6 µm warm-up over 5 parts, 1.5 µm turning scatter; 0.5 µm scale, 3000 rpm, 1 µm/rev
+    /// measuring feed, Rz 1.5 µm.
+    fn default() -> Self {
+        SizeLoopSettings {
+            parts: 20,
+            nominal_mm: 40.0,
+            tolerance_mm: 0.010,
+            feedback_pct: 70.0,
+            dead_zone_mm: 0.002,
+            wear_um_per_part: 0.8,
+            thermal_um: 6.0,
+            thermal_parts: 5.0,
+            cut_sigma_um: 1.5,
+            master_mm: 40.0,
+            scale_um: 0.5,
+            rpm: 3000.0,
+            feed_um_per_rev: 1.0,
+            roughness_um: 1.5,
+            seed: 31,
+        }
+    }
+}
+
+/// Periods of one touch: arm from period 5 to 220, retract after.
+pub const TOUCH_PERIODS: u32 = 260;
+/// The arm falls at this period of a touch.
+const ARM_END: u32 = 220;
+/// Approach gap before the surface, µm.
+const GAP_UM: f64 = 6.0;
+
+/// One part of the loop.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PartRow {
+    /// Part number, from 1.
+    pub part: usize,
+    /// Diameter turned without correction, mm.
+    pub uncorrected_mm: f64,
+    /// Diameter turned with the loop's correction, mm.
+    pub corrected_mm: f64,
+    /// The in-process measurement of the corrected part, mm (NaN: no decision).
+    pub measured_mm: f64,
+    /// Tool offset the part was turned with, µm (radial).
+    pub offset_um: f64,
+    /// Verdict of the uncorrected part.
+    pub uncorrected_ok: bool,
+    /// Verdict of the corrected part.
+    pub corrected_ok: bool,
+}
+
+/// A capability summary over the parts.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Capability {
+    /// Mean, mm.
+    pub mean_mm: f64,
+    /// Repeatability: twice the sample standard deviation, µm.
+    pub two_sigma_um: f64,
+    /// Range, max − min, µm.
+    pub range_um: f64,
+    /// Cp = tolerance width / 6σ.
+    pub cp: f64,
+    /// Cpk = distance of the mean to the nearer limit / 3σ.
+    pub cpk: f64,
+    /// Parts inside the tolerance.
+    pub in_tolerance: usize,
+}
+
+/// Mean, 2σ, range, Cp and Cpk of `values` (mm) against `nominal ± tol`.
+pub fn capability(values: &[f64], nominal: f64, tol: f64) -> Capability {
+    let n = values.len().max(1) as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    let sigma = var.sqrt();
+    let max = values.iter().copied().fold(f64::MIN, f64::max);
+    let min = values.iter().copied().fold(f64::MAX, f64::min);
+    let (usl, lsl) = (nominal + tol, nominal - tol);
+    Capability {
+        mean_mm: mean,
+        two_sigma_um: 2.0 * sigma * 1e3,
+        range_um: (max - min) * 1e3,
+        cp: (usl - lsl) / (6.0 * sigma),
+        cpk: (usl - mean).min(mean - lsl) / (3.0 * sigma),
+        in_tolerance: values
+            .iter()
+            .filter(|v| (**v - nominal).abs() <= tol)
+            .count(),
+    }
+}
+
+/// Where one touch's decision is in the stream.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Touch {
+    /// The stream's period at which the arm falls (the latched position is read there).
+    pub read_at: usize,
+}
+
+/// The loop's result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SizeLoopReport {
+    /// One row per part.
+    pub rows: Vec<PartRow>,
+    /// Without correction.
+    pub uncorrected: Capability,
+    /// With correction.
+    pub corrected: Capability,
+    /// The measurement's own error (measured − turned diameter), 2σ and range, µm.
+    pub measurement_two_sigma_um: f64,
+    /// Its range, µm.
+    pub measurement_range_um: f64,
+    /// The component's input pins, every touch in order (master, part, master, part, …).
+    pub stream: Vec<PeriodInputs>,
+    /// The touches in `stream`.
+    pub touches: Vec<Touch>,
+}
+
+/// The streams' spindle and slide state, continuous over the touches.
+struct Machine {
+    rng: ChaCha8Rng,
+    row: PeriodInputs,
+    spindle: f64,
+    ppr: f64,
+    settings: SizeLoopSettings,
+}
+
+impl Machine {
+    /// Appends one touch of a surface at slide reading `surface_um` (µm, the scale's
+    /// reading when the edge meets the surface's top), returning where its decision is read.
+    fn touch(&mut self, stream: &mut Vec<PeriodInputs>, surface_um: f64, sample_hz: f64) -> Touch {
+        let s = self.settings;
+        let feed = s.feed_um_per_rev * s.rpm / 60.0 / sample_hz; // µm per period
+        let mut q = surface_um - GAP_UM;
+        let start = stream.len();
+        for k in 0..TOUCH_PERIODS {
+            self.spindle += self.ppr * s.rpm / 60.0 / sample_hz;
+            let pulses = self.spindle.floor() as i64;
+            self.row.fes_counts = pulses as i32;
+            self.row.index_counts = (pulses / self.ppr as i64) as i32;
+            if k < ARM_END {
+                q += feed;
+            } else {
+                q -= GAP_UM / f64::from(TOUCH_PERIODS - ARM_END);
+            }
+            self.row.scale_counts = (q / s.scale_um).floor() as i32;
+            self.row.arm = (5..ARM_END).contains(&k);
+            // The edge touches the roughness peaks first: P(contact) rises over Rz.
+            let p = ((q - surface_um) / s.roughness_um + 1.0).clamp(0.0, 1.0);
+            self.row.contact = k < ARM_END && self.rng.random_bool(p);
+            stream.push(self.row);
+        }
+        Touch {
+            read_at: start + ARM_END as usize - 1,
+        }
+    }
+}
+
+/// The latched position (µm) a touch left, from the component's outputs at its read
+/// period: `None` when it did not decide.
+pub fn latched_um(register_now: bool, decision_position: i32, scale_um: f64) -> Option<f64> {
+    register_now.then(|| f64::from(decision_position) * scale_um)
+}
+
+/// Runs the loop: every touch through [`PeriodKernel`] as it is made (closed loop: part
+/// i's correction comes from its measurement), the stream of all touches kept.
+pub fn run(s: &SizeLoopSettings, measure: &MeasureConfig, force: &ForceConfig) -> SizeLoopReport {
+    let sample_hz = f64::from(force.settings().sample_hz.max(1));
+    let mut machine = Machine {
+        rng: ChaCha8Rng::seed_from_u64(s.seed),
+        row: PeriodInputs::default(),
+        spindle: 0.0,
+        ppr: f64::from(measure.settings().pulses_per_rev),
+        settings: *s,
+    };
+    let cut = Normal::new(0.0, s.cut_sigma_um).unwrap_or_else(|_| Normal::new(0.0, 0.0).unwrap());
+    let mut kernel = PeriodKernel::new(measure, force);
+    let mut stream = Vec::new();
+    let mut touches = Vec::new();
+    let mut rows = Vec::with_capacity(s.parts);
+    let mut offset_um = 0.0;
+    // Slide readings: the scale reads `FAR − edge radius`, FAR a reference radius.
+    const FAR_UM: f64 = 100_000.0;
+    let latched = |stream: &Vec<PeriodInputs>, kernel: &mut PeriodKernel, from: usize, t: Touch| {
+        let mut out = None;
+        for (i, row) in stream.iter().enumerate().skip(from) {
+            let (m, _) = kernel.step(row);
+            if i == t.read_at {
+                out = latched_um(m.register_now, m.decision_position, s.scale_um);
+            }
+        }
+        out
+    };
+    for part in 1..=s.parts {
+        let i = (part - 1) as f64;
+        let wear = s.wear_um_per_part * i;
+        let thermal = s.thermal_um * (1.0 - (-i / s.thermal_parts).exp());
+        let noise = cut.sample(&mut machine.rng);
+        let radius_nominal_um = s.nominal_mm * 500.0;
+        let uncorrected = (2.0 * (radius_nominal_um + wear + thermal) + noise) / 1e3;
+        let corrected = (2.0 * (radius_nominal_um + offset_um + wear + thermal) + noise) / 1e3;
+        // Measure: the master, then the part; the edge sits `wear + thermal` outward.
+        let edge = wear + thermal;
+        let mut read =
+            |radius_um: f64, stream: &mut Vec<PeriodInputs>, kernel: &mut PeriodKernel| {
+                let from = stream.len();
+                let t = machine.touch(stream, FAR_UM - radius_um + edge, sample_hz);
+                touches.push(t);
+                latched(stream, kernel, from, t)
+            };
+        let master = read(s.master_mm * 500.0, &mut stream, &mut kernel);
+        let piece = read(corrected * 500.0, &mut stream, &mut kernel);
+        let measured = match (master, piece) {
+            // Readings grow inward: a larger part is touched at a smaller reading.
+            (Some(m), Some(p)) => s.master_mm + 2.0 * (m - p) / 1e3,
+            _ => f64::NAN,
+        };
+        rows.push(PartRow {
+            part,
+            uncorrected_mm: uncorrected,
+            corrected_mm: corrected,
+            measured_mm: measured,
+            offset_um,
+            uncorrected_ok: (uncorrected - s.nominal_mm).abs() <= s.tolerance_mm,
+            corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
+        });
+        let error_mm = measured - s.nominal_mm;
+        if error_mm.is_finite() && error_mm.abs() > s.dead_zone_mm {
+            offset_um -= s.feedback_pct / 100.0 * error_mm * 1e3 / 2.0;
+        }
+    }
+    report(s, rows, stream, touches)
+}
+
+/// The report of `rows` (capabilities, the measurement's scatter).
+pub fn report(
+    s: &SizeLoopSettings,
+    rows: Vec<PartRow>,
+    stream: Vec<PeriodInputs>,
+    touches: Vec<Touch>,
+) -> SizeLoopReport {
+    let unc: Vec<f64> = rows.iter().map(|r| r.uncorrected_mm).collect();
+    let cor: Vec<f64> = rows.iter().map(|r| r.corrected_mm).collect();
+    let err: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.measured_mm.is_finite())
+        .map(|r| r.measured_mm - r.corrected_mm)
+        .collect();
+    let e = capability(&err, 0.0, 1.0);
+    SizeLoopReport {
+        uncorrected: capability(&unc, s.nominal_mm, s.tolerance_mm),
+        corrected: capability(&cor, s.nominal_mm, s.tolerance_mm),
+        measurement_two_sigma_um: e.two_sigma_um,
+        measurement_range_um: e.range_um,
+        rows,
+        stream,
+        touches,
+    }
+}
+
+/// The same rows with the measurements replaced by those of another device's latched
+/// positions (`latched[j]`, µm, for touch j: master and part of each part in turn), and the
+/// corrections they imply: equal to the golden rows exactly when the device latched the same
+/// positions.
+pub fn replay_with(
+    s: &SizeLoopSettings,
+    golden: &SizeLoopReport,
+    latched: &[Option<f64>],
+) -> Vec<PartRow> {
+    let mut offset_um = 0.0;
+    let mut out = Vec::with_capacity(golden.rows.len());
+    for (i, g) in golden.rows.iter().enumerate() {
+        let measured = match (
+            latched.get(2 * i).copied().flatten(),
+            latched.get(2 * i + 1).copied().flatten(),
+        ) {
+            (Some(m), Some(p)) => s.master_mm + 2.0 * (m - p) / 1e3,
+            _ => f64::NAN,
+        };
+        let shift = (offset_um - g.offset_um) * 2.0 / 1e3;
+        let corrected = g.corrected_mm + shift;
+        out.push(PartRow {
+            measured_mm: measured,
+            offset_um,
+            corrected_mm: corrected,
+            corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
+            ..*g
+        });
+        let error_mm = measured - s.nominal_mm;
+        if error_mm.is_finite() && error_mm.abs() > s.dead_zone_mm {
+            offset_um -= s.feedback_pct / 100.0 * error_mm * 1e3 / 2.0;
+        }
+    }
+    out
+}
+
+/// The table as text: one line per part, then the capabilities.
+pub fn table(s: &SizeLoopSettings, r: &SizeLoopReport) -> Vec<String> {
+    let verdict = |ok: bool| if ok { "ok" } else { "OUT" };
+    let mut lines = vec![
+        format!(
+            "part | without correction, mm | verdict | offset, µm | with correction, mm | verdict | measured in process, mm   (Ø{} ± {} mm)",
+            s.nominal_mm, s.tolerance_mm
+        ),
+    ];
+    for p in &r.rows {
+        lines.push(format!(
+            "{:4} | {:21.4} | {:7} | {:10.2} | {:19.4} | {:7} | {:.4}",
+            p.part,
+            p.uncorrected_mm,
+            verdict(p.uncorrected_ok),
+            p.offset_um,
+            p.corrected_mm,
+            verdict(p.corrected_ok),
+            p.measured_mm
+        ));
+    }
+    for (name, c) in [
+        ("without correction", r.uncorrected),
+        ("with correction", r.corrected),
+    ] {
+        lines.push(format!(
+            "{name}: mean {:.4} mm, 2σ {:.2} µm, range {:.2} µm, Cp {:.2}, Cpk {:.2}, {}/{} in tolerance",
+            c.mean_mm, c.two_sigma_um, c.range_um, c.cp, c.cpk, c.in_tolerance, r.rows.len()
+        ));
+    }
+    lines.push(format!(
+        "in-process measurement (measured − turned): 2σ {:.2} µm, range {:.2} µm",
+        r.measurement_two_sigma_um, r.measurement_range_um
+    ));
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::force::config::ForceSettings;
+    use tooltouch_model::MeasureSettings;
+
+    #[test]
+    fn capability_of_a_known_sample() {
+        // Mean 10, σ = 1 (n − 1), tolerance ±3: Cp = 6 / 6 = 1, Cpk = 1.
+        let c = capability(&[9.0, 11.0, 9.0, 11.0, 10.0 + 2f64.sqrt() * 0.0], 10.0, 3.0);
+        assert!((c.mean_mm - 10.0).abs() < 1e-12);
+        let sigma = (4.0f64 / 4.0).sqrt();
+        assert!((c.two_sigma_um - 2e3 * sigma).abs() < 1e-9);
+        assert!((c.cp - 6.0 / (6.0 * sigma)).abs() < 1e-12);
+        assert_eq!(c.range_um, 2e3);
+        assert_eq!(c.in_tolerance, 5);
+    }
+
+    #[test]
+    fn the_loop_holds_the_size_the_uncorrected_parts_drift_out() {
+        let s = SizeLoopSettings::default();
+        let m = MeasureSettings::default().validate().unwrap();
+        let f = ForceSettings::default().validate().unwrap();
+        let r = run(&s, &m, &f);
+        for line in table(&s, &r) {
+            println!("{line}");
+        }
+        assert!(
+            r.rows.iter().all(|p| p.measured_mm.is_finite()),
+            "a touch did not decide"
+        );
+        // Wear 0.8 µm/part and 6 µm of drift: the last uncorrected parts are 2·(15.2 + 5.9) µm
+        // over, out of ±10 µm; the corrected ones stay inside.
+        assert!(r.uncorrected.in_tolerance < s.parts);
+        assert_eq!(r.corrected.in_tolerance, s.parts);
+        assert!(r.corrected.cpk > r.uncorrected.cpk);
+        // The comparative measurement is unbiased to a few scale counts.
+        assert!(r.measurement_range_um < 4.0, "{}", r.measurement_range_um);
+        // Replaying the golden latches gives the golden rows.
+        let mut k = PeriodKernel::new(&m, &f);
+        let outs: Vec<_> = r.stream.iter().map(|row| k.step(row).0).collect();
+        let latched: Vec<Option<f64>> = r
+            .touches
+            .iter()
+            .map(|t| {
+                latched_um(
+                    outs[t.read_at].register_now,
+                    outs[t.read_at].decision_position,
+                    s.scale_um,
+                )
+            })
+            .collect();
+        assert_eq!(replay_with(&s, &r, &latched), r.rows);
+    }
+}

@@ -1,0 +1,111 @@
+//! The measure-then-correct size loop with its measurements made in HAL: every touch of the
+//! loop (master, part, for each of the N parts) streamed through the component under
+//! `halrun`, the whole trace checked bit for bit, and the loop's table recomputed from the
+//! positions the component latched: equal to the golden table, so HAL would have corrected
+//! the tool offset exactly as the model did. The table (`size_loop.txt`, `size_loop.csv`)
+//! and the plot (`size_loop.svg`) go to `target/tmp/linuxcnc/`.
+
+use crate::common::{s, text, tooltouch};
+use crate::hal::{halrun, stream_hal_file, work_dir, write_config};
+use std::path::PathBuf;
+use tooltouch_cosim::hal::files::{
+    dut_outputs, golden_outputs, header, outputs_stream, streamer_text,
+};
+use tooltouch_cosim::hal::size_loop::{latched_um, replay_with, run, table, SizeLoopSettings};
+use tooltouch_settings::firmware_config::FirmwareConfig;
+use tooltouch_vectors::output::write_file;
+
+#[test]
+fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
+    let dir = work_dir();
+    let settings = dir.path().join("settings.toml");
+    std::fs::write(&settings, crate::bit_for_bit::SETTINGS).unwrap();
+    let config_file = dir.path().join("config.ttc");
+    write_config(&settings, &config_file);
+    let config = FirmwareConfig::load(Some(&settings)).expect("the settings load");
+    let (measure, force) = (config.measure, config.force);
+    let loop_settings = SizeLoopSettings::default();
+    let golden = run(&loop_settings, &measure, &force);
+    let rows = &golden.stream;
+    std::fs::write(dir.path().join("stim.txt"), streamer_text(rows)).unwrap();
+    let hal = stream_hal_file(
+        dir.path(),
+        &config_file,
+        (measure.hash(), force.hash()),
+        rows.len(),
+        1_000_000,
+    );
+    let o = halrun(dir.path(), &hal);
+    assert!(o.status.success(), "halrun failed:\n{}", text(&o));
+    let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap_or_default();
+    let (dut, _) = dut_outputs(
+        (&read("measure.txt"), "measure.txt"),
+        (&read("force.txt"), "force.txt"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    // The whole trace, bit for bit.
+    let h = header(&measure, &force);
+    let golden_file = dir.path().join("golden.ttv");
+    let dut_file = dir.path().join("hal.ttv");
+    std::fs::write(
+        &golden_file,
+        outputs_stream(h, &golden_outputs(&measure, &force, rows)),
+    )
+    .unwrap();
+    std::fs::write(&dut_file, outputs_stream(h, &dut)).unwrap();
+    let o = tooltouch(&[
+        "check",
+        "--expected",
+        s(&golden_file),
+        "--dut",
+        s(&dut_file),
+    ]);
+    let verdict = text(&o);
+    assert!(o.status.success(), "{verdict}");
+    println!("{verdict}");
+    // The loop from HAL's latched positions.
+    let latched: Vec<Option<f64>> = golden
+        .touches
+        .iter()
+        .map(|t| {
+            let m = dut.get(t.read_at).map(|d| d.0).unwrap_or_default();
+            latched_um(m.register_now, m.decision_position, loop_settings.scale_um)
+        })
+        .collect();
+    let from_hal = replay_with(&loop_settings, &golden, &latched);
+    assert_eq!(from_hal, golden.rows);
+    let lines = table(&loop_settings, &golden);
+    for line in &lines {
+        println!("{line}");
+    }
+    // What the loop is for: every corrected part in tolerance, the uncorrected drifting out.
+    assert_eq!(golden.corrected.in_tolerance, loop_settings.parts);
+    assert!(golden.uncorrected.in_tolerance < loop_settings.parts / 2);
+    assert!(golden.corrected.cpk > 1.0 && golden.uncorrected.cpk < 0.0);
+
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("linuxcnc");
+    std::fs::create_dir_all(&out).unwrap();
+    write_file(
+        &out.join("size_loop.txt"),
+        (lines.join("\n") + "\n").as_bytes(),
+    )
+    .unwrap();
+    let mut csv = csv::Writer::from_writer(Vec::new());
+    for r in &golden.rows {
+        csv.serialize(r).unwrap();
+    }
+    write_file(&out.join("size_loop.csv"), &csv.into_inner().unwrap()).unwrap();
+    let col = |f: fn(&tooltouch_cosim::hal::size_loop::PartRow) -> f64| {
+        golden.rows.iter().map(f).collect::<Vec<_>>()
+    };
+    tooltouch_plot::size_loop::size_loop(
+        &out.join("size_loop.svg"),
+        loop_settings.nominal_mm,
+        loop_settings.tolerance_mm,
+        &col(|r| r.uncorrected_mm),
+        &col(|r| r.corrected_mm),
+        &col(|r| r.measured_mm),
+    )
+    .unwrap();
+    println!("table and plot in {}", out.display());
+}
