@@ -9,6 +9,7 @@ mod bench;
 mod firmware;
 mod formal;
 mod fuzz;
+mod gates;
 mod hdl;
 mod imports;
 mod mutants;
@@ -63,6 +64,7 @@ fn main() -> Result<()> {
         "setup" => setup::run().and_then(|()| python::setup()),
         "test" | "ci" => test(),
         "firmware" => firmware::build_command(&args[1..]),
+        "bless-firmware" => firmware::bless_command(),
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "formal" => formal::run(),
