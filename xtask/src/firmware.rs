@@ -192,6 +192,24 @@ pub fn check_all() -> Result<()> {
         "warnings",
     ];
     crate::process::run(&dir, "cargo", &emulated)?;
+    // …and its handlers, driver and defmt logger link no panic path either.
+    crate::process::run(
+        &dir,
+        "cargo",
+        &[
+            "build",
+            "--release",
+            "--target",
+            "thumbv7em-none-eabihf",
+            "--no-default-features",
+            "--features",
+            "emulated,panic-check",
+            "--bin",
+            "nucleo",
+        ],
+    )
+    .context("the no-panic check of the emulated Nucleo image failed")?;
+    println!("board nucleo, emulated: no panic path linked");
     // The check builds share the release folder: build the shipped images last.
     build_all(None)?;
     crate::gates::check_sizes(&crate::process::root(), &release_images(&dir))
