@@ -25,9 +25,11 @@ pub mod handlers;
 pub mod interrupts;
 #[cfg(target_os = "none")]
 mod panic;
-#[cfg(all(feature = "qemu", target_os = "none"))]
+#[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
+pub mod pend;
+#[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
 pub mod semihosting;
-#[cfg(all(feature = "qemu", target_os = "none"))]
+#[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
 pub mod stack;
 
 pub use tooltouch_model as model;

@@ -16,8 +16,12 @@ mod check {
     }
 }
 
-/// QEMU: report failure to the host (QEMU exits non-zero) without formatting anything.
-#[cfg(all(feature = "qemu", not(feature = "panic-check")))]
+/// QEMU (either board): report failure to the host (QEMU exits non-zero) without
+/// formatting anything.
+#[cfg(all(
+    any(feature = "qemu", feature = "emulated"),
+    not(feature = "panic-check")
+))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     semihosting::process::exit(1)
@@ -27,6 +31,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 #[cfg(all(
     feature = "nucleo",
     not(feature = "qemu"),
+    not(feature = "emulated"),
     not(feature = "panic-check")
 ))]
 use panic_probe as _;

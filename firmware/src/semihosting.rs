@@ -4,7 +4,7 @@
 //! the host's console, and the run ends with SYS_EXIT_EXTENDED (the crate's
 //! `process::exit`), whose subcode QEMU makes its exit status ([`exit_code`]).
 
-use crate::cosim::{IoError, Port};
+use crate::cosim::{self, IoError, Port, Target};
 use core::ffi::CStr;
 use semihosting::fd::{AsFd, BorrowedFd, OwnedFd};
 use semihosting::fs::File;
@@ -45,6 +45,9 @@ const CONSOLE: &CStr = c":tt";
 pub const EVENTS_FILE: &CStr = c"tooltouch-events.bin";
 /// Output file, relative to QEMU's working directory.
 pub const OUTPUTS_FILE: &CStr = c"tooltouch-outputs.bin";
+/// The emulated Nucleo's defmt frames (rzCOBS-encoded, as defmt-rtt would send them),
+/// relative to QEMU's working directory.
+pub const DEFMT_FILE: &CStr = c"tooltouch-defmt.bin";
 
 /// The co-simulation's two files.
 pub struct Files {
@@ -96,8 +99,14 @@ fn borrow(fd: &OwnedFd) -> Option<BorrowedFd<'_>> {
     (fd.as_raw_fd() != -1).then(|| fd.as_fd())
 }
 
+/// Opens (creates or truncates) the host file `name` for writing; `None` if the host
+/// refuses.
+pub fn create(name: &CStr) -> Option<OwnedFd> {
+    File::create(name).ok().map(OwnedFd::from)
+}
+
 /// Writes all of `bytes` to `fd`: false on an error or a host that writes nothing.
-fn write_all(fd: &OwnedFd, bytes: &[u8]) -> bool {
+pub fn write_all(fd: &OwnedFd, bytes: &[u8]) -> bool {
     let mut rest = bytes;
     while !rest.is_empty() {
         let Some(fd) = borrow(fd) else {
@@ -145,4 +154,62 @@ pub fn decimal(mut value: u64) -> ([u8; 20], usize) {
     }
     digits.get_mut(..n).unwrap_or(&mut []).reverse();
     (digits, n)
+}
+
+/// Replays `tooltouch-events.bin` through `target` into `tooltouch-outputs.bin`
+/// ([`cosim::run`]), says on the console how the run ended and returns QEMU's exit status
+/// for it ([`exit_code`]).
+pub fn replay(target: &mut impl Target) -> u8 {
+    match Files::open() {
+        Ok(mut files) => {
+            let ran = cosim::run(&mut files, target);
+            let closed = files.close();
+            report(ran, closed)
+        }
+        Err(OpenError::Events) => {
+            print(
+                b"tooltouch firmware: cannot open tooltouch-events.bin in QEMU's working \
+                  directory: put an event stream there (tooltouch vectors writes events.ttv)\n",
+            );
+            exit_code::NO_EVENTS_FILE
+        }
+        Err(OpenError::Outputs) => {
+            print(b"tooltouch firmware: cannot create tooltouch-outputs.bin\n");
+            exit_code::FILE_IO
+        }
+    }
+}
+
+/// Says how the run ended and returns QEMU's exit status for it.
+fn report(ran: Result<u32, cosim::Error>, closed: bool) -> u8 {
+    match ran {
+        Ok(streams) if closed => {
+            let (digits, n) = decimal(u64::from(streams));
+            print(b"tooltouch firmware: replayed ");
+            print(digits.get(..n).unwrap_or(&[]));
+            print(b" stream(s); trace in tooltouch-outputs.bin\n");
+            exit_code::OK
+        }
+        Ok(_) | Err(cosim::Error::Io) => {
+            print(
+                b"tooltouch firmware: reading tooltouch-events.bin or writing \
+                  tooltouch-outputs.bin failed\n",
+            );
+            exit_code::FILE_IO
+        }
+        Err(e) => {
+            let (code, _, offset, _) = e.code();
+            let (at, n) = decimal(offset);
+            let (what, k) = decimal(u64::from(code));
+            print(b"tooltouch firmware: tooltouch-events.bin is malformed at byte ");
+            print(at.get(..n).unwrap_or(&[]));
+            print(b" (error ");
+            print(what.get(..k).unwrap_or(&[]));
+            print(
+                b"); the trace ends with an error record: \
+                  `tooltouch check` or `tooltouch cosim firmware` explains it\n",
+            );
+            exit_code::MALFORMED_EVENTS
+        }
+    }
 }

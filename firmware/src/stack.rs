@@ -1,8 +1,8 @@
 //! Stack watermark: cortex-m-rt's `paint-stack` fills the whole stack region with
 //! [`cortex_m_rt::STACK_PAINT_VALUE`] before `main`; [`used`] finds the deepest word that was
 //! overwritten since. Measures the worst case that actually happened (every handler
-//! preempting every other as often as the run made them). QEMU image only: the feature is
-//! turned on by the `qemu` feature.
+//! preempting every other as often as the run made them). QEMU images only: the feature is
+//! turned on by the `qemu` and `emulated` features.
 
 use cortex_m_rt::STACK_PAINT_VALUE;
 

@@ -1,4 +1,4 @@
-//! Integration tests of the firmware under QEMU against the model: co-simulation, a baked configuration, `cargo run` by convention.
+//! Integration tests of the firmware under QEMU against the model: co-simulation, a baked configuration, `cargo run` by convention, the Nucleo image under netduinoplus2.
 //!
 //! One test binary per area (`cargo test --release --test firmware`); one module per topic
 //! (`cargo test --release --test firmware <topic>::`).
@@ -9,3 +9,5 @@ mod common;
 mod configured;
 mod convention;
 mod cosim;
+mod gates;
+mod nucleo;

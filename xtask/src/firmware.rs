@@ -176,8 +176,59 @@ pub fn check_all() -> Result<()> {
     clippy.extend_from_slice(&load_variant);
     clippy.extend_from_slice(&["--", "-D", "warnings"]);
     crate::process::run(&dir, "cargo", &clippy)?;
+    // The Nucleo image's emulated build (QEMU's netduinoplus2; tests/firmware boots it).
+    let emulated = [
+        "clippy",
+        "--release",
+        "--target",
+        "thumbv7em-none-eabihf",
+        "--no-default-features",
+        "--features",
+        "emulated",
+        "--bin",
+        "nucleo",
+        "--",
+        "-D",
+        "warnings",
+    ];
+    crate::process::run(&dir, "cargo", &emulated)?;
+    // …and its handlers, driver and defmt logger link no panic path either.
+    crate::process::run(
+        &dir,
+        "cargo",
+        &[
+            "build",
+            "--release",
+            "--target",
+            "thumbv7em-none-eabihf",
+            "--no-default-features",
+            "--features",
+            "emulated,panic-check",
+            "--bin",
+            "nucleo",
+        ],
+    )
+    .context("the no-panic check of the emulated Nucleo image failed")?;
+    println!("board nucleo, emulated: no panic path linked");
     // The check builds share the release folder: build the shipped images last.
-    build_all(None)
+    build_all(None)?;
+    crate::gates::check_sizes(&crate::process::root(), &release_images(&dir))
+}
+
+/// `cargo xtask bless-firmware`: the release images' sizes and the stack high-water marks
+/// measured anew and written to `firmware/ci/expected/`.
+pub fn bless_command() -> Result<()> {
+    build_all(None)?;
+    let dir = firmware_dir()?;
+    crate::gates::bless(&crate::process::root(), &release_images(&dir))
+}
+
+/// Every board's release image, by board name.
+fn release_images(dir: &Path) -> Vec<(&'static str, std::path::PathBuf)> {
+    BOARDS
+        .iter()
+        .map(|b| (b.name, image_path(dir, b)))
+        .collect()
 }
 
 /// The handlers' host tests (firmware/tests/handlers: event streams in each board's

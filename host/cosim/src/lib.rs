@@ -21,6 +21,7 @@ pub mod force_scenario;
 pub mod formal;
 pub mod hal;
 pub mod hdl;
+pub mod nucleo;
 pub mod qemu;
 pub mod scenario;
 pub mod speed;
@@ -328,12 +329,30 @@ pub fn run_batch_observing(
     cases: &[Case],
     observe: Observe,
 ) -> Result<Report, CosimError> {
+    let (trace, qemu_time) = qemu::run_image(image, &encode_batch(cases, observe))?;
+    check_batch(cases, observe, &trace, qemu_time)
+}
+
+/// Every case as one event stream after another (one QEMU boot replays them all), with
+/// outputs records after the events `observe` names.
+pub fn encode_batch(cases: &[Case], observe: Observe) -> Vec<u8> {
     let mut input = Vec::new();
     for case in cases {
         encode_case_observing(case, observe, &mut input);
     }
-    let (trace, qemu_time) = qemu::run_image(image, &input)?;
-    let streams = trace::parse(&trace)?;
+    input
+}
+
+/// Compares the firmware's `trace` of [`encode_batch`]'s streams with the golden model,
+/// every output after every event `observe` names, case by case; `qemu_time` is the run's
+/// wall time, for the report.
+pub fn check_batch(
+    cases: &[Case],
+    observe: Observe,
+    trace: &[u8],
+    qemu_time: Duration,
+) -> Result<Report, CosimError> {
+    let streams = trace::parse(trace)?;
     if streams.len() != cases.len() {
         return Err(CosimError::Mismatch(Box::new(Mismatch {
             case: streams.len().min(cases.len()),

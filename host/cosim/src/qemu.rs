@@ -83,6 +83,11 @@ pub fn firmware_dir() -> PathBuf {
 
 /// Fails naming `cargo xtask setup` when QEMU or the thumb target is missing.
 pub fn check_tools() -> Result<(), CosimError> {
+    check_tools_for(TARGET)
+}
+
+/// Fails naming `cargo xtask setup` when QEMU or the rustup target `target` is missing.
+pub fn check_tools_for(target: &str) -> Result<(), CosimError> {
     let qemu = Command::new(QEMU)
         .arg("--version")
         .stdout(Stdio::null())
@@ -99,9 +104,9 @@ pub fn check_tools() -> Result<(), CosimError> {
         .output()
         .map_err(|e| CosimError::ToolMissing(format!("cannot run rustc: {e}")))?;
     let sysroot = PathBuf::from(String::from_utf8_lossy(&sysroot.stdout).trim());
-    if !sysroot.join("lib/rustlib").join(TARGET).exists() {
+    if !sysroot.join("lib/rustlib").join(target).exists() {
         return Err(CosimError::ToolMissing(format!(
-            "the rustup target {TARGET} is not installed in {}",
+            "the rustup target {target} is not installed in {}",
             sysroot.display()
         )));
     }
@@ -161,15 +166,22 @@ fn build_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
 /// `cargo build --release --bin qemu` in `dir` with `TOOLTOUCH_FIRMWARE_CONFIG` set to
 /// `baked` (removed for `None`: the defaults); returns the executable cargo reports.
 fn cargo_build_qemu(dir: &Path, baked: Option<&Path>) -> Result<PathBuf, CosimError> {
+    cargo_build_bin(dir, &[], "qemu", baked)
+}
+
+/// `cargo build --release <selection> --bin <bin>` in `dir` with `TOOLTOUCH_FIRMWARE_CONFIG`
+/// set to `baked` (removed for `None`: the defaults); returns the executable cargo reports.
+pub(crate) fn cargo_build_bin(
+    dir: &Path,
+    selection: &[&str],
+    bin: &str,
+    baked: Option<&Path>,
+) -> Result<PathBuf, CosimError> {
     let mut cargo = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
     cargo
-        .args([
-            "build",
-            "--release",
-            "--bin",
-            "qemu",
-            "--message-format=json-render-diagnostics",
-        ])
+        .args(["build", "--release"])
+        .args(selection)
+        .args(["--bin", bin, "--message-format=json-render-diagnostics"])
         .current_dir(dir)
         // The root package's test environment must not leak into the firmware build.
         .env_remove("CARGO_TARGET_DIR")
@@ -186,7 +198,8 @@ fn cargo_build_qemu(dir: &Path, baked: Option<&Path>) -> Result<PathBuf, CosimEr
         .map_err(|e| CosimError::Build(format!("cannot start cargo in {}: {e}", dir.display())))?;
     if !out.status.success() {
         return Err(CosimError::Build(format!(
-            "`cargo build --release --bin qemu` in {} failed ({})",
+            "`cargo build --release {} --bin {bin}` in {} failed ({})",
+            selection.join(" "),
             dir.display(),
             out.status
         )));
@@ -195,22 +208,42 @@ fn cargo_build_qemu(dir: &Path, baked: Option<&Path>) -> Result<PathBuf, CosimEr
     stdout
         .lines()
         .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-        .filter(|v| v["reason"] == "compiler-artifact" && v["target"]["name"] == "qemu")
+        .filter(|v| v["reason"] == "compiler-artifact" && v["target"]["name"] == bin)
         .filter_map(|v| v["executable"].as_str().map(PathBuf::from))
         .next_back()
-        .ok_or_else(|| CosimError::Build("cargo reported no `qemu` executable".into()))
+        .ok_or_else(|| CosimError::Build(format!("cargo reported no `{bin}` executable")))
 }
 
 /// Boots `image` in QEMU with `events` as its input file; returns the output trace file's
 /// bytes and QEMU's wall time.
 pub fn run_image(image: &Path, events: &[u8]) -> Result<(Vec<u8>, Duration), CosimError> {
+    let run = run_machine(&QEMU_ARGS, image, events)?;
+    Ok((run.trace, run.elapsed))
+}
+
+/// What one QEMU run of a co-simulation image left.
+#[derive(Clone, Debug)]
+pub struct MachineRun {
+    /// The output trace file's bytes.
+    pub trace: Vec<u8>,
+    /// QEMU's wall time (boot included).
+    pub elapsed: Duration,
+    /// The defmt frames the image wrote (`tooltouch-defmt.bin`; empty if none).
+    pub defmt: Vec<u8>,
+}
+
+/// The file the emulated Nucleo writes its defmt frames to (firmware/src/semihosting.rs).
+pub const DEFMT_FILE: &str = "tooltouch-defmt.bin";
+
+/// Boots `image` in QEMU with the machine arguments `args` and `events` as its input file.
+pub fn run_machine(args: &[&str], image: &Path, events: &[u8]) -> Result<MachineRun, CosimError> {
     let dir = TempDir::new()?;
     let input = dir.path().join(EVENTS_FILE);
     std::fs::write(&input, events)
         .map_err(|e| CosimError::Io(format!("writing {}: {e}", input.display())))?;
     let start = Instant::now();
     let mut child = Command::new(QEMU)
-        .args(QEMU_ARGS)
+        .args(args)
         .arg("-kernel")
         .arg(image)
         .current_dir(dir.path())
@@ -237,6 +270,7 @@ pub fn run_image(image: &Path, events: &[u8]) -> Result<(Vec<u8>, Duration), Cos
     let elapsed = start.elapsed();
     let output_path = dir.path().join(OUTPUTS_FILE);
     let trace = std::fs::read(&output_path).unwrap_or_default();
+    let defmt = std::fs::read(dir.path().join(DEFMT_FILE)).unwrap_or_default();
     if !status.success() {
         let mut stderr = String::new();
         if let Some(mut e) = child.stderr.take() {
@@ -252,5 +286,9 @@ pub fn run_image(image: &Path, events: &[u8]) -> Result<(Vec<u8>, Duration), Cos
             stderr.trim()
         )));
     }
-    Ok((trace, elapsed))
+    Ok(MachineRun {
+        trace,
+        elapsed,
+        defmt,
+    })
 }

@@ -16,7 +16,7 @@ use pac::adc_common::ccr::ADCPRE;
 
 /// ADC1 channels in [`AdcCodes`] order: speed, power, force, v_u, v_v, v_w, i_u, i_v
 /// (PC0–PC5 are IN10–IN15, PB0 and PB1 are IN8 and IN9).
-const ADC_CHANNELS: [u8; 8] = [10, 11, 12, 13, 14, 15, 8, 9];
+pub const ADC_CHANNELS: [u8; 8] = [10, 11, 12, 13, 14, 15, 8, 9];
 /// Highest ADC clock (Hz) for VDDA 2.4–3.6 V (STM32F446 datasheet; 18 MHz below 2.4 V).
 const ADC_CLK_MAX_HZ: u32 = 36_000_000;
 /// ADC sampling time per channel (ADC clocks). With the datasheet's R_AIN formula
@@ -84,6 +84,7 @@ impl AdcClock {
 
 /// Longest wait for an ADC end of conversion (polls): each poll takes at least one core
 /// cycle, so twice the conversion's length in core cycles on either clock tree.
+#[cfg_attr(feature = "emulated", allow(dead_code))]
 const ADC_EOC_POLLS: u32 = 2 * max(
     AdcClock::for_clocks(&PLL_168_MHZ).conversion_cycles,
     AdcClock::for_clocks(&RESET_CLOCKS).conversion_cycles,
@@ -179,11 +180,23 @@ fn convert(channel: u8) -> u16 {
         let adc = &*pac::ADC1::ptr();
         adc.sqr3().write(|w| w.sq1().bits(channel));
         adc.cr2().modify(|_, w| w.swstart().start());
-        for _ in 0..ADC_EOC_POLLS {
-            if adc.sr().read().eoc().is_complete() {
-                return adc.dr().read().data().bits() & 0x0fff;
-            }
+        result(adc, channel)
+    }
+}
+
+/// The conversion's 12-bit result, once EOC is set.
+#[cfg(not(feature = "emulated"))]
+fn result(adc: &pac::adc1::RegisterBlock, _channel: u8) -> u16 {
+    for _ in 0..ADC_EOC_POLLS {
+        if adc.sr().read().eoc().is_complete() {
+            return adc.dr().read().data().bits() & 0x0fff;
         }
     }
     0
+}
+
+/// Emulated: QEMU's ADC never sets EOC; the seam holds the code the driver put there.
+#[cfg(feature = "emulated")]
+fn result(_adc: &pac::adc1::RegisterBlock, channel: u8) -> u16 {
+    crate::emulated::registers::adc_result(channel) & 0x0fff
 }

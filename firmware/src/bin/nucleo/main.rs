@@ -63,10 +63,12 @@ mod board;
 mod clocks;
 #[cfg(feature = "cpu-load")]
 mod cpu_load;
+#[cfg(feature = "emulated")]
+mod emulated;
 mod pins;
 mod timers;
 
-#[cfg(not(feature = "panic-check"))]
+#[cfg(not(any(feature = "panic-check", feature = "emulated")))]
 use defmt_rtt as _;
 
 /// The `panic-check` build's defmt logger: discards every frame. defmt-rtt's logger
@@ -92,6 +94,68 @@ use clocks::ClockTree;
 use stm32f4::stm32f446 as pac;
 use timers::TimerSettings;
 use tooltouch_firmware::interrupts;
+use tooltouch_firmware::model::MeasureOutputs;
+
+/// The interrupt of the `observe` task (TIM7 stays disabled: only software pends it).
+const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
+
+/// Idle on the board: logs every change of "register now" (PA5's output data bit) with
+/// the outputs `observe` snapshots, and sleeps; with `cpu-load`, spins and reports the
+/// interrupts' CPU load once per second (`sysclk_hz`, the core clock).
+#[cfg(not(feature = "emulated"))]
+fn report_decisions(
+    mut snapshot: impl rtic::Mutex<T = MeasureOutputs>,
+    mut counters: impl rtic::Mutex<T = tooltouch_firmware::handlers::Counters>,
+    sysclk_hz: u32,
+) -> ! {
+    let mut reported = false;
+    #[cfg(feature = "cpu-load")]
+    let mut load = cpu_load::CpuLoad::new(cpu_load::cycles(), sysclk_hz);
+    #[cfg(not(feature = "cpu-load"))]
+    let _ = sysclk_hz;
+    loop {
+        let register_now = pins::register_now();
+        if register_now != reported {
+            reported = register_now;
+            rtic::pend(OBSERVE);
+            cortex_m::asm::dsb();
+            cortex_m::asm::isb();
+            let o = snapshot.lock(|s| *s);
+            let dropped = counters.lock(|c| c.overflowed);
+            log_register_now(reported, &o, dropped);
+        }
+        #[cfg(feature = "cpu-load")]
+        if let Some(permille) = load.turn(cpu_load::cycles()) {
+            defmt::info!(
+                "CPU load {}.{} % (interrupts; idle turn {} cycles)",
+                permille / 10,
+                permille % 10,
+                load.shortest
+            );
+        }
+        #[cfg(not(feature = "cpu-load"))]
+        cortex_m::asm::wfi();
+    }
+}
+
+/// Logs a change of "register now" (to `on`) with the outputs `o` of the observe task
+/// and the ADC samples dropped so far: idle's report (and the emulated driver's, after
+/// every event).
+fn log_register_now(on: bool, o: &MeasureOutputs, dropped: u32) {
+    if on {
+        defmt::info!(
+            "register now: position {} counts, first contact at {}, {} revolutions, \
+             {} FES pulses; {} ADC samples dropped",
+            o.decision_position,
+            o.first_contact_position,
+            o.revolutions,
+            o.pulses,
+            dropped
+        );
+    } else {
+        defmt::info!("measurement cycle armed; {} ADC samples dropped", dropped);
+    }
+}
 
 /// Every setting that depends on the clock tree, for one tree; built at compile time.
 #[derive(Clone, Copy)]
@@ -147,12 +211,13 @@ const _: () = {
     assert!(pac::Interrupt::EXTI9_5 as u16 == irqs.scale);
     assert!(pac::Interrupt::TIM7 as u16 == irqs.observe);
     assert!(irqs.preset_pulses.is_none());
+    assert!(OBSERVE as u16 == irqs.observe);
 };
 
 #[rtic::app(device = stm32f4::stm32f446, peripherals = true)]
 mod app {
     use crate::board::Nucleo;
-    use crate::{adc, clocks, configure_clocks, pac, pins, timers};
+    use crate::{adc, clocks, configure_clocks, pins, timers};
     use tooltouch_firmware::baked;
     use tooltouch_firmware::board::Board;
     use tooltouch_firmware::handlers::{
@@ -160,9 +225,6 @@ mod app {
     };
     use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureOutputs, Measurement};
-
-    /// The interrupt of [`observe`] (TIM7 stays disabled: only software pends it).
-    const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
 
     #[shared]
     struct Shared {
@@ -249,48 +311,19 @@ mod app {
     /// dropped; sleeps otherwise. The pin is read from the output data register; the rest
     /// of the outputs, which only the measurement tasks may read, through [`observe`], and
     /// only on a change.
-    #[idle(shared = [snapshot, counters], local = [sysclk_hz])]
-    fn idle(mut cx: idle::Context) -> ! {
-        let mut reported = false;
-        #[cfg(feature = "cpu-load")]
-        let mut load =
-            crate::cpu_load::CpuLoad::new(crate::cpu_load::cycles(), *cx.local.sysclk_hz);
-        #[cfg(not(feature = "cpu-load"))]
-        let _ = cx.local.sysclk_hz;
-        loop {
-            let register_now = pins::register_now();
-            if register_now != reported {
-                reported = register_now;
-                rtic::pend(OBSERVE);
-                cortex_m::asm::dsb();
-                cortex_m::asm::isb();
-                let o = cx.shared.snapshot.lock(|s| *s);
-                let dropped = cx.shared.counters.lock(|c| c.overflowed);
-                if reported {
-                    defmt::info!(
-                        "register now: position {} counts, first contact at {}, {} revolutions, \
-                         {} FES pulses; {} ADC samples dropped",
-                        o.decision_position,
-                        o.first_contact_position,
-                        o.revolutions,
-                        o.pulses,
-                        dropped
-                    );
-                } else {
-                    defmt::info!("measurement cycle armed; {} ADC samples dropped", dropped);
-                }
-            }
-            #[cfg(feature = "cpu-load")]
-            if let Some(permille) = load.turn(crate::cpu_load::cycles()) {
-                defmt::info!(
-                    "CPU load {}.{} % (interrupts; idle turn {} cycles)",
-                    permille / 10,
-                    permille % 10,
-                    load.shortest
-                );
-            }
-            #[cfg(not(feature = "cpu-load"))]
-            cortex_m::asm::wfi();
+    #[idle(shared = [snapshot, counters, force], local = [sysclk_hz])]
+    fn idle(cx: idle::Context) -> ! {
+        // Emulated: the co-simulation driver replays the stream instead (and logs each
+        // change of "register now" as the board does), then ends the QEMU run.
+        #[cfg(feature = "emulated")]
+        {
+            let _ = cx.local.sysclk_hz;
+            crate::emulated::run(cx.shared.snapshot, cx.shared.force, cx.shared.counters)
+        }
+        #[cfg(not(feature = "emulated"))]
+        {
+            let _ = cx.shared.force;
+            crate::report_decisions(cx.shared.snapshot, cx.shared.counters, *cx.local.sysclk_hz)
         }
     }
 
@@ -338,6 +371,12 @@ mod app {
     /// edge pending with it.
     #[task(binds = TIM7, priority = 15, shared = [meas, snapshot])]
     fn observe(cx: observe::Context) {
+        // Emulated: the driver's fresh kernel for the next stream, installed here (the
+        // domain is the measurement tasks' alone).
+        #[cfg(feature = "emulated")]
+        if let Some(fresh) = crate::emulated::registers::take_reset() {
+            *cx.shared.meas = MeasureDomain::start::<Nucleo>(fresh);
+        }
         let outputs = handlers::observe::<Nucleo>(cx.shared.meas);
         let mut snapshot = cx.shared.snapshot;
         snapshot.lock(|s| *s = outputs);

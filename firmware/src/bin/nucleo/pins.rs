@@ -128,54 +128,117 @@ pub fn configure_command_inputs(gpioc: &pac::GPIOC, syscfg: &pac::SYSCFG, exti: 
         .modify(|_, w| w.mr11().unmasked().mr12().unmasked().mr13().unmasked());
 }
 
-fn gpioa() -> &'static pac::gpioa::RegisterBlock {
-    // SAFETY: the tasks only read IDR / ODR and write BSRR, which sets or resets single
-    // pins atomically.
-    unsafe { &*pac::GPIOA::ptr() }
+/// The data registers the tasks read and drive: GPIO input and output data, the command
+/// lines' EXTI pending bits. The flashable image touches the hardware registers; the
+/// emulated one (`netduinoplus2` emulates no GPIO, and its EXTI sets no pending bit from
+/// software) the driver's copies in `emulated::registers`, its seam.
+#[cfg(not(feature = "emulated"))]
+mod data {
+    use stm32f4::stm32f446 as pac;
+
+    // SAFETY (every function): the tasks only read IDR / ODR / PR and write BSRR, which
+    // sets or resets single pins atomically, and PR, where a written 1 clears that line
+    // only.
+
+    /// GPIOA_IDR.
+    #[inline(always)]
+    pub fn idr_a() -> u32 {
+        unsafe { (*pac::GPIOA::ptr()).idr().read().bits() }
+    }
+    /// GPIOB_IDR.
+    #[inline(always)]
+    pub fn idr_b() -> u32 {
+        unsafe { (*pac::GPIOB::ptr()).idr().read().bits() }
+    }
+    /// GPIOC_IDR.
+    #[inline(always)]
+    pub fn idr_c() -> u32 {
+        unsafe { (*pac::GPIOC::ptr()).idr().read().bits() }
+    }
+    /// GPIOA_ODR.
+    #[inline(always)]
+    pub fn odr_a() -> u32 {
+        unsafe { (*pac::GPIOA::ptr()).odr().read().bits() }
+    }
+    /// GPIOA_BSRR.
+    #[inline(always)]
+    pub fn bsrr_a(bits: u32) {
+        unsafe {
+            (*pac::GPIOA::ptr()).bsrr().write(|w| w.bits(bits));
+        }
+    }
+    /// EXTI_PR.
+    #[inline(always)]
+    pub fn exti_pr() -> u32 {
+        unsafe { (*pac::EXTI::ptr()).pr().read().bits() }
+    }
+    /// EXTI_PR write: a 1 clears its line.
+    #[inline(always)]
+    pub fn exti_clear(bits: u32) {
+        unsafe {
+            (*pac::EXTI::ptr()).pr().write(|w| w.bits(bits));
+        }
+    }
 }
+#[cfg(feature = "emulated")]
+use crate::emulated::registers as data;
 
 fn exti() -> &'static pac::exti::RegisterBlock {
-    // SAFETY: the tasks only read PR and write 1s to their own lines (write 1 to clear:
-    // other lines are unaffected).
+    // SAFETY: the tasks only write 1s to their own lines of PR (write 1 to clear: other
+    // lines are unaffected).
     unsafe { &*pac::EXTI::ptr() }
+}
+
+/// PA5: "register now".
+const REGISTER_NOW: u32 = 1 << 5;
+/// PA6: the wear alarm.
+const WEAR_ALARM: u32 = 1 << 6;
+
+/// The BSRR word that drives the pins of `mask` to `on`.
+#[inline(always)]
+const fn bsrr(mask: u32, on: bool) -> u32 {
+    if on {
+        mask
+    } else {
+        mask << 16
+    }
 }
 
 /// Level of the CNC's arm line (PA0).
 #[inline(always)]
 pub fn arm() -> bool {
-    gpioa().idr().read().idr0().is_high()
+    data::idr_a() & 1 << 0 != 0
 }
 
 /// Level of the contact line (PA1).
 #[inline(always)]
 pub fn contact() -> bool {
-    gpioa().idr().read().idr1().is_high()
+    data::idr_a() & 1 << 1 != 0
 }
 
 /// Levels of the scale's A and B lines (PB8, PB9).
 #[inline(always)]
 pub fn scale() -> (bool, bool) {
-    // SAFETY: a read of the input data register; no side effect.
-    let idr = unsafe { (*pac::GPIOB::ptr()).idr().read() };
-    (idr.idr8().is_high(), idr.idr9().is_high())
+    let idr = data::idr_b();
+    (idr & 1 << 8 != 0, idr & 1 << 9 != 0)
 }
 
 /// Drives "register now" (PA5).
 #[inline(always)]
 pub fn set_register_now(on: bool) {
-    gpioa().bsrr().write(|w| w.bs5().bit(on).br5().bit(!on));
+    data::bsrr_a(bsrr(REGISTER_NOW, on));
 }
 
 /// The level "register now" is driven at (PA5's output data bit).
 #[inline(always)]
 pub fn register_now() -> bool {
-    gpioa().odr().read().odr5().is_high()
+    data::odr_a() & REGISTER_NOW != 0
 }
 
 /// Drives the wear alarm (PA6).
 #[inline(always)]
 pub fn set_wear_alarm(on: bool) {
-    gpioa().bsrr().write(|w| w.bs6().bit(on).br6().bit(!on));
+    data::bsrr_a(bsrr(WEAR_ALARM, on));
 }
 
 /// Acknowledges the arm line's edge (EXTI0).
@@ -206,17 +269,9 @@ pub fn ack_scale() {
 /// commands not yet handled.
 #[inline(always)]
 pub fn take_pending_commands() {
-    let exti = exti();
-    let pr = exti.pr().read();
-    exti.pr().write(|w| {
-        w.pr11()
-            .bit(pr.pr11().is_pending())
-            .pr12()
-            .bit(pr.pr12().is_pending())
-            .pr13()
-            .bit(pr.pr13().is_pending())
-    });
-    PENDING_COMMANDS.fetch_or(pr.bits() & COMMAND_LINES, Ordering::Relaxed);
+    let pending = data::exti_pr() & COMMAND_LINES;
+    data::exti_clear(pending);
+    PENDING_COMMANDS.fetch_or(pending, Ordering::Relaxed);
 }
 
 /// Whether a taken command is not yet handled.
@@ -231,11 +286,10 @@ pub fn next_command() -> Option<ForceEvent> {
     let pending = PENDING_COMMANDS.load(Ordering::Relaxed);
     let line = pending & pending.wrapping_neg();
     PENDING_COMMANDS.fetch_and(!line, Ordering::Relaxed);
-    // SAFETY: a read of the input data register; no side effect.
-    let idr = unsafe { (*pac::GPIOC::ptr()).idr().read() };
+    let idr = data::idr_c();
     match line {
-        CONTROL => Some(ForceEvent::Control(idr.idr11().is_high())),
-        IDENTIFY => Some(ForceEvent::Identify(idr.idr12().is_high())),
+        CONTROL => Some(ForceEvent::Control(idr & CONTROL != 0)),
+        IDENTIFY => Some(ForceEvent::Identify(idr & IDENTIFY != 0)),
         TOOL_CHANGED => Some(ForceEvent::ToolChanged),
         _ => None,
     }

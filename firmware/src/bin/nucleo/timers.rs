@@ -118,6 +118,9 @@ pub fn start_control_period(tim3: &pac::TIM3, settings: &TimerSettings) {
     tim3.arr().write(|w| w.arr().set(settings.control_arr));
     tim3.egr().write(|w| w.ug().set_bit());
     tim3.sr().reset();
+    // Emulated: QEMU's TIM3 would raise its update every period of virtual time; the
+    // stream's control ticks pend the interrupt instead, so its update stays disabled.
+    #[cfg(not(feature = "emulated"))]
     tim3.dier().write(|w| w.uie().enabled());
     tim3.cr1().write(|w| w.cen().enabled());
 }
@@ -170,8 +173,12 @@ pub fn start_fes_counter(tim2: &pac::TIM2, gpiob: &pac::GPIOB) {
 /// TIM2's count of FES rising edges, wrapping at 2^32.
 #[inline(always)]
 pub fn fes_count() -> u32 {
+    #[cfg(feature = "emulated")]
+    let count = crate::emulated::registers::fes_count();
     // SAFETY: a read of TIM2's counter; TIM2 counts FES edges (set up once in `init`).
-    unsafe { (*pac::TIM2::ptr()).cnt().read().cnt().bits() }
+    #[cfg(not(feature = "emulated"))]
+    let count = unsafe { (*pac::TIM2::ptr()).cnt().read().cnt().bits() };
+    count
 }
 
 /// Sets TIM2's compare value: CCR1, 32 bits, no preload, so it takes effect at once.
@@ -180,6 +187,9 @@ pub fn set_fes_compare(at: u32) {
     // SAFETY: CCR1 of TIM2 is the FES compare value, written only by the measurement
     // tasks (one priority, so one at a time).
     unsafe { (*pac::TIM2::ptr()).ccr1().write(|w| w.ccr().set(at)) };
+    // QEMU's TIM2 keeps the write but never compares: the seam's count matches it.
+    #[cfg(feature = "emulated")]
+    crate::emulated::registers::set_fes_compare(at);
 }
 
 /// Clears TIM2's compare flag CC1IF, so a match after the next compare value raises the

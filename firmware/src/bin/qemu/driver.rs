@@ -24,7 +24,7 @@ use tooltouch_firmware::model::force::config::ForceConfig;
 use tooltouch_firmware::model::force::events::ForceEvent;
 use tooltouch_firmware::model::force::kernel::{ForceKernel, ForceOutputs};
 use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
-use tooltouch_firmware::stack;
+use tooltouch_firmware::{pend, stack};
 
 /// Depth of the mailboxes.
 pub const MAILBOX: usize = 2;
@@ -55,25 +55,10 @@ pub const CONTROL_PERIOD: Interrupt = Interrupt::TIMER_0A;
 /// The CNC force-path command's interrupt.
 pub const FORCE_COMMAND: Interrupt = Interrupt::GPIOF;
 
-/// Instructions of the calibration loop: `subs` + `bne` per iteration.
-const CALIBRATION_ITERATIONS: u32 = 100_000;
-
-/// Runs a loop of a known instruction count and returns `(instructions, SysTick ticks)`.
-/// Under `-icount shift=0` every instruction takes the same virtual time, so this ratio
-/// converts the profile's ticks to instructions.
+/// Runs a loop of a known instruction count and returns `(instructions, SysTick ticks)`
+/// (`tooltouch_firmware::pend::calibrate`).
 pub fn calibrate() -> (u32, u32) {
-    let t0 = cortex_m::peripheral::SYST::get_current();
-    let mut n = CALIBRATION_ITERATIONS;
-    // SAFETY: a register-only countdown loop.
-    unsafe {
-        core::arch::asm!("2:", "subs {0}, #1", "bne 2b", inout(reg) n, options(nomem, nostack));
-    }
-    let t1 = cortex_m::peripheral::SYST::get_current();
-    let _ = n;
-    (
-        CALIBRATION_ITERATIONS.saturating_mul(2),
-        t0.wrapping_sub(t1) & 0x00ff_ffff,
-    )
+    pend::calibrate()
 }
 
 /// Drives the firmware from idle (priority 0): every pend preempts it at once.
@@ -144,43 +129,15 @@ where
         Some(self.pend_and_time(irq))
     }
 
-    /// Pends `irq` and returns the SysTick ticks until it has run. An edge whose
-    /// interrupt is still pending would be lost (merged into the pending one): it
-    /// is counted in [`Counters::lost`].
-    ///
-    /// The timed sequence is fixed assembly, so the harness's share of the profile
-    /// does not move with the compiler's scheduling: between the two SysTick reads
-    /// run the pend's store, `dsb`, `isb`, the handler (exception entry and exit
-    /// execute no instruction under QEMU) and the second read: 4 instructions plus
-    /// the handler's.
+    /// Pends `irq` and returns the SysTick ticks until it has run
+    /// (`tooltouch_firmware::pend::pend_and_time`). An edge whose interrupt is still
+    /// pending would be lost (merged into the pending one): it is counted in
+    /// [`Counters::lost`].
     fn pend_and_time(&mut self, irq: Interrupt) -> u32 {
         if NVIC::is_pending(irq) {
             self.counters.lock(|c| c.lost = c.lost.saturating_add(1));
         }
-        let n = u32::from(irq.number());
-        // NVIC_ISPRn, one bit per interrupt.
-        let ispr = 0xe000_e200_u32.wrapping_add((n >> 5) << 2);
-        let bit = 1_u32 << (n & 31);
-        let (t0, t1): (u32, u32);
-        // SAFETY: a write-one-to-set of the interrupt's pending bit (what
-        // `rtic::pend` does) between two reads of SysTick's current value register;
-        // the handler it runs is an RTIC task like any pended one.
-        unsafe {
-            core::arch::asm!(
-                "ldr {t0}, [{cvr}]",
-                "str {bit}, [{ispr}]",
-                "dsb",
-                "isb",
-                "ldr {t1}, [{cvr}]",
-                cvr = in(reg) 0xe000_e018_u32,
-                ispr = in(reg) ispr,
-                bit = in(reg) bit,
-                t0 = out(reg) t0,
-                t1 = out(reg) t1,
-                options(nostack, preserves_flags),
-            );
-        }
-        t0.wrapping_sub(t1) & 0x00ff_ffff
+        pend::pend_and_time(irq.number())
     }
 }
 

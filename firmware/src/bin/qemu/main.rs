@@ -25,7 +25,6 @@ mod driver;
 use lm3s6965::Interrupt;
 use tooltouch_firmware::interrupts;
 use tooltouch_firmware::model::MeasureEvent;
-use tooltouch_firmware::semihosting::{self, exit_code, print};
 
 /// The IRQ number the driver pends for `event`.
 const fn pended(event: &MeasureEvent) -> u16 {
@@ -62,13 +61,13 @@ mod app {
     use core::sync::atomic::Ordering;
     use cortex_m::peripheral::syst::SystClkSource;
     use heapless::spsc::{Consumer, Producer};
+    use tooltouch_firmware::baked;
     use tooltouch_firmware::handlers::{
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
     use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureOutputs, Measurement};
-    use tooltouch_firmware::semihosting::{self, exit_code, print, OpenError};
-    use tooltouch_firmware::{baked, cosim};
+    use tooltouch_firmware::semihosting::{self, exit_code, print};
 
     #[shared]
     struct Shared {
@@ -156,24 +155,7 @@ mod app {
             cx.shared.counters,
             *cx.local.calibration,
         );
-        let code = match semihosting::Files::open() {
-            Ok(mut files) => {
-                let ran = cosim::run(&mut files, &mut driver);
-                let closed = files.close();
-                crate::report(ran, closed)
-            }
-            Err(OpenError::Events) => {
-                print(
-                    b"tooltouch firmware: cannot open tooltouch-events.bin in QEMU's working \
-                      directory: put an event stream there (tooltouch vectors writes events.ttv)\n",
-                );
-                exit_code::NO_EVENTS_FILE
-            }
-            Err(OpenError::Outputs) => {
-                print(b"tooltouch firmware: cannot create tooltouch-outputs.bin\n");
-                exit_code::FILE_IO
-            }
-        };
+        let code = semihosting::replay(&mut driver);
         // Every output was written (synchronous semihosting calls) before the exit.
         semihosting::exit(code)
     }
@@ -256,39 +238,5 @@ mod app {
         cx.shared
             .force
             .lock(|k| handlers::control_period::<Qemu>(k, queue));
-    }
-}
-
-/// Says how the run ended and returns QEMU's exit status for it.
-fn report(ran: Result<u32, tooltouch_firmware::cosim::Error>, closed: bool) -> u8 {
-    match ran {
-        Ok(streams) if closed => {
-            let (digits, n) = semihosting::decimal(u64::from(streams));
-            print(b"tooltouch firmware: replayed ");
-            print(digits.get(..n).unwrap_or(&[]));
-            print(b" stream(s); trace in tooltouch-outputs.bin\n");
-            exit_code::OK
-        }
-        Ok(_) | Err(tooltouch_firmware::cosim::Error::Io) => {
-            print(
-                b"tooltouch firmware: reading tooltouch-events.bin or writing \
-                  tooltouch-outputs.bin failed\n",
-            );
-            exit_code::FILE_IO
-        }
-        Err(e) => {
-            let (code, _, offset, _) = e.code();
-            let (at, n) = semihosting::decimal(offset);
-            let (what, k) = semihosting::decimal(u64::from(code));
-            print(b"tooltouch firmware: tooltouch-events.bin is malformed at byte ");
-            print(at.get(..n).unwrap_or(&[]));
-            print(b" (error ");
-            print(what.get(..k).unwrap_or(&[]));
-            print(
-                b"); the trace ends with an error record: \
-                  `tooltouch check` or `tooltouch cosim firmware` explains it\n",
-            );
-            exit_code::MALFORMED_EVENTS
-        }
     }
 }
