@@ -97,3 +97,19 @@ fn fixed_point_monitor_matches_its_float_reference() {
     }
     assert_eq!(k.outputs().wear_alarm, *run.alarm.last().unwrap());
 }
+
+/// The false alarm of the updating threshold when the conditions get lighter (3 mm, then
+/// 2 mm): the threshold drops at once while the monitored power still decays through the
+/// power lag and the filters. A new tool must not alarm.
+#[test]
+fn updating_threshold_does_not_false_alarm_when_the_depth_shrinks() {
+    let sc = WearScenario {
+        depths: [3.0, 2.0],
+        ..WearScenario::default()
+    };
+    let config = sc.config(false).unwrap();
+    let new = sc.run(&NEW_TOOL, &config);
+    assert_eq!(new.alarm_at, None, "new tool must not alarm");
+    let worn = sc.run(&WORN_TOOL, &config);
+    assert!(worn.alarm_at.is_some());
+}
