@@ -126,7 +126,7 @@ pub struct WearVerdict {
     /// Watched power p̄ at the alarm, W (where the plot marks it).
     pub alarm_power_w: Option<f64>,
     /// The cut (1 or 2) the alarm came in.
-    pub alarm_cut: Option<u8>,
+    pub alarm_cut: Option<usize>,
     /// `right`, `false-alarm` or `missed`.
     pub verdict: &'static str,
 }

@@ -43,25 +43,27 @@ pub fn run(args: Args) -> Result<ExitCode> {
         None => None,
     };
     let m = &sc.milling;
+    let first = sc.cuts[0].conditions;
     outln!(
         "face milling D = {} mm, Z = {}, t = {} mm, s_z = {} mm, {} rpm, [VB] = {} mm, eta = {}",
         m.diameter_mm,
         m.teeth,
         m.width_mm,
-        sc.feed_per_tooth_mm,
-        sc.rpm,
+        first.feed_per_tooth_mm,
+        first.rpm,
         sc.vb_limit_mm,
         m.efficiency
     );
-    for (i, d) in sc.depths.iter().enumerate() {
-        let c = sc.conditions(i);
+    for (i, cut) in sc.cuts.iter().enumerate() {
+        let c = cut.conditions;
         let limit = m.mean_power(sc.vb_limit_mm, &c);
         outln!(
-            "  cut {} (depth {d} mm, from {:.0} s): [P-bar] = {:.0} W (W7 at [VB]), [P] = {:.0} W (W9)",
+            "  cut {} (depth {} mm, from {:.0} s): [P-bar] = {:.0} W (W7 at [VB]), [P] = {:.0} W (W9)",
             i + 1,
-            sc.idle_s + i as f64 * sc.segment_s,
+            c.depth_mm,
+            sc.cut_start(i),
             limit,
-            m.motor_power(limit)
+            cut.idle_power + limit / m.efficiency
         );
     }
     outln!(
@@ -80,7 +82,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         for constant in [true, false] {
             let config = sc
                 .config(constant)
-                .map_err(|e| anyhow::anyhow!("{e}"))
+                .map_err(anyhow::Error::msg)
                 .context("configuring the wear monitor")?;
             let r = sc.run(&tool, &config);
             bar.inc(1);
@@ -91,20 +93,16 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 (true, false) => "FALSE ALARM",
                 (false, true) => "MISSED",
             };
-            let cut = r.alarm_at.map(|t| {
-                if t < sc.idle_s + sc.segment_s {
-                    "1 (2 mm)"
-                } else {
-                    "2 (3 mm)"
-                }
-            });
+            let alarm_cut = r.alarm_at.and_then(|t| sc.cut_at(t));
+            let cut =
+                alarm_cut.map(|i| format!("{} ({} mm)", i + 1, sc.cuts[i].conditions.depth_mm));
             rows.push(format!(
                 "{:<6} {:<10} {:>12} {:>12} {:>10}",
                 tool.name,
                 name,
                 r.alarm_at
                     .map_or("none".to_string(), |t| format!("{t:.2} s")),
-                cut.unwrap_or("-"),
+                cut.as_deref().unwrap_or("-"),
                 verdict
             ));
             verdicts.push(super::run_tables::WearVerdict {
@@ -112,9 +110,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 threshold: name,
                 alarm_at_s: r.alarm_at,
                 alarm_power_w: tooltouch_plot::wear::alarm_power(&r).map(|(_, p)| p),
-                alarm_cut: r
-                    .alarm_at
-                    .map(|t| if t < sc.idle_s + sc.segment_s { 1 } else { 2 }),
+                alarm_cut: alarm_cut.map(|i| i + 1),
                 verdict: match verdict {
                     "right" => "right",
                     "FALSE ALARM" => "false-alarm",

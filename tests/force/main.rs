@@ -10,3 +10,4 @@ mod scenario;
 mod sqrt;
 mod vectors;
 mod wear_scenario;
+mod wear_settle;
