@@ -8,6 +8,7 @@
 //! N/mm² so that `b·C·a^(−x)·s_z` is a force in N with b, a, s_z in mm — our reading),
 //! x = 0.23, μ = 0.1, H = 1680 N/mm² (cast iron), D = 100 mm, Z = 5, t = 70 mm.
 
+use crate::milling_transients::{ToothTransients, TransientMeter};
 use crate::reference::f;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -17,7 +18,7 @@ use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::force::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::force::wear::{ConditionSet, Threshold, WearSettings, MAX_CONDITION_SETS};
 use tooltouch_model::units::Fx;
 
 /// Cutter, workpiece and machine data (strategy step 1).
@@ -264,6 +265,13 @@ pub struct WearScenario {
     /// The CNC sends the tool-changed command at every cut's start (clears a latched alarm,
     /// so each cut's detection time is seen; tests).
     pub clear_alarm_each_cut: bool,
+    /// The wear monitor's low-pass `2^−shift` per period, `0..=8`.
+    pub monitor_lowpass_shift: u8,
+    /// The wear monitor's debounce, periods, `1..=255`.
+    pub debounce_periods: u8,
+    /// The per-tooth transient plant ([`crate::milling_transients`]) before the power lag;
+    /// `None`: W6 as it is.
+    pub transients: Option<ToothTransients>,
 }
 
 impl Default for WearScenario {
@@ -288,6 +296,9 @@ impl Default for WearScenario {
             adc_noise: 1.5,
             seed: 7,
             clear_alarm_each_cut: false,
+            monitor_lowpass_shift: WearSettings::default().lowpass_shift,
+            debounce_periods: WearSettings::default().debounce_periods,
+            transients: None,
         }
     }
 }
@@ -357,6 +368,18 @@ impl WearScenario {
     /// that does not fit, or a value the model refuses.
     pub fn config(&self, constant: bool) -> Result<ForceConfig, String> {
         let mut s = ForceSettings::default();
+        s.wear = self.wear_settings(&s, constant)?;
+        s.validate().map_err(|e| e.to_string())
+    }
+
+    /// The wear monitor's settings for the force path `base` (its sampling and wear
+    /// filters set the hold): as [`Self::config`], the rest of `base.wear` kept.
+    pub fn wear_settings(
+        &self,
+        base: &ForceSettings,
+        constant: bool,
+    ) -> Result<WearSettings, String> {
+        let mut s = *base;
         let (distinct, _) = self.condition_sets();
         if distinct.is_empty() {
             return Err("no cut: at least one is needed".into());
@@ -373,6 +396,8 @@ impl WearScenario {
         }
         s.wear.sets = sets;
         s.wear.set_count = distinct.len() as u8;
+        s.wear.lowpass_shift = self.monitor_lowpass_shift;
+        s.wear.debounce_periods = self.debounce_periods;
         s.wear.efficiency = Fx::from_num(self.milling.efficiency);
         s.wear.threshold = if constant {
             let p = tooltouch_model::force::wear::allowed_power(&sets[0], s.wear.efficiency);
@@ -380,8 +405,11 @@ impl WearScenario {
         } else {
             Threshold::Updating
         };
-        s.wear.settle_periods = settle_periods(self.power_lag, &s)?;
-        s.validate().map_err(|e| e.to_string())
+        // The ringing's envelope adds to the lag it comes before (conservative).
+        let lag = self.power_lag + self.transients.map_or(0.0, |t| t.envelope_s());
+        s.wear.settle_periods = settle_periods(lag, &s)?;
+        s.wear.validate().map_err(|e| e.to_string())?;
+        Ok(s.wear)
     }
 
     /// Runs the scenario through the model kernel.
@@ -407,6 +435,9 @@ impl WearScenario {
             .first()
             .map_or(self.milling.idle_power, |c| c.idle_power);
         let mut p_meas = idle_at_start;
+        let mut meter = self
+            .transients
+            .map(|t| TransientMeter::new(&t, idle_at_start, self.seed ^ 0x7472_616e_7369_656e));
         let mut theta = 0.0;
         let mut sum = 0.0;
         let dt = 1.0 / fs;
@@ -441,7 +472,9 @@ impl WearScenario {
             if cutting_now {
                 vb += tool.vb_rate * dt;
             }
-            theta += 2.0 * PI * this.conditions.rpm / 60.0 * dt;
+            let theta_before = theta;
+            let omega = 2.0 * PI * this.conditions.rpm / 60.0;
+            theta += omega * dt;
             let p_cut = if cutting_now {
                 self.milling.cutting_power(theta, vb, &this.conditions)
             } else {
@@ -449,7 +482,21 @@ impl WearScenario {
             };
             let p_motor = this.idle_power + p_cut / self.milling.efficiency;
             sum += p_motor;
-            p_meas += (p_motor - p_meas) * dt / self.power_lag;
+            let p_seen = match meter.as_mut() {
+                Some(meter) => {
+                    let (m, c, eff) = (&self.milling, &this.conditions, self.milling.efficiency);
+                    meter.sample(dt, |frac| {
+                        let load = if cutting_now {
+                            m.cutting_power(theta_before + omega * dt * frac, vb, c)
+                        } else {
+                            0.0
+                        };
+                        this.idle_power + load / eff
+                    })
+                }
+                None => p_motor,
+            };
+            p_meas += (p_seen - p_meas) * dt / self.power_lag;
             let code = (p_meas / power_lsb + noise.sample(&mut rng))
                 .round()
                 .clamp(0.0, f64::from(ADC_MAX)) as u16;

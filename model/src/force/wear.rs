@@ -230,14 +230,15 @@ impl WearMonitor {
 
     /// One period with the period's mean spindle power `power` (W): low-pass, compare with
     /// the threshold in force (held or not), count the hold down, debounce (saturating
-    /// count).
+    /// count). The status's `allowed` is the threshold this period compared with.
     pub fn step(&mut self, power: Watts) -> WearStatus {
         let p = match self.filtered {
             None => power,
             Some(f) => f.saturating_add(power.saturating_sub(f) >> u32::from(self.s.lowpass_shift)),
         };
         self.filtered = Some(p);
-        self.over = p >= self.compared();
+        let limit = self.compared();
+        self.over = p >= limit;
         self.hold_left = self.hold_left.saturating_sub(1);
         if self.over {
             self.over_count = self.over_count.saturating_add(1);
@@ -247,10 +248,16 @@ impl WearMonitor {
         if self.over_count >= self.s.debounce_periods {
             self.alarm = true;
         }
-        self.status()
+        WearStatus {
+            power: p,
+            allowed: limit,
+            over: self.over,
+            alarm: self.alarm,
+        }
     }
 
-    /// The current status without a step.
+    /// The current status without a step: `allowed` is the threshold the next period
+    /// compares with (a step's status holds the one it compared with).
     pub fn status(&self) -> WearStatus {
         WearStatus {
             power: self.filtered.unwrap_or(Fx::ZERO),

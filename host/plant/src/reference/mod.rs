@@ -601,9 +601,10 @@ impl WearF {
             Some(y) => y + k * (p - y),
         };
         self.filtered = Some(y);
-        let over = y >= self.compared();
+        let limit = self.compared();
+        let over = y >= limit;
         self.hold_left = self.hold_left.saturating_sub(1);
-        self.allowed = self.compared();
+        self.allowed = limit;
         if over {
             self.count += 1;
         } else {
