@@ -55,7 +55,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         m.teeth,
         m.width_mm,
         first.feed_per_tooth_mm,
-        first.rpm,
+        (first.rpm * 10.0).round() / 10.0,
         sc.vb_limit_mm,
         m.efficiency
     );
@@ -148,16 +148,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
         let (sets, _) = sc.condition_sets();
         let mut head = format!("{:>8}", "VB mm");
         for (c, _) in &sets {
-            head += &format!(
-                " {:>16}",
-                format!("b{} s_z{} {:.0}rpm", c.depth_mm, c.feed_per_tooth_mm, c.rpm)
+            let name = format!(
+                "b {} s_z {} {:.0} rpm",
+                c.depth_mm, c.feed_per_tooth_mm, c.rpm
             );
+            head += &format!(" {name:>22}");
         }
         outln!("{head}");
         for chunk in vb_rows.chunks(sets.len().max(1)) {
             let mut line = format!("{:>8.2}", chunk[0].vb_mm);
             for r in chunk {
-                line += &format!(" {:>16.0}", r.mean_cutting_power_w);
+                line += &format!(" {:>22.0}", r.mean_cutting_power_w);
             }
             outln!("{line}");
         }
