@@ -1,11 +1,11 @@
-//! The transient milling plant (host/plant/src/milling_transients.rs): per-tooth entry and
+//! The transient milling plant (`tooltouch_plant::milling_transients`): per-tooth entry and
 //! exit ringing and noise on top of W6. The paper's observation: its model predicts the
 //! measured power well except where teeth enter and leave the cut, so the mean power is
 //! predicted better than the instantaneous one — checked here on its Table 2 groups 1
 //! (Z = 1) and 2 (Z = 5) and Fig. 6's conditions, over whole revolutions.
 
-use tooltouch_plant::milling::{Conditions, MillingParams};
-use tooltouch_plant::milling_transients::{cutting_trace, ToothTransients};
+use tooltouch_plant::milling::{cutting_trace, Conditions, MillingParams};
+use tooltouch_plant::milling_transients::ToothTransients;
 
 struct Case {
     name: &'static str,

@@ -533,3 +533,31 @@ impl WearScenario {
         out
     }
 }
+
+/// One cut at constant conditions and wear, sampled at `fs` Hz for `seconds`: the W6 power
+/// at each sample (the model's instantaneous prediction) and what the transient meter
+/// reports (cutting power only, no idle power or efficiency).
+pub fn cutting_trace(
+    m: &MillingParams,
+    c: &Conditions,
+    vb_mm: f64,
+    t: &ToothTransients,
+    fs: f64,
+    seconds: f64,
+    seed: u64,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = (seconds * fs).round().max(0.0) as usize;
+    let dt = 1.0 / fs;
+    let omega = 2.0 * PI * c.rpm / 60.0;
+    let mut meter = TransientMeter::new(t, m.cutting_power(0.0, vb_mm, c), seed);
+    let mut model = Vec::with_capacity(n);
+    let mut measured = Vec::with_capacity(n);
+    for k in 0..n {
+        let theta0 = omega * k as f64 * dt;
+        measured.push(meter.sample(dt, |frac| {
+            m.cutting_power(theta0 + omega * dt * frac, vb_mm, c)
+        }));
+        model.push(m.cutting_power(theta0 + omega * dt, vb_mm, c));
+    }
+    (model, measured)
+}

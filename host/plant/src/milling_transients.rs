@@ -1,7 +1,8 @@
 //! A face-milling power plant with per-tooth entry and exit transients and noise: the
-//! signal shape the milling-wear paper measures (docs/wear.md, "The transient plant").
+//! signal shape the milling-wear paper measures (docs/wear.md, "The transient plant"); its use on the cutter is in `crate::milling`
+//! (`WearScenario::transients`, `cutting_trace`).
 //!
-//! The cutting power of W6 ([`MillingParams::cutting_power`]) jumps when a tooth enters the
+//! The cutting power of W6 (`MillingParams::cutting_power`) jumps when a tooth enters the
 //! cut (its force at φ_v is not zero: `sin φ_v = cos ψ_1`, plus the flank-wear term) and
 //! drops when it leaves at φ_r. The paper attributes the irregular swings of its measured
 //! power near those instants to the power-measuring system overshooting these load steps
@@ -14,7 +15,6 @@
 //! Integration: semi-implicit Euler in [`SUBSTEPS`] steps per sample; the cutter angle
 //! advances with each substep so the jumps fall between samples as they do on the machine.
 
-use crate::milling::{Conditions, MillingParams};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -109,32 +109,4 @@ impl TransientMeter {
         }
         self.x + self.noise.sample(&mut self.rng)
     }
-}
-
-/// One cut at constant conditions and wear, sampled at `fs` Hz for `seconds`: the W6 power
-/// at each sample (the model's instantaneous prediction) and what the transient meter
-/// reports (cutting power only, no idle power or efficiency).
-pub fn cutting_trace(
-    m: &MillingParams,
-    c: &Conditions,
-    vb_mm: f64,
-    t: &ToothTransients,
-    fs: f64,
-    seconds: f64,
-    seed: u64,
-) -> (Vec<f64>, Vec<f64>) {
-    let n = (seconds * fs).round().max(0.0) as usize;
-    let dt = 1.0 / fs;
-    let omega = 2.0 * PI * c.rpm / 60.0;
-    let mut meter = TransientMeter::new(t, m.cutting_power(0.0, vb_mm, c), seed);
-    let mut model = Vec::with_capacity(n);
-    let mut measured = Vec::with_capacity(n);
-    for k in 0..n {
-        let theta0 = omega * k as f64 * dt;
-        measured.push(meter.sample(dt, |frac| {
-            m.cutting_power(theta0 + omega * dt * frac, vb_mm, c)
-        }));
-        model.push(m.cutting_power(theta0 + omega * dt, vb_mm, c));
-    }
-    (model, measured)
 }
