@@ -7,6 +7,7 @@
 use anyhow::{Context, Result};
 use serde::Deserialize;
 use std::path::Path;
+use tooltouch_settings::wear::WearPlan;
 
 /// Which controller(s).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,18 +67,11 @@ struct ControlTable {
     seed: Option<u64>,
 }
 
-/// The `[wear]` table.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct WearTable {
-    seed: Option<u64>,
-}
-
 #[derive(Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct File {
     control: Option<ControlTable>,
-    wear: Option<WearTable>,
+    wear: Option<toml::Value>,
 }
 
 /// What `control` runs: its flags, else the settings file's keys, else the defaults.
@@ -164,11 +158,19 @@ pub fn control(args: &ControlFlags) -> Result<ControlChoice> {
     })
 }
 
-/// Resolves `wear`'s noise seed from its flag and its `--config` file (default 7).
-pub fn wear_seed(config: Option<&Path>, flag: Option<u64>) -> Result<u64> {
-    let table = match config {
-        Some(p) => read(p, "wear")?.wear.unwrap_or_default(),
-        None => WearTable::default(),
+/// Resolves `wear`'s plan from its `--config` file's `[wear]` table
+/// (`tooltouch_settings::wear`) and its `--seed` flag (which wins).
+pub fn wear_plan(config: Option<&Path>, flag: Option<u64>) -> Result<WearPlan> {
+    let mut plan = match config {
+        Some(p) => match read(p, "wear")?.wear {
+            Some(t) => WearPlan::from_table(&t)
+                .map_err(|e| anyhow::anyhow!("settings file {}: {e}", p.display()))?,
+            None => WearPlan::default(),
+        },
+        None => WearPlan::default(),
     };
-    Ok(flag.or(table.seed).unwrap_or(7))
+    if let Some(seed) = flag {
+        plan.scenario.seed = seed;
+    }
+    Ok(plan)
 }

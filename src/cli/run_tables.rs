@@ -114,6 +114,51 @@ pub fn control_series(r: &Run, reference_n: f64) -> Vec<ControlSample> {
         .collect()
 }
 
+/// One row of `wear_vb.csv` / `.json`: the mean cutting power of one condition set at one
+/// flank wear VB (W7), and the motor power it draws (W9's p_i + P̄/η).
+#[derive(Clone, Debug, Serialize)]
+pub struct WearVbRow {
+    /// Condition set, from 0 (order of first use in the cuts).
+    pub set: usize,
+    /// Depth of cut b, mm.
+    pub depth_mm: f64,
+    /// Feed per tooth s_z, mm.
+    pub feed_per_tooth_mm: f64,
+    /// Spindle speed, rpm.
+    pub rpm: f64,
+    /// Flank wear VB, mm.
+    pub vb_mm: f64,
+    /// Mean cutting power P̄ (W7), W.
+    pub mean_cutting_power_w: f64,
+    /// Motor power p_i + P̄/η, W.
+    pub motor_power_w: f64,
+}
+
+/// P̄(VB) for VB from 0 to the larger of `vb_max` and [VB] in 0.05 mm steps (at most 201
+/// steps), every condition set per VB.
+pub fn wear_vb_table(sc: &tooltouch_plant::milling::WearScenario, vb_max: f64) -> Vec<WearVbRow> {
+    let (sets, _) = sc.condition_sets();
+    let top = vb_max.max(sc.vb_limit_mm).clamp(0.0, 10.0);
+    let steps = ((top / 0.05).ceil() as usize).min(200);
+    let mut rows = Vec::new();
+    for i in 0..=steps {
+        let vb = i as f64 * 0.05;
+        for (k, (c, idle)) in sets.iter().enumerate() {
+            let p = sc.milling.mean_power(vb, c);
+            rows.push(WearVbRow {
+                set: k,
+                depth_mm: c.depth_mm,
+                feed_per_tooth_mm: c.feed_per_tooth_mm,
+                rpm: c.rpm,
+                vb_mm: vb,
+                mean_cutting_power_w: p,
+                motor_power_w: idle + p / sc.milling.efficiency,
+            });
+        }
+    }
+    rows
+}
+
 /// One row of `wear.csv` / `wear.json`: a run's alarm, as the terminal table.
 #[derive(Clone, Debug, Serialize)]
 pub struct WearVerdict {
@@ -125,8 +170,8 @@ pub struct WearVerdict {
     pub alarm_at_s: Option<f64>,
     /// Watched power p̄ at the alarm, W (where the plot marks it).
     pub alarm_power_w: Option<f64>,
-    /// The cut (1 or 2) the alarm came in.
-    pub alarm_cut: Option<u8>,
+    /// The cut (from 1) the alarm came in.
+    pub alarm_cut: Option<usize>,
     /// `right`, `false-alarm` or `missed`.
     pub verdict: &'static str,
 }

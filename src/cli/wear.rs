@@ -1,11 +1,12 @@
-//! `tooltouch wear`: tool-wear monitoring from spindle power (docs/domain.md §4) — face milling at
-//! depth 2 mm then 3 mm, with a new and a worn tool, each watched with the constant and
-//! with the updating threshold, through the fixed-point model's wear monitor.
+//! `tooltouch wear`: tool-wear monitoring from spindle power (docs/domain.md §4) — face milling
+//! through a sequence of cuts (default: depth 2 mm then 3 mm; `--config`: a `[wear]` table),
+//! with a new and a worn tool, each watched with the constant and with the updating
+//! threshold, through the fixed-point model's wear monitor; and the mean cutting power
+//! P̄(VB) of each condition set (W7).
 
 use anyhow::{Context, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use tooltouch_plant::milling::{WearScenario, NEW_TOOL, WORN_TOOL};
 use tooltouch_vectors::output::OutputFolder;
 
 /// Arguments of `tooltouch wear`.
@@ -19,22 +20,26 @@ pub struct Args {
     /// Noise seed (default 7).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Settings file: a `[wear]` table of these flags' keys (examples/wear.toml); a flag
-    /// wins over it.
+    /// Settings file: a `[wear]` table — the seed, the cutter, the cuts, [VB], idle powers,
+    /// efficiency, the tools (examples/wear.toml, docs/wear.md); `--seed` wins over it.
     #[arg(long)]
     pub config: Option<PathBuf>,
+    /// Also print the mean cutting power P̄(VB) of every condition set (the table
+    /// `wear_vb.{csv,json}` holds).
+    #[arg(long)]
+    pub vb_table: bool,
 }
 
 /// Runs `tooltouch wear`.
 pub fn run(args: Args) -> Result<ExitCode> {
-    let sc = WearScenario {
-        seed: super::run_settings::wear_seed(args.config.as_deref(), args.seed)?,
-        ..WearScenario::default()
-    };
+    let plan = super::run_settings::wear_plan(args.config.as_deref(), args.seed)?;
+    let sc = &plan.scenario;
+    let tools = [plan.new_tool, plan.worn_tool];
     let out = match &args.out {
         Some(dir) => {
             let mut known = super::run_tables::table_files("wear").to_vec();
-            for t in [NEW_TOOL, WORN_TOOL] {
+            known.extend(super::run_tables::table_files("wear_vb"));
+            for t in &tools {
                 known.push(format!("wear_{}.svg", t.name));
                 known.extend(super::run_tables::table_files(&format!("wear_{}", t.name)));
             }
@@ -43,25 +48,27 @@ pub fn run(args: Args) -> Result<ExitCode> {
         None => None,
     };
     let m = &sc.milling;
+    let first = sc.cuts[0].conditions;
     outln!(
         "face milling D = {} mm, Z = {}, t = {} mm, s_z = {} mm, {} rpm, [VB] = {} mm, eta = {}",
         m.diameter_mm,
         m.teeth,
         m.width_mm,
-        sc.feed_per_tooth_mm,
-        sc.rpm,
+        first.feed_per_tooth_mm,
+        (first.rpm * 10.0).round() / 10.0,
         sc.vb_limit_mm,
         m.efficiency
     );
-    for (i, d) in sc.depths.iter().enumerate() {
-        let c = sc.conditions(i);
+    for (i, cut) in sc.cuts.iter().enumerate() {
+        let c = cut.conditions;
         let limit = m.mean_power(sc.vb_limit_mm, &c);
         outln!(
-            "  cut {} (depth {d} mm, from {:.0} s): [P-bar] = {:.0} W (W7 at [VB]), [P] = {:.0} W (W9)",
+            "  cut {} (depth {} mm, from {:.0} s): [P-bar] = {:.0} W cutting (W7 at [VB]), [P] = {:.0} W motor (W9)",
             i + 1,
-            sc.idle_s + i as f64 * sc.segment_s,
+            c.depth_mm,
+            sc.cut_start(i),
             limit,
-            m.motor_power(limit)
+            cut.idle_power + limit / m.efficiency
         );
     }
     outln!(
@@ -75,12 +82,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let bar = indicatif::ProgressBar::new(4);
     let mut rows = Vec::new();
     let mut verdicts = Vec::new();
-    for tool in [NEW_TOOL, WORN_TOOL] {
+    for tool in tools {
         let mut runs = Vec::new();
         for constant in [true, false] {
             let config = sc
                 .config(constant)
-                .map_err(|e| anyhow::anyhow!("{e}"))
+                .map_err(anyhow::Error::msg)
                 .context("configuring the wear monitor")?;
             let r = sc.run(&tool, &config);
             bar.inc(1);
@@ -91,20 +98,16 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 (true, false) => "FALSE ALARM",
                 (false, true) => "MISSED",
             };
-            let cut = r.alarm_at.map(|t| {
-                if t < sc.idle_s + sc.segment_s {
-                    "1 (2 mm)"
-                } else {
-                    "2 (3 mm)"
-                }
-            });
+            let alarm_cut = r.alarm_at.and_then(|t| sc.cut_at(t));
+            let cut =
+                alarm_cut.map(|i| format!("{} ({} mm)", i + 1, sc.cuts[i].conditions.depth_mm));
             rows.push(format!(
                 "{:<6} {:<10} {:>12} {:>12} {:>10}",
                 tool.name,
                 name,
                 r.alarm_at
                     .map_or("none".to_string(), |t| format!("{t:.2} s")),
-                cut.unwrap_or("-"),
+                cut.as_deref().unwrap_or("-"),
                 verdict
             ));
             verdicts.push(super::run_tables::WearVerdict {
@@ -112,9 +115,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 threshold: name,
                 alarm_at_s: r.alarm_at,
                 alarm_power_w: tooltouch_plot::wear::alarm_power(&r).map(|(_, p)| p),
-                alarm_cut: r
-                    .alarm_at
-                    .map(|t| if t < sc.idle_s + sc.segment_s { 1 } else { 2 }),
+                alarm_cut: alarm_cut.map(|i| i + 1),
                 verdict: match verdict {
                     "right" => "right",
                     "FALSE ALARM" => "false-alarm",
@@ -141,7 +142,29 @@ pub fn run(args: Args) -> Result<ExitCode> {
     for r in rows {
         outln!("{r}");
     }
+    let vb_rows = super::run_tables::wear_vb_table(sc, plan.worn_tool.vb_start);
+    if args.vb_table {
+        outln!("mean cutting power P-bar(VB) (W7), W; the motor draws p_i + P-bar/eta");
+        let (sets, _) = sc.condition_sets();
+        let mut head = format!("{:>8}", "VB mm");
+        for (c, _) in &sets {
+            let name = format!(
+                "b {} s_z {} {:.0} rpm",
+                c.depth_mm, c.feed_per_tooth_mm, c.rpm
+            );
+            head += &format!(" {name:>22}");
+        }
+        outln!("{head}");
+        for chunk in vb_rows.chunks(sets.len().max(1)) {
+            let mut line = format!("{:>8.2}", chunk[0].vb_mm);
+            for r in chunk {
+                line += &format!(" {:>22.0}", r.mean_cutting_power_w);
+            }
+            outln!("{line}");
+        }
+    }
     if let Some(out) = out {
+        super::run_tables::write_table(out.staging(), "wear_vb", &vb_rows)?;
         super::run_tables::write_table(out.staging(), "wear", &verdicts)?;
         let dir = out.dir().to_path_buf();
         out.commit()?;

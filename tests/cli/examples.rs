@@ -90,6 +90,17 @@ fn the_wear_example_runs() {
 }
 
 #[test]
+fn the_wear_presets_of_the_milling_paper_run() {
+    for file in [
+        "wear-fig6.toml",
+        "wear-table2-z1.toml",
+        "wear-table2-z5.toml",
+    ] {
+        run_example(file, 1);
+    }
+}
+
+#[test]
 fn the_first_rig_preset_runs_measure_and_budget() {
     run_example("rig1.toml", 2);
 }

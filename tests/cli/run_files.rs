@@ -180,3 +180,36 @@ fn wear_writes_its_verdicts_and_series_as_csv_and_json() {
         assert!(samples.len() > 100);
     }
 }
+
+#[test]
+fn wear_settings_that_are_bad_exit_2_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("[wear]\nteeth = 0\n", "teeth"),
+        ("[wear]\nspeed = 3\n", "speed"),
+        (
+            "[wear]\ncuts = [{ depth_mm = 2, rpm = 300, feed_per_tooth_mm = 0.2, seconds = -1 }]\n",
+            "cuts[0].seconds",
+        ),
+        (
+            "[wear]\nidle_power = [{ rpm = 300, watts = 300 }]\ncuts = [{ depth_mm = 2, rpm = 500, feed_per_tooth_mm = 0.2, seconds = 5 }]\n",
+            "idle_power",
+        ),
+    ];
+    for (i, (file, key)) in cases.iter().enumerate() {
+        let path = dir.path().join(format!("bad{i}.toml"));
+        std::fs::write(&path, file).unwrap();
+        let o = tooltouch(&["wear", "--config", s(&path)]);
+        assert_eq!(o.status.code(), Some(2), "{file}: {}", text(&o));
+        assert!(text(&o).contains(key), "{file}: {}", text(&o));
+    }
+    // Nine distinct conditions: one more than the firmware holds.
+    let cuts: Vec<String> = (1..=9)
+        .map(|d| format!("{{ depth_mm = {d}, rpm = 300, feed_per_tooth_mm = 0.1, seconds = 1 }}"))
+        .collect();
+    let path = dir.path().join("nine.toml");
+    std::fs::write(&path, format!("[wear]\ncuts = [{}]\n", cuts.join(", "))).unwrap();
+    let o = tooltouch(&["wear", "--config", s(&path)]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("at most 8"), "{}", text(&o));
+}

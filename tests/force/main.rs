@@ -9,4 +9,7 @@ mod properties;
 mod scenario;
 mod sqrt;
 mod vectors;
+mod wear_presets;
 mod wear_scenario;
+mod wear_settle;
+mod wear_transients;

@@ -11,6 +11,7 @@ pub mod drive;
 pub mod lathe;
 pub mod measurement_cycle;
 pub mod milling;
+pub mod milling_transients;
 pub mod random;
 pub mod reference;
 pub mod stimulus;

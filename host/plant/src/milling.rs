@@ -8,6 +8,7 @@
 //! N/mm² so that `b·C·a^(−x)·s_z` is a force in N with b, a, s_z in mm — our reading),
 //! x = 0.23, μ = 0.1, H = 1680 N/mm² (cast iron), D = 100 mm, Z = 5, t = 70 mm.
 
+use crate::milling_transients::{ToothTransients, TransientMeter};
 use crate::reference::f;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -17,7 +18,7 @@ use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::force::wear::{ConditionSet, Threshold, MAX_CONDITION_SETS};
+use tooltouch_model::force::wear::{ConditionSet, Threshold, WearSettings, MAX_CONDITION_SETS};
 use tooltouch_model::units::Fx;
 
 /// Cutter, workpiece and machine data (strategy step 1).
@@ -187,45 +188,117 @@ pub const WORN_TOOL: Tool = Tool {
     vb_rate: 0.001,
 };
 
-/// The wear scenario: idle, then `depths[0]` for `segment` s, then `depths[1]`.
+/// One cut of the part program: its conditions for `seconds`, the spindle's idle power at its
+/// speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cut {
+    /// Depth b, feed per tooth s_z and speed.
+    pub conditions: Conditions,
+    /// Length of the cut, s.
+    pub seconds: f64,
+    /// Idle spindle power p_i at this cut's speed, W.
+    pub idle_power: f64,
+}
+
+/// Tolerance of the settling hold: the monitored power is settled when it is within this
+/// fraction of a step's size from its final value.
+pub const SETTLE_TOLERANCE: f64 = 0.01;
+
+/// The wear monitor's settling hold for `s` with a measured-power lag of `power_lag_s`
+/// seconds (docs/wear.md, "Settling hold"): the unit step response of the chain the power
+/// goes through — the first-order lag (exact per sample), the sampling low-pass `2^−k` per
+/// sample, the period's average and the wear low-pass `2^−w` per period — is stepped from
+/// a change at a period's start; the hold is one less than the first period whose monitored
+/// power is within [`SETTLE_TOLERANCE`] of the step, so the first period compared with the
+/// new threshold is settled. Err names the limit if that is more than 255 periods.
+pub fn settle_periods(power_lag_s: f64, s: &ForceSettings) -> Result<u8, String> {
+    if !(power_lag_s.is_finite() && power_lag_s >= 0.0) {
+        return Err(format!("power lag {power_lag_s} s: must be 0 or more"));
+    }
+    let fs = f64::from(s.sample_hz.max(1));
+    let decay = if power_lag_s > 0.0 {
+        (-1.0 / (fs * power_lag_s)).exp()
+    } else {
+        0.0
+    };
+    let k_s = 0.5f64.powi(i32::from(s.lowpass_shift));
+    let k_w = 0.5f64.powi(i32::from(s.wear.lowpass_shift));
+    let spp = u32::from(s.samples_per_period.max(1));
+    let (mut lag, mut sampled, mut monitored) = (0.0f64, 0.0f64, 0.0f64);
+    for period in 1..=256u32 {
+        let mut sum = 0.0;
+        for _ in 0..spp {
+            lag = 1.0 - (1.0 - lag) * decay;
+            sampled += (lag - sampled) * k_s;
+            sum += sampled;
+        }
+        monitored += (sum / f64::from(spp) - monitored) * k_w;
+        if 1.0 - monitored <= SETTLE_TOLERANCE {
+            return Ok(u8::try_from(period - 1).unwrap_or(u8::MAX));
+        }
+    }
+    Err(format!(
+        "the monitored power takes more than 255 control periods to settle within {} % (power lag {power_lag_s} s, wear low-pass 2^-{}): the hold is at most 255 periods",
+        SETTLE_TOLERANCE * 100.0,
+        s.wear.lowpass_shift
+    ))
+}
+
+/// The wear scenario: idle at the first cut's speed for `idle_s`, then the cuts in order;
+/// the CNC selects each cut's condition set at its start.
+#[derive(Clone, Debug, PartialEq)]
 pub struct WearScenario {
     /// Cutter and machine.
     pub milling: MillingParams,
-    /// Depths of the two cuts, mm.
-    pub depths: [f64; 2],
-    /// Feed per tooth, mm.
-    pub feed_per_tooth_mm: f64,
-    /// Spindle speed, rpm.
-    pub rpm: f64,
+    /// The part program.
+    pub cuts: Vec<Cut>,
     /// Wear limit [VB], mm.
     pub vb_limit_mm: f64,
     /// Idle time before the first cut, s.
     pub idle_s: f64,
-    /// Length of each cut, s.
-    pub segment_s: f64,
     /// Lag of the measured power, s.
     pub power_lag: f64,
     /// ADC noise, LSB rms.
     pub adc_noise: f64,
     /// Noise seed.
     pub seed: u64,
+    /// The CNC sends the tool-changed command at every cut's start (clears a latched alarm,
+    /// so each cut's detection time is seen; tests).
+    pub clear_alarm_each_cut: bool,
+    /// The wear monitor's low-pass `2^−shift` per period, `0..=8`.
+    pub monitor_lowpass_shift: u8,
+    /// The wear monitor's debounce, periods, `1..=255`.
+    pub debounce_periods: u8,
+    /// The per-tooth transient plant ([`crate::milling_transients`]) before the power lag;
+    /// `None`: W6 as it is.
+    pub transients: Option<ToothTransients>,
 }
 
 impl Default for WearScenario {
     /// Depth 2 mm then 3 mm, s_z = 0.2 mm, 300 rpm, [VB] = 0.3 mm, 20 s per cut.
     fn default() -> Self {
+        let m = MillingParams::default();
+        let cut = |depth_mm| Cut {
+            conditions: Conditions {
+                depth_mm,
+                feed_per_tooth_mm: 0.2,
+                rpm: 300.0,
+            },
+            seconds: 20.0,
+            idle_power: m.idle_power,
+        };
         WearScenario {
-            milling: MillingParams::default(),
-            depths: [2.0, 3.0],
-            feed_per_tooth_mm: 0.2,
-            rpm: 300.0,
+            milling: m,
+            cuts: vec![cut(2.0), cut(3.0)],
             vb_limit_mm: 0.3,
             idle_s: 1.0,
-            segment_s: 20.0,
             power_lag: 0.3,
             adc_noise: 1.5,
             seed: 7,
+            clear_alarm_each_cut: false,
+            monitor_lowpass_shift: WearSettings::default().lowpass_shift,
+            debounce_periods: WearSettings::default().debounce_periods,
+            transients: None,
         }
     }
 }
@@ -247,36 +320,84 @@ pub struct WearRun {
     pub vb: Vec<f64>,
     /// First alarm time, s.
     pub alarm_at: Option<f64>,
+    /// Per cut, the first period end in it with the alarm raised, s.
+    pub cut_alarms: Vec<Option<f64>>,
     /// Input events (time in samples).
     pub events: Vec<(u64, ForceEvent)>,
 }
 
 impl WearScenario {
-    /// Conditions of cut `i`.
-    pub fn conditions(&self, i: usize) -> Conditions {
-        Conditions {
-            depth_mm: self.depths[i.min(1)],
-            feed_per_tooth_mm: self.feed_per_tooth_mm,
-            rpm: self.rpm,
+    /// Start time of cut `i`, s.
+    pub fn cut_start(&self, i: usize) -> f64 {
+        self.idle_s + self.cuts.iter().take(i).map(|c| c.seconds).sum::<f64>()
+    }
+
+    /// The cut running at time `t` (s), `None` before the first.
+    pub fn cut_at(&self, t: f64) -> Option<usize> {
+        (0..self.cuts.len()).rev().find(|&i| t >= self.cut_start(i))
+    }
+
+    /// The distinct condition sets of the cuts, in order of first use (conditions and
+    /// idle power), and each cut's set index.
+    pub fn condition_sets(&self) -> (Vec<(Conditions, f64)>, Vec<u8>) {
+        let mut sets: Vec<(Conditions, f64)> = Vec::new();
+        let mut index = Vec::with_capacity(self.cuts.len());
+        for c in &self.cuts {
+            let key = (c.conditions, c.idle_power);
+            let i = sets.iter().position(|s| *s == key).unwrap_or_else(|| {
+                sets.push(key);
+                sets.len() - 1
+            });
+            index.push(u8::try_from(i).unwrap_or(u8::MAX));
+        }
+        (sets, index)
+    }
+
+    /// The monitor's constants of one condition set: `[P̄]` at `[VB]` and p_i.
+    pub fn condition_set(&self, c: &Conditions, idle_power: f64) -> ConditionSet {
+        ConditionSet {
+            mean_power_limit: Fx::from_num(self.milling.mean_power(self.vb_limit_mm, c)),
+            idle_power: Fx::from_num(idle_power),
         }
     }
 
-    /// The force-path configuration with the two condition sets precomputed (updating
-    /// threshold) or the constant threshold of the first cut's conditions.
-    pub fn config(
-        &self,
-        constant: bool,
-    ) -> Result<ForceConfig, tooltouch_model::validation::ForceConfigError> {
+    /// The force-path configuration with the cuts' condition sets precomputed (updating
+    /// threshold) or the constant threshold of the first cut's conditions, and the settling
+    /// hold derived from the power lag ([`settle_periods`]). Err names the culprit: more
+    /// condition sets than [`MAX_CONDITION_SETS`] (the firmware's capacity), no cut, a hold
+    /// that does not fit, or a value the model refuses.
+    pub fn config(&self, constant: bool) -> Result<ForceConfig, String> {
         let mut s = ForceSettings::default();
+        s.wear = self.wear_settings(&s, constant)?;
+        s.validate().map_err(|e| e.to_string())
+    }
+
+    /// The wear monitor's settings for the force path `base` (its sampling and wear
+    /// filters set the hold): as [`Self::config`], the rest of `base.wear` kept.
+    pub fn wear_settings(
+        &self,
+        base: &ForceSettings,
+        constant: bool,
+    ) -> Result<WearSettings, String> {
+        let mut s = *base;
+        let (distinct, _) = self.condition_sets();
+        if distinct.is_empty() {
+            return Err("no cut: at least one is needed".into());
+        }
+        if distinct.len() > MAX_CONDITION_SETS {
+            return Err(format!(
+                "{} condition sets: the firmware holds at most {MAX_CONDITION_SETS} (MAX_CONDITION_SETS)",
+                distinct.len()
+            ));
+        }
         let mut sets = [ConditionSet::default(); MAX_CONDITION_SETS];
-        sets[0] = self
-            .milling
-            .condition_set(&self.conditions(0), self.vb_limit_mm);
-        sets[1] = self
-            .milling
-            .condition_set(&self.conditions(1), self.vb_limit_mm);
+        for (slot, (c, idle)) in sets.iter_mut().zip(&distinct) {
+            *slot = self.condition_set(c, *idle);
+        }
         s.wear.sets = sets;
-        s.wear.set_count = 2;
+        s.wear.set_count = distinct.len() as u8;
+        s.wear.lowpass_shift = self.monitor_lowpass_shift;
+        s.wear.debounce_periods = self.debounce_periods;
         s.wear.efficiency = Fx::from_num(self.milling.efficiency);
         s.wear.threshold = if constant {
             let p = tooltouch_model::force::wear::allowed_power(&sets[0], s.wear.efficiency);
@@ -284,7 +405,11 @@ impl WearScenario {
         } else {
             Threshold::Updating
         };
-        s.validate()
+        // The ringing's envelope adds to the lag it comes before (conservative).
+        let lag = self.power_lag + self.transients.map_or(0.0, |t| t.envelope_s());
+        s.wear.settle_periods = settle_periods(lag, &s)?;
+        s.wear.validate().map_err(|e| e.to_string())?;
+        Ok(s.wear)
     }
 
     /// Runs the scenario through the model kernel.
@@ -295,11 +420,24 @@ impl WearScenario {
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         let noise = Normal::new(0.0, self.adc_noise.max(1e-12)).expect("positive sigma");
         let mut kernel = ForceKernel::new(config);
-        let mut out = WearRun::default();
-        let total = self.idle_s + 2.0 * self.segment_s;
+        let mut out = WearRun {
+            cut_alarms: vec![None; self.cuts.len()],
+            ..WearRun::default()
+        };
+        let (_, set_of_cut) = self.condition_sets();
+        let starts: Vec<u64> = (0..self.cuts.len())
+            .map(|i| (self.cut_start(i) * fs).round() as u64)
+            .collect();
+        let total = self.cut_start(self.cuts.len());
         let n = (total * fs).round() as u64;
-        let second_at = ((self.idle_s + self.segment_s) * fs).round() as u64;
-        let mut p_meas = self.milling.idle_power;
+        let idle_at_start = self
+            .cuts
+            .first()
+            .map_or(self.milling.idle_power, |c| c.idle_power);
+        let mut p_meas = idle_at_start;
+        let mut meter = self
+            .transients
+            .map(|t| TransientMeter::new(&t, idle_at_start, self.seed ^ 0x7472_616e_7369_656e));
         let mut theta = 0.0;
         let mut sum = 0.0;
         let dt = 1.0 / fs;
@@ -310,25 +448,55 @@ impl WearScenario {
         };
         apply(&mut kernel, &mut out, 0, ForceEvent::Conditions(0));
         let mut vb = tool.vb_start;
+        let mut cut = 0usize;
         for k in 0..n {
-            let t = k as f64 / fs;
-            if k == second_at {
-                apply(&mut kernel, &mut out, k, ForceEvent::Conditions(1));
+            // The cut whose start this sample has reached; its set is selected at the
+            // sample where it begins (the first cut's set is selected at power-up).
+            while cut + 1 < self.cuts.len() && k >= starts[cut + 1] {
+                cut += 1;
+                apply(
+                    &mut kernel,
+                    &mut out,
+                    k,
+                    ForceEvent::Conditions(set_of_cut[cut]),
+                );
+                if self.clear_alarm_each_cut {
+                    apply(&mut kernel, &mut out, k, ForceEvent::ToolChanged);
+                }
             }
-            let cutting_now = t >= self.idle_s;
-            let cond = self.conditions(if k >= second_at { 1 } else { 0 });
+            if self.clear_alarm_each_cut && cut == 0 && k == starts[0] {
+                apply(&mut kernel, &mut out, k, ForceEvent::ToolChanged);
+            }
+            let cutting_now = k >= starts[0];
+            let this = &self.cuts[cut];
             if cutting_now {
                 vb += tool.vb_rate * dt;
             }
-            theta += 2.0 * PI * self.rpm / 60.0 * dt;
+            let theta_before = theta;
+            let omega = 2.0 * PI * this.conditions.rpm / 60.0;
+            theta += omega * dt;
             let p_cut = if cutting_now {
-                self.milling.cutting_power(theta, vb, &cond)
+                self.milling.cutting_power(theta, vb, &this.conditions)
             } else {
                 0.0
             };
-            let p_motor = self.milling.motor_power(p_cut);
+            let p_motor = this.idle_power + p_cut / self.milling.efficiency;
             sum += p_motor;
-            p_meas += (p_motor - p_meas) * dt / self.power_lag;
+            let p_seen = match meter.as_mut() {
+                Some(meter) => {
+                    let (m, c, eff) = (&self.milling, &this.conditions, self.milling.efficiency);
+                    meter.sample(dt, |frac| {
+                        let load = if cutting_now {
+                            m.cutting_power(theta_before + omega * dt * frac, vb, c)
+                        } else {
+                            0.0
+                        };
+                        this.idle_power + load / eff
+                    })
+                }
+                None => p_motor,
+            };
+            p_meas += (p_seen - p_meas) * dt / self.power_lag;
             let code = (p_meas / power_lsb + noise.sample(&mut rng))
                 .round()
                 .clamp(0.0, f64::from(ADC_MAX)) as u16;
@@ -354,9 +522,42 @@ impl WearScenario {
                 if o.wear_alarm && out.alarm_at.is_none() {
                     out.alarm_at = Some(tt);
                 }
+                if o.wear_alarm && cutting_now {
+                    if let Some(slot) = out.cut_alarms.get_mut(cut) {
+                        slot.get_or_insert(tt);
+                    }
+                }
                 sum = 0.0;
             }
         }
         out
     }
+}
+
+/// One cut at constant conditions and wear, sampled at `fs` Hz for `seconds`: the W6 power
+/// at each sample (the model's instantaneous prediction) and what the transient meter
+/// reports (cutting power only, no idle power or efficiency).
+pub fn cutting_trace(
+    m: &MillingParams,
+    c: &Conditions,
+    vb_mm: f64,
+    t: &ToothTransients,
+    fs: f64,
+    seconds: f64,
+    seed: u64,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = (seconds * fs).round().max(0.0) as usize;
+    let dt = 1.0 / fs;
+    let omega = 2.0 * PI * c.rpm / 60.0;
+    let mut meter = TransientMeter::new(t, m.cutting_power(0.0, vb_mm, c), seed);
+    let mut model = Vec::with_capacity(n);
+    let mut measured = Vec::with_capacity(n);
+    for k in 0..n {
+        let theta0 = omega * k as f64 * dt;
+        measured.push(meter.sample(dt, |frac| {
+            m.cutting_power(theta0 + omega * dt * frac, vb_mm, c)
+        }));
+        model.push(m.cutting_power(theta0 + omega * dt, vb_mm, c));
+    }
+    (model, measured)
 }

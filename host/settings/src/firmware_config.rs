@@ -16,6 +16,10 @@
 //! Every field is optional (the values shown); without a `[force]` table the force path
 //! runs `ForceSettings::default()`, the set-up of `tooltouch control`'s default plant.
 //!
+//! A `[wear]` table (the one `tooltouch wear --config` reads, [`crate::wear`]) sets the
+//! wear monitor: its cuts' condition sets, efficiency and settling hold, by the same rule
+//! as the command's updating threshold.
+//!
 //! The baked file: `TTFWCFG1`, then the measurement configuration's canonical bytes and
 //! the force configuration's (model::wire), each after its length as a little-endian u16.
 
@@ -74,6 +78,17 @@ impl FirmwareConfig {
                 .validate()
                 .map_err(|e| anyhow::anyhow!("{}: [force] {e}", path.display()))?;
         }
+        if let Some(wear) = table.get("wear") {
+            let plan = crate::wear::WearPlan::from_table(wear)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            let mut settings = *config.force.settings();
+            settings.wear = plan
+                .monitor_settings(&settings)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            config.force = settings
+                .validate()
+                .map_err(|e| anyhow::anyhow!("{}: [wear] {e}", path.display()))?;
+        }
         Ok(config)
     }
 
@@ -122,6 +137,24 @@ mod tests {
         std::fs::write(&path, "[force]\ncontroller = \"bang-bang\"\n").unwrap();
         let e = format!("{:#}", FirmwareConfig::load(Some(&path)).unwrap_err());
         assert!(e.contains("[force]") && e.contains("bang-bang"), "{e}");
+        std::fs::write(
+            &path,
+            "[wear]\ncuts = [{ depth_mm = 3, rpm = 300, feed_per_tooth_mm = 0.2, seconds = 5 }, { depth_mm = 2, rpm = 300, feed_per_tooth_mm = 0.2, seconds = 5 }]\n",
+        )
+        .unwrap();
+        let c = FirmwareConfig::load(Some(&path)).unwrap();
+        let plan = crate::wear::WearPlan::from_table(
+            &toml::from_str::<toml::Table>(&std::fs::read_to_string(&path).unwrap()).unwrap()
+                ["wear"],
+        )
+        .unwrap();
+        let expected = plan.scenario.config(false).unwrap();
+        assert_eq!(
+            c.force.settings().wear,
+            expected.settings().wear,
+            "one rule"
+        );
+        assert_eq!(c.force.settings().wear.set_count, 2);
         std::fs::write(&path, "[force]\nkp_percent = 0\n").unwrap();
         let e = format!("{:#}", FirmwareConfig::load(Some(&path)).unwrap_err());
         assert!(e.contains("kp_percent") && e.contains("1..=1000"), "{e}");

@@ -48,6 +48,7 @@ pub mod firmware_config;
 pub mod force_design;
 pub mod load;
 pub mod values;
+pub mod wear;
 
 use serde::{Deserialize, Serialize};
 use std::path::Path;

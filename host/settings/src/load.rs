@@ -55,11 +55,11 @@ pub fn load_settings(
     for warning in crate::old_spellings_in_toml(&text, &file) {
         eprintln!("{warning}");
     }
-    let tables = ["measure", "lathe", "force"];
+    let tables = ["measure", "lathe", "force", "wear"];
     if tables.iter().any(|t| table.contains_key(*t)) {
         if let Some(unknown) = table.keys().find(|k| !tables.contains(&k.as_str())) {
             anyhow::bail!(
-                "settings file {}: unknown table or key `{unknown}`: allowed `[measure]`, `[lathe]` and `[force]`",
+                "settings file {}: unknown table or key `{unknown}`: allowed `[measure]`, `[lathe]`, `[force]` and `[wear]`",
                 path.display()
             );
         }
@@ -68,8 +68,15 @@ pub fn load_settings(
         ForceDesign::from_table(force)
             .map_err(|e| anyhow::anyhow!("settings file {}: [force] {e:#}", path.display()))?;
     }
-    // A `[force]` table alone marks a file of tables too.
-    let other_tables = table.get("lathe").or_else(|| table.get("force"));
+    if let Some(wear) = table.get("wear") {
+        crate::wear::WearPlan::from_table(wear)
+            .map_err(|e| anyhow::anyhow!("settings file {}: {e}", path.display()))?;
+    }
+    // A `[force]` or `[wear]` table alone marks a file of tables too.
+    let other_tables = table
+        .get("lathe")
+        .or_else(|| table.get("force"))
+        .or_else(|| table.get("wear"));
     let settings: MeasureSettings = match (table.get("measure"), other_tables) {
         (Some(measure), _) => measure
             .clone()

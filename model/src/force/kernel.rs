@@ -61,7 +61,8 @@ pub struct ForceOutputs {
     pub force_measured: Newtons,
     /// Low-passed mean spindle power p̄, W.
     pub wear_power: Watts,
-    /// Allowed power \[P\], W.
+    /// Allowed power \[P\] the next period compares with (during a settling hold after a
+    /// lowering condition change, the held one), W.
     pub wear_allowed: Watts,
     /// Coulomb friction T_fco in use, N·m.
     pub coulomb: NewtonMetres,

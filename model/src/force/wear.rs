@@ -11,7 +11,15 @@
 //! control period low-passes the measured mean spindle power (step 6) and compares (step 7).
 //!
 //! Alarm: `debounce_periods` consecutive periods with `p̄ ≥ [P]` latch the alarm until
-//! [`WearMonitor::tool_changed`]. With [`Threshold::Constant`] the allowed power is one
+//! [`WearMonitor::tool_changed`].
+//!
+//! Settling hold: when a selection *lowers* the threshold, the measured power is still the
+//! old conditions' for a while (the power transducer's lag, the sampling low-pass, the
+//! period average and this monitor's low-pass). For `settle_periods` periods after such a
+//! selection the monitor compares with the higher of the previous and the new threshold,
+//! so a new tool is never judged by the lighter cut's limit on the heavier cut's power. A
+//! higher threshold applies at once (the power rises to it from below). The host derives
+//! `settle_periods` from the lag and the filter constants (docs/wear.md, "Settling hold"). With [`Threshold::Constant`] the allowed power is one
 //! number whatever the conditions — valid for one condition set only (the failure mode the
 //! `tooltouch wear` scenario shows).
 //!
@@ -56,12 +64,16 @@ pub struct WearSettings {
     pub debounce_periods: u8,
     /// Updating or constant threshold.
     pub threshold: Threshold,
+    /// Periods after a selection that lowers the threshold during which the previous,
+    /// higher threshold is still compared, `0..=255` (0 = none): the power's settling time
+    /// to the new conditions in control periods.
+    pub settle_periods: u8,
 }
 
 impl Default for WearSettings {
     /// The default plant's monitor (`tooltouch control`): one condition set, `[P̄]` =
     /// 1800 W at 300 W idle power, η = 0.8, low-pass 2^−3, 10 periods of debounce, the
-    /// updating threshold.
+    /// updating threshold, and [`DEFAULT_SETTLE_PERIODS`] of hold.
     fn default() -> Self {
         let mut sets = [ConditionSet::default(); MAX_CONDITION_SETS];
         sets[0] = ConditionSet {
@@ -75,9 +87,16 @@ impl Default for WearSettings {
             lowpass_shift: 3,
             debounce_periods: 10,
             threshold: Threshold::Updating,
+            settle_periods: DEFAULT_SETTLE_PERIODS,
         }
     }
 }
+
+/// The settling hold of the default set-up, periods: the 0.3 s power lag of the default
+/// plant, the 2^−1 sampling low-pass at 1 kHz, 50-sample periods and the 2^−3 wear
+/// low-pass settle to within 1 % of a step after 46 periods, so 45 periods (2.25 s) are held; the host's
+/// `tooltouch_plant::milling::settle_periods` computes it and a test checks the two agree.
+pub const DEFAULT_SETTLE_PERIODS: u8 = 45;
 
 impl WearSettings {
     /// Checks every field (`wear.<field>`).
@@ -128,7 +147,7 @@ pub fn allowed_power(set: &ConditionSet, efficiency: Fx) -> Watts {
 pub struct WearStatus {
     /// Low-passed mean spindle power p̄, W.
     pub power: Watts,
-    /// The allowed power it is compared with, W.
+    /// The allowed power it is compared with (during a settling hold the held one), W.
     pub allowed: Watts,
     /// p̄ ≥ \[P\] this period.
     pub over: bool,
@@ -140,7 +159,12 @@ pub struct WearStatus {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct WearMonitor {
     s: WearSettings,
+    /// The selected set's threshold.
     allowed: Watts,
+    /// The threshold in force before the last lowering selection (compared while held).
+    held: Watts,
+    /// Periods of hold left.
+    hold_left: u8,
     filtered: Option<Watts>,
     over_count: u8,
     alarm: bool,
@@ -153,17 +177,32 @@ impl WearMonitor {
         let mut m = WearMonitor {
             s: *s,
             allowed: Fx::ZERO,
+            held: Fx::ZERO,
+            hold_left: 0,
             filtered: None,
             over_count: 0,
             alarm: false,
             over: false,
         };
         m.select(0);
+        // No hold at power-up: nothing was compared before.
+        m.hold_left = 0;
         m
     }
 
+    /// The threshold compared this period: the selected set's, or during a hold the higher
+    /// of it and the one in force before the lowering selection.
+    fn compared(&self) -> Watts {
+        if self.hold_left > 0 {
+            self.allowed.max(self.held)
+        } else {
+            self.allowed
+        }
+    }
+
     /// Selects condition set `index` (step 3); returns false and keeps the current one if
-    /// `index` is not below `set_count`.
+    /// `index` is not below `set_count`. A lower threshold than the one in force starts
+    /// the settling hold (module documentation).
     pub fn select(&mut self, index: u8) -> bool {
         if index >= self.s.set_count {
             return false;
@@ -171,10 +210,15 @@ impl WearMonitor {
         let Some(set) = self.s.sets.get(usize::from(index)) else {
             return false;
         };
+        let before = self.compared();
         self.allowed = match self.s.threshold {
             Threshold::Updating => allowed_power(set, self.s.efficiency),
             Threshold::Constant(p) => p,
         };
+        if self.allowed < before {
+            self.held = before;
+            self.hold_left = self.s.settle_periods;
+        }
         true
     }
 
@@ -184,15 +228,18 @@ impl WearMonitor {
         self.over_count = 0;
     }
 
-    /// One period with the period's mean spindle power `power` (W): low-pass, compare,
-    /// debounce (saturating count).
+    /// One period with the period's mean spindle power `power` (W): low-pass, compare with
+    /// the threshold in force (held or not), count the hold down, debounce (saturating
+    /// count). The status's `allowed` is the threshold this period compared with.
     pub fn step(&mut self, power: Watts) -> WearStatus {
         let p = match self.filtered {
             None => power,
             Some(f) => f.saturating_add(power.saturating_sub(f) >> u32::from(self.s.lowpass_shift)),
         };
         self.filtered = Some(p);
-        self.over = p >= self.allowed;
+        let limit = self.compared();
+        self.over = p >= limit;
+        self.hold_left = self.hold_left.saturating_sub(1);
         if self.over {
             self.over_count = self.over_count.saturating_add(1);
         } else {
@@ -201,14 +248,20 @@ impl WearMonitor {
         if self.over_count >= self.s.debounce_periods {
             self.alarm = true;
         }
-        self.status()
+        WearStatus {
+            power: p,
+            allowed: limit,
+            over: self.over,
+            alarm: self.alarm,
+        }
     }
 
-    /// The current status without a step.
+    /// The current status without a step: `allowed` is the threshold the next period
+    /// compares with (a step's status holds the one it compared with).
     pub fn status(&self) -> WearStatus {
         WearStatus {
             power: self.filtered.unwrap_or(Fx::ZERO),
-            allowed: self.allowed,
+            allowed: self.compared(),
             over: self.over,
             alarm: self.alarm,
         }
@@ -232,6 +285,7 @@ mod tests {
             lowpass_shift: 0,
             debounce_periods: 3,
             threshold: Threshold::Updating,
+            settle_periods: 0,
         }
     }
 
@@ -277,7 +331,14 @@ mod tests {
             lowpass_shift: 1,
             debounce_periods: 2,
             threshold,
+            settle_periods: 0,
         })
+    }
+
+    fn two_sets_held(threshold: Threshold, settle_periods: u8) -> WearMonitor {
+        let mut m = two_sets(threshold);
+        m.s.settle_periods = settle_periods;
+        m
     }
 
     fn status(power: i32, allowed: i32, over: bool, alarm: bool) -> WearStatus {
@@ -330,6 +391,57 @@ mod tests {
         assert_eq!(m.status().allowed, Fx::const_from_int(1500));
         assert!(m.select(1));
         assert_eq!(m.status().allowed, Fx::const_from_int(1500));
+    }
+
+    #[test]
+    fn a_lower_threshold_waits_settle_periods_a_higher_one_does_not() {
+        let w = Fx::from_num::<i32>;
+        let mut m = two_sets_held(Threshold::Updating, 3);
+        // Power settled at 2000 W under set 0 (2200 W): not over.
+        assert_eq!(m.step(w(2000)), status(2000, 2200, false, false));
+        // Set 1 (1300 W): for 3 periods 2200 W is still compared, then 1300 W.
+        assert!(m.select(1));
+        assert_eq!(m.status().allowed, w(2200));
+        assert_eq!(m.step(w(2000)), status(2000, 2200, false, false));
+        assert_eq!(m.step(w(2000)), status(2000, 2200, false, false));
+        assert_eq!(m.step(w(2000)), status(2000, 2200, false, false));
+        assert_eq!(m.status().allowed, w(1300));
+        assert_eq!(m.step(w(2000)), status(2000, 1300, true, false));
+        assert_eq!(m.step(w(2000)), status(2000, 1300, true, true));
+        // Back to set 0: the higher threshold applies at once.
+        m.tool_changed();
+        assert!(m.select(0));
+        assert_eq!(m.status().allowed, w(2200));
+        assert_eq!(m.step(w(2000)), status(2000, 2200, false, false));
+    }
+
+    #[test]
+    fn a_second_lowering_during_a_hold_keeps_the_highest_threshold() {
+        let w = Fx::from_num::<i32>;
+        let mut m = two_sets_held(Threshold::Updating, 2);
+        assert!(m.select(1));
+        assert_eq!(m.step(w(2100)), status(2100, 2200, false, false));
+        // 1 → 0 → 1 inside the hold: 2200 W stays compared for 2 more periods.
+        assert!(m.select(0));
+        assert!(m.select(1));
+        assert_eq!(m.status().allowed, w(2200));
+        assert_eq!(m.step(w(2100)), status(2100, 2200, false, false));
+        assert_eq!(m.step(w(2100)), status(2100, 2200, false, false));
+        assert_eq!(m.step(w(2100)), status(2100, 1300, true, false));
+        // A bad index changes nothing, not even the hold.
+        assert!(!m.select(5));
+        assert_eq!(m.status().allowed, w(1300));
+    }
+
+    #[test]
+    fn the_hold_starts_only_after_a_selection() {
+        let mut m = two_sets_held(Threshold::Updating, 5);
+        assert_eq!(m.status().allowed, Fx::from_num(2200));
+        assert!(m.step(Fx::from_num(2200)).over, "no hold at power-up");
+        // Constant: a selection never lowers it, so never holds.
+        let mut c = two_sets_held(Threshold::Constant(Fx::from_num(1500)), 5);
+        assert!(c.select(1));
+        assert!(c.step(Fx::from_num(1500)).over);
     }
 
     #[test]

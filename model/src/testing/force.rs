@@ -195,6 +195,7 @@ pub fn settings_from(kind: u8, w: &[u64]) -> ForceSettings {
         } else {
             Threshold::Constant(w.positive(mega))
         },
+        settle_periods: w.u8(0, 255),
     };
     ForceSettings {
         sample_hz,

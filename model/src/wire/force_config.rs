@@ -18,6 +18,7 @@
 //! wear: set_count u8 | lowpass_shift u8 | debounce_periods u8 | efficiency fx
 //!       set_count × (mean_power_limit fx, idle_power fx)
 //!       threshold tag u8: 0 updating | 1 constant, then its power fx
+//!       settle_periods u8 (version 2)
 //! ```
 //! A new field is appended to both [`ForceConfig::canonical_bytes`] and
 //! [`decode_force_settings`] with a new [`FORCE_CONFIG_FORMAT_VERSION`].
@@ -32,7 +33,7 @@ use crate::force::wear::{ConditionSet, Threshold, WearSettings, MAX_CONDITION_SE
 use crate::units::Fx;
 
 /// Version of the force configuration's canonical encoding; part of [`ForceConfig::hash`].
-pub const FORCE_CONFIG_FORMAT_VERSION: u16 = 1;
+pub const FORCE_CONFIG_FORMAT_VERSION: u16 = 2;
 
 /// Largest canonical force configuration, bytes ([`ForceConfig::canonical_bytes`]' buffer).
 pub const FORCE_CONFIG_MAX: usize = 512;
@@ -141,6 +142,7 @@ impl ForceConfig {
                 w.fx(p);
             }
         }
+        w.put(&[wr.settle_periods]);
         (w.buf, w.n)
     }
 
@@ -286,6 +288,7 @@ pub fn decode_force_settings(bytes: &[u8]) -> Result<ForceSettings, ForceEncodin
         0 => Threshold::Updating,
         _ => Threshold::Constant(c.fx()?),
     };
+    let settle_periods = c.u8()?;
     if c.at != bytes.len() {
         return Err(ForceEncodingError { at: c.at });
     }
@@ -318,6 +321,7 @@ pub fn decode_force_settings(bytes: &[u8]) -> Result<ForceSettings, ForceEncodin
             lowpass_shift: wear_lowpass,
             debounce_periods,
             threshold,
+            settle_periods,
         },
     })
 }

@@ -538,8 +538,11 @@ pub fn controller_f(settings: &ControllerSettings, h: f64, o: u8) -> Box<dyn Con
 #[derive(Clone, Debug)]
 pub struct WearF {
     s: WearSettings,
-    /// Allowed power, W.
+    /// Allowed power compared (during a settling hold the held one), W.
     pub allowed: f64,
+    selected: f64,
+    held: f64,
+    hold_left: u32,
     filtered: Option<f64>,
     count: u32,
     /// Alarm latched.
@@ -552,23 +555,42 @@ impl WearF {
         let mut w = WearF {
             s: *s,
             allowed: 0.0,
+            selected: 0.0,
+            held: 0.0,
+            hold_left: 0,
             filtered: None,
             count: 0,
             alarm: false,
         };
         w.select(0);
+        w.hold_left = 0;
+        w.allowed = w.selected;
         w
     }
-    /// Selects a condition set.
+    /// Selects a condition set; a lower threshold than the one compared starts the
+    /// settling hold of `settle_periods` periods (the higher one stays compared).
     pub fn select(&mut self, i: u8) {
         if i < self.s.set_count {
             let set = self.s.sets[usize::from(i)];
-            self.allowed = match self.s.threshold {
+            let before = self.allowed;
+            self.selected = match self.s.threshold {
                 Threshold::Updating => {
                     f(set.idle_power) + f(set.mean_power_limit) / f(self.s.efficiency)
                 }
                 Threshold::Constant(p) => f(p),
             };
+            if self.selected < before {
+                self.held = before;
+                self.hold_left = u32::from(self.s.settle_periods);
+            }
+            self.allowed = self.compared();
+        }
+    }
+    fn compared(&self) -> f64 {
+        if self.hold_left > 0 {
+            self.selected.max(self.held)
+        } else {
+            self.selected
         }
     }
     /// One period; returns the low-passed power.
@@ -579,7 +601,11 @@ impl WearF {
             Some(y) => y + k * (p - y),
         };
         self.filtered = Some(y);
-        if y >= self.allowed {
+        let limit = self.compared();
+        let over = y >= limit;
+        self.hold_left = self.hold_left.saturating_sub(1);
+        self.allowed = limit;
+        if over {
             self.count += 1;
         } else {
             self.count = 0;
