@@ -42,7 +42,9 @@ pub struct Args {
     pub out: Option<PathBuf>,
     /// Also characterize the force estimator against the dynamometer (force control off:
     /// a depth step and a run-up without cutting; docs/estimator.md): a second table and,
-    /// with `--out`, `estimator.csv`, `estimator.json` and `estimator.svg`.
+    /// with `--out`, `estimator.csv`, `estimator.json` and `estimator.svg`; then the same
+    /// depth step on drives that are not the estimator's model, with its default and with
+    /// identified settings (`estimator_mismatch.{csv,json}`).
     #[arg(long)]
     pub estimator_report: bool,
 }
@@ -195,11 +197,31 @@ fn estimator_report(seed: u64, out: Option<&OutputFolder>) -> Result<()> {
         write(ESTIMATOR_FILES[1], report.json()? + "\n")?;
         tooltouch_plot::estimator::estimator(&out.path(ESTIMATOR_FILES[2]), &report)?;
     }
+    let sweep = tooltouch_plant::drive::mismatch_report::report(seed);
+    outln!();
+    for line in sweep.table() {
+        outln!("{line}");
+    }
+    if let Some(out) = out {
+        let write = |name: &str, text: String| {
+            let path = out.path(name);
+            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+        };
+        write(ESTIMATOR_FILES[3], sweep.csv()?)?;
+        write(ESTIMATOR_FILES[4], sweep.json()? + "\n")?;
+    }
     Ok(())
 }
 
-/// The files of `--estimator-report --out`.
-const ESTIMATOR_FILES: [&str; 3] = ["estimator.csv", "estimator.json", "estimator.svg"];
+/// The files of `--estimator-report --out`: the report on the estimator's own drive and the
+/// sweep over mismatched drives.
+const ESTIMATOR_FILES: [&str; 5] = [
+    "estimator.csv",
+    "estimator.json",
+    "estimator.svg",
+    "estimator_mismatch.csv",
+    "estimator_mismatch.json",
+];
 
 /// Every file `control --out` can write: plot, series and vectors of each controller and
 /// source, the metrics table and the estimator report's files. The vectors' old names

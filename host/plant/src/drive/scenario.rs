@@ -48,6 +48,10 @@ pub struct ControlScenario {
     pub force_control: bool,
     /// Noise seed.
     pub seed: u64,
+    /// A drive that is not the estimator's model (`None`: the estimator's own model).
+    pub mismatch: Option<super::mismatch::DriveMismatch>,
+    /// The nonlinear process law (`None`: the linear F10).
+    pub kienzle: Option<super::kienzle::KienzleProcess>,
 }
 
 impl ControlScenario {
@@ -70,6 +74,8 @@ impl ControlScenario {
             engage_at: 3.0,
             force_control: true,
             seed: 1,
+            mismatch: None,
+            kienzle: None,
         }
     }
 }
@@ -201,6 +207,8 @@ pub fn run(sc: &ControlScenario, engine: Engine, record: bool) -> Run {
         rpm(sc.rpm_start),
         sc.seed,
     );
+    plant.mismatch = sc.mismatch;
+    plant.kienzle = sc.kienzle;
     let mut stack = match engine {
         Engine::Model => Stack::Model(Box::new(ForceKernel::new(&sc.config))),
         Engine::Reference => Stack::Reference(Box::new(ReferenceStack::new(s))),
