@@ -5,6 +5,7 @@
 
 mod config;
 mod estimator;
+mod mismatch;
 mod properties;
 mod scenario;
 mod sqrt;
