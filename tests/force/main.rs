@@ -6,6 +6,7 @@
 mod config;
 mod estimator;
 mod mismatch;
+mod nonlinear;
 mod properties;
 mod scenario;
 mod sqrt;

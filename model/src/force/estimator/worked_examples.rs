@@ -89,9 +89,22 @@ fn the_switch_selects_the_fast_estimate_and_holds_it() {
     // |576 + 256| = 832 > 0.25·256: fast.
     assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 512.0)).fast);
     assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, -256.0)).fast);
-    // Exactly at the threshold, |576 − 768| = 192 = 0.25·768: not above it, slow.
+    // Just under the threshold, 576 − 461 = 115 ≤ 0.25·461 = 115.25: slow.
     let mut e = Estimator::new(&settings(), fx(H));
-    assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 768.0)).fast);
+    assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 461.0)).fast);
+}
+
+#[test]
+fn the_switch_needs_a_positive_difference() {
+    // F9 as paper F states it: the fast estimate only when P_g runs *ahead* of the lagging
+    // P_o (the load rising). P_o = 1000 W above P_g = 576 W: |576 − 1000| = 424 > 0.25·1000,
+    // but the difference is negative: slow.
+    let mut e = Estimator::new(&settings(), fx(H));
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 1000.0));
+    assert!(!est.fast);
+    assert_eq!(est.p_used, fx(1000.0));
+    // The same magnitude the other way round switches: 576 − 400 = 176 > 100.
+    assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, 400.0)).fast);
 }
 
 #[test]
