@@ -386,15 +386,21 @@ pub fn scenario_settings(
     )
 }
 
-/// The scenario's settings for the nonlinear process `k` ([`super::kienzle`]): the same
-/// designs on its linearization at the reference force and the depth before the step
-/// ([`super::kienzle::KienzleProcess::linearized`]), and the adaptive controller's open-loop
-/// gain raised from 4 to [`KIENZLE_ADAPTIVE_OPEN_LOOP_GAIN`].
+/// The scenario's settings for the nonlinear process `k` ([`super::kienzle`]): the PI and
+/// the fuzzy PI keep their design on the nominal F10 (they settle on the nonlinear process
+/// as on F10, and `control`'s default PI stream keeps the model's default configuration,
+/// the one the default firmware image is built with); the adaptive controller starts from
+/// the law's linearized gain at the reference force
+/// ([`super::kienzle::KienzleProcess::linearized`]) with its open-loop gain raised from 4 to
+/// [`KIENZLE_ADAPTIVE_OPEN_LOOP_GAIN`].
 pub fn kienzle_settings(
     kind: ControllerKind,
     source: tooltouch_model::force::config::ForceSource,
     k: &super::kienzle::KienzleProcess,
 ) -> tooltouch_model::force::config::ForceSettings {
+    if kind != ControllerKind::Adaptive {
+        return scenario_settings(kind, source);
+    }
     let reference = tooltouch_model::force::config::ForceSettings::default()
         .reference
         .to_num::<f64>();
