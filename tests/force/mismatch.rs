@@ -139,7 +139,7 @@ fn air_gap_power(winding: Winding) -> Vec<f64> {
     for _ in 0..2000 {
         lp.plant.set_speed(omega);
         lp.step(|c| c);
-        if lp.samples() % u64::from(s.samples_per_period) == 0 {
+        if lp.samples().is_multiple_of(u64::from(s.samples_per_period)) {
             out.push(lp.kernel().estimate().p_g.to_num::<f64>());
         }
     }

@@ -119,7 +119,9 @@ impl Identified {
 }
 
 /// Solves the normal equations `AᵀA·x = Aᵀy` of `rows` (each `(a, y)`) by Gaussian
-/// elimination with partial pivoting; `None` if they are singular.
+/// elimination with partial pivoting; `None` if they are singular. At most 4 unknowns
+/// here, so the normal equations' squared condition number is harmless and a linear-algebra
+/// crate would be a dependency for twenty lines.
 pub fn least_squares<const N: usize>(rows: &[([f64; N], f64)]) -> Option<[f64; N]> {
     let mut m = [[0.0; N]; N];
     let mut v = [0.0; N];
@@ -141,8 +143,9 @@ pub fn least_squares<const N: usize>(rows: &[([f64; N], f64)]) -> Option<[f64; N
         v.swap(c, p);
         for r in c + 1..N {
             let k = m[r][c] / m[c][c];
-            for j in c..N {
-                m[r][j] -= k * m[c][j];
+            let (upper, lower) = m.split_at_mut(r);
+            for (x, p) in lower[0][c..].iter_mut().zip(&upper[c][c..]) {
+                *x -= k * p;
             }
             v[r] -= k * v[c];
         }
