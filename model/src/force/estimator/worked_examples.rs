@@ -75,18 +75,18 @@ fn one_period_from_powers_to_force() {
 #[test]
 fn the_switch_selects_the_fast_estimate_and_holds_it() {
     let mut e = Estimator::new(&settings(), fx(H));
-    // |P_g − P_o| = |576 − 400| = 176 > 0.25·400: fast, P = 0.5·576 = 288, T_e = 36.
+    // P_g − P_o = 576 − 400 = 176 > 0.25·400: fast, P = 0.5·576 = 288, T_e = 36.
     let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 400.0));
     assert!(est.fast);
     assert_eq!((est.p_used, est.t_e), (fx(288.0), fx(36.0)));
-    // P_o = 500: |76| ≤ 125, but the hold of 2 periods keeps the fast estimate once more.
+    // P_o = 500: 76 ≤ 125, but the hold of 2 periods keeps the fast estimate once more.
     let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 500.0));
     assert!(est.fast);
     let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 500.0));
     assert!(!est.fast);
     assert_eq!((est.p_used, est.t_e), (fx(500.0), fx(62.5)));
-    // P_o = 512: |64| ≤ 128, slow; a negative P_o counts by its magnitude:
-    // |576 + 256| = 832 > 0.25·256: fast.
+    // P_o = 512: 64 ≤ 128, slow; a negative P_o counts by its magnitude:
+    // 576 + 256 = 832 > 0.25·256: fast.
     assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 512.0)).fast);
     assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, -256.0)).fast);
     // Just under the threshold, 576 − 461 = 115 ≤ 0.25·461 = 115.25: slow.
