@@ -110,11 +110,17 @@ impl ForceSettings {
         ForceSettings::validated(s)
     }
 
-    /// The settings `tooltouch control --controller C --force S` runs: the model defaults
-    /// with the controller designed on the nominal process.
+    /// The settings `tooltouch control --controller C --force S --process P` runs: the model
+    /// defaults with the controller designed on the process (`"kienzle"`, the default: its
+    /// linearization; `"linear"`: the nominal F10).
     #[staticmethod]
-    #[pyo3(signature = (controller="pi", force_source="estimated"))]
-    fn control_scenario(controller: &str, force_source: &str) -> PyResult<ForceSettings> {
+    #[pyo3(signature = (controller="pi", force_source="estimated", process="kienzle"))]
+    fn control_scenario(
+        controller: &str,
+        force_source: &str,
+        process: &str,
+    ) -> PyResult<ForceSettings> {
+        let kienzle = kienzle_process(process)?;
         let kind = ControllerKind::ALL
             .into_iter()
             .find(|k| k.name() == controller)
@@ -132,7 +138,10 @@ impl ForceSettings {
                 )))
             }
         };
-        ForceSettings::validated(scenario_settings(kind, source))
+        ForceSettings::validated(match kienzle {
+            Some(k) => scenario::kienzle_settings(kind, source, &k),
+            None => scenario_settings(kind, source),
+        })
     }
 
     /// The force configuration of a settings file, as `tooltouch cosim` and the firmware
@@ -664,6 +673,19 @@ impl ForceKernel {
     }
 }
 
+/// `process` as `tooltouch control --process` spells it: the Kienzle law or `None` (F10).
+fn kienzle_process(
+    process: &str,
+) -> PyResult<Option<tooltouch_plant::drive::kienzle::KienzleProcess>> {
+    match process {
+        "kienzle" => Ok(Some(Default::default())),
+        "linear" => Ok(None),
+        other => Err(value_error(format!(
+            "process {other:?}: expected \"kienzle\" or \"linear\""
+        ))),
+    }
+}
+
 /// The ADC samples (a numpy array) and the CNC commands of a scenario.
 type ScenarioStimuli<'py> = (Bound<'py, PyAny>, Vec<(u64, ForceEvent)>);
 
@@ -671,15 +693,20 @@ type ScenarioStimuli<'py> = (Bound<'py, PyAny>, Vec<(u64, ForceEvent)>);
 /// noise `seed`: the plant's ADC samples as a uint16 array (n, 8) and the CNC commands as
 /// `[(sample index, ForceEvent)]`. `ForceKernel(settings).run(codes, commands)` replays
 /// the run bit for bit (the plant reacted to exactly those outputs); the CLI writes the
-/// same events to `<controller>_<force>.events.ttv`.
+/// same events to `<controller>_<force>.events.ttv`. `process` as `control --process`
+/// (`"kienzle"`, the default, or `"linear"`).
 #[pyfunction]
-#[pyo3(signature = (settings, seed=1))]
+#[pyo3(signature = (settings, seed=1, process="kienzle"))]
 pub fn drive_scenario<'py>(
     py: Python<'py>,
     settings: &ForceSettings,
     seed: u64,
+    process: &str,
 ) -> PyResult<ScenarioStimuli<'py>> {
     let mut sc = ControlScenario::new(settings.config);
+    if kienzle_process(process)?.is_some() {
+        sc = sc.with_kienzle_process();
+    }
     sc.seed = seed;
     let run = py.detach(|| scenario::run(&sc, scenario::Engine::Model, true));
     let mut rows = Vec::new();

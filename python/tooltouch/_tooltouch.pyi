@@ -297,8 +297,11 @@ class ForceSettings:
         """A settings file's ``[force]`` table: ``pi``/``adaptive``/``fuzzy``, gains in %
         of the Ziegler–Nichols design (1..=1000), ``estimated``/``measured`` feedback."""
     @staticmethod
-    def control_scenario(controller: str = "pi", force_source: str = "estimated") -> ForceSettings:
-        """What ``tooltouch control --controller C --force S`` runs."""
+    def control_scenario(
+        controller: str = "pi", force_source: str = "estimated", process: str = "kienzle"
+    ) -> ForceSettings:
+        """What ``tooltouch control --controller C --force S --process P`` runs
+        (``kienzle``, the default, or ``linear``)."""
     @staticmethod
     def from_toml(path: StrPath) -> ForceSettings:
         """The ``[force]`` table of a settings file (model defaults without one)."""
@@ -451,10 +454,11 @@ class ForceKernel:
         """ADC samples applied so far."""
 
 def drive_scenario(
-    settings: ForceSettings, seed: int = 1
+    settings: ForceSettings, seed: int = 1, process: str = "kienzle"
 ) -> Tuple[npt.NDArray[np.uint16], List[Tuple[int, ForceEvent]]]:
     """``tooltouch control``'s depth-step scenario (13 s: identification, run-up, control
-    on at 3 s, depth step at 8 s) closed around the model: the ADC samples (uint16,
+    on at 3 s, depth step at 8 s; ``process`` as ``control --process``) closed around the
+    model: the ADC samples (uint16,
     (n, 8), one row per 1 kHz sample) and the CNC commands ``(sample index, event)``.
     ``ForceKernel(settings).run(codes, commands)`` replays it bit for bit."""
 

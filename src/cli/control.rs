@@ -12,7 +12,7 @@ use tooltouch_plant::drive::scenario::{
 use tooltouch_vectors::output::OutputFolder;
 
 use super::run_settings::ControlFlags;
-pub use super::run_settings::{EngineArg, Source, Which};
+pub use super::run_settings::{EngineArg, ProcessArg, Source, Which};
 
 /// Arguments of `tooltouch control`.
 #[derive(clap::Args, Debug)]
@@ -33,6 +33,10 @@ pub struct Args {
     /// Noise seed (default 1).
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Cutting process (default `kienzle`: nonlinear in the feed, K_s and τ_p drifting;
+    /// `linear`: F10 as the controllers are designed on; docs/control.md).
+    #[arg(long, value_enum)]
+    pub process: Option<ProcessArg>,
     /// Directory for plots, vectors and tables (`<controller>_<force>.{svg,csv,json,
     /// events.ttv,outputs.ttv}`, `control.{csv,json}`; docs/control.md).
     /// A run replaces this command's files in the folder (and removes those it did not
@@ -42,7 +46,9 @@ pub struct Args {
     pub out: Option<PathBuf>,
     /// Also characterize the force estimator against the dynamometer (force control off:
     /// a depth step and a run-up without cutting; docs/estimator.md): a second table and,
-    /// with `--out`, `estimator.csv`, `estimator.json` and `estimator.svg`.
+    /// with `--out`, `estimator.csv`, `estimator.json` and `estimator.svg`; then the same
+    /// depth step on drives that are not the estimator's model, with its default and with
+    /// identified settings (`estimator_mismatch.{csv,json}`).
     #[arg(long)]
     pub estimator_report: bool,
 }
@@ -55,6 +61,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         force: args.force,
         engine: args.engine,
         seed: args.seed,
+        process: args.process,
     })?;
     let kinds: Vec<ControllerKind> = match chosen.controller {
         Which::Pi => vec![ControllerKind::Pi],
@@ -84,8 +91,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
         indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} runs {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    let process_name = match chosen.process {
+        ProcessArg::Kienzle => "kienzle",
+        ProcessArg::Linear => "linear",
+    };
     outln!(
-        "depth step 1.0 -> 1.5 mm at 8 s, reference 500 N, engine {:?}",
+        "depth step 1.0 -> 1.5 mm at 8 s, reference 500 N, engine {:?}, process {process_name}",
         engine
     );
     outln!(
@@ -101,12 +112,22 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let mut rows = Vec::new();
     for &(k, source) in &jobs {
         bar.set_message(format!("{} {}", k.name(), source_name(source)));
-        let settings = scenario_settings(k, source);
+        let settings = match chosen.process {
+            ProcessArg::Kienzle => scenario::kienzle_settings(
+                k,
+                source,
+                &tooltouch_plant::drive::kienzle::KienzleProcess::default(),
+            ),
+            ProcessArg::Linear => scenario_settings(k, source),
+        };
         let config = settings
             .validate()
             .map_err(|e| anyhow::anyhow!("{e}"))
             .with_context(|| format!("configuring the {} controller", k.name()))?;
         let mut sc = ControlScenario::new(config);
+        if chosen.process == ProcessArg::Kienzle {
+            sc = sc.with_kienzle_process();
+        }
         sc.seed = chosen.seed;
         let r = scenario::run(&sc, engine, args.out.is_some() && engine == Engine::Model);
         if let Some(out) = &out {
@@ -195,11 +216,31 @@ fn estimator_report(seed: u64, out: Option<&OutputFolder>) -> Result<()> {
         write(ESTIMATOR_FILES[1], report.json()? + "\n")?;
         tooltouch_plot::estimator::estimator(&out.path(ESTIMATOR_FILES[2]), &report)?;
     }
+    let sweep = tooltouch_plant::drive::mismatch_report::report(seed);
+    outln!();
+    for line in sweep.table() {
+        outln!("{line}");
+    }
+    if let Some(out) = out {
+        let write = |name: &str, text: String| {
+            let path = out.path(name);
+            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+        };
+        write(ESTIMATOR_FILES[3], sweep.csv()?)?;
+        write(ESTIMATOR_FILES[4], sweep.json()? + "\n")?;
+    }
     Ok(())
 }
 
-/// The files of `--estimator-report --out`.
-const ESTIMATOR_FILES: [&str; 3] = ["estimator.csv", "estimator.json", "estimator.svg"];
+/// The files of `--estimator-report --out`: the report on the estimator's own drive and the
+/// sweep over mismatched drives.
+const ESTIMATOR_FILES: [&str; 5] = [
+    "estimator.csv",
+    "estimator.json",
+    "estimator.svg",
+    "estimator_mismatch.csv",
+    "estimator_mismatch.json",
+];
 
 /// Every file `control --out` can write: plot, series and vectors of each controller and
 /// source, the metrics table and the estimator report's files. The vectors' old names

@@ -42,6 +42,15 @@ pub enum EngineArg {
     Reference,
 }
 
+/// Which cutting process the plant runs.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProcessArg {
+    /// Kienzle-type `F ∝ K_s·a^x·f^y` (x = 1, y = 0.75), K_s and τ_p drifting (the default).
+    Kienzle,
+    /// The linear F10 the controllers are designed on (the table before the nonlinear process).
+    Linear,
+}
+
 /// `control`'s flags as given (`None`: not on the command line).
 #[derive(Clone, Copy, Debug)]
 pub struct ControlFlags<'a> {
@@ -55,6 +64,8 @@ pub struct ControlFlags<'a> {
     pub engine: Option<EngineArg>,
     /// `--seed`.
     pub seed: Option<u64>,
+    /// `--process`.
+    pub process: Option<ProcessArg>,
 }
 
 /// The `[control]` table.
@@ -65,6 +76,7 @@ struct ControlTable {
     force: Option<String>,
     engine: Option<String>,
     seed: Option<u64>,
+    process: Option<String>,
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -85,6 +97,8 @@ pub struct ControlChoice {
     pub engine: EngineArg,
     /// `--seed` / `seed` (default 1).
     pub seed: u64,
+    /// `--process` / `process` (default `kienzle`).
+    pub process: ProcessArg,
 }
 
 fn read(path: &Path, table: &str) -> Result<File> {
@@ -155,6 +169,11 @@ pub fn control(args: &ControlFlags) -> Result<ControlChoice> {
             (None, None) => EngineArg::Model,
         },
         seed: args.seed.or(table.seed).unwrap_or(1),
+        process: match (args.process, &table.process) {
+            (Some(p), _) => p,
+            (None, Some(t)) => value(path, "control", "process", t)?,
+            (None, None) => ProcessArg::Kienzle,
+        },
     })
 }
 

@@ -5,6 +5,8 @@
 
 mod config;
 mod estimator;
+mod mismatch;
+mod nonlinear;
 mod properties;
 mod scenario;
 mod sqrt;

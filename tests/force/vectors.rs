@@ -10,12 +10,18 @@ use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
 use tooltouch_model::wire::force_event::decode_force_event;
 use tooltouch_model::wire::force_outputs::decode_force_outputs;
 use tooltouch_model::wire::{kind, Records, StreamKind, WireError};
-use tooltouch_plant::drive::scenario::{scenario_settings, ControllerKind};
+use tooltouch_plant::drive::kienzle::KienzleProcess;
+use tooltouch_plant::drive::scenario::{kienzle_settings, ControllerKind};
 
 fn replay(events: &[u8], outputs: &[u8]) -> Result<usize, String> {
-    let config = scenario_settings(ControllerKind::Fuzzy, ForceSource::Estimated)
-        .validate()
-        .unwrap();
+    // `control`'s default process is the nonlinear one, with the controllers designed on it
+    let config = kienzle_settings(
+        ControllerKind::Fuzzy,
+        ForceSource::Estimated,
+        &KienzleProcess::default(),
+    )
+    .validate()
+    .unwrap();
     let (he, ev) = Records::new(events).map_err(|e| e.to_string())?;
     let (ho, out) = Records::new(outputs).map_err(|e| e.to_string())?;
     assert_eq!(he.stream, StreamKind::Events);

@@ -201,7 +201,9 @@ fn switches(tr: &Trace) -> u32 {
     n
 }
 
-fn figures(
+/// One estimate's figures on a trace: steady windows `steady`, transient window `transient`,
+/// and, for a depth step, `(step_at, the dynamometer's own delay)`.
+pub fn figures(
     scenario: &'static str,
     kind: EstimateKind,
     tr: &Trace,

@@ -27,6 +27,10 @@
 //!   (docs/estimator.md states what each channel models and its noise).
 
 pub mod estimator_report;
+pub mod identify;
+pub mod kienzle;
+pub mod mismatch;
+pub mod mismatch_report;
 pub mod scenario;
 
 use rand::{RngExt, SeedableRng};
@@ -183,6 +187,11 @@ pub struct Plant {
     pub override_pct: u8,
     rng: ChaCha8Rng,
     noise: Normal<f64>,
+    /// A drive that is not the estimator's model (power factor, winding, friction
+    /// functions; [`mismatch`]); `None`: the estimator's own model, as documented above.
+    pub mismatch: Option<mismatch::DriveMismatch>,
+    /// A nonlinear, time-varying process law ([`kienzle`]); `None`: the linear F10.
+    pub kienzle: Option<kienzle::KienzleProcess>,
 }
 
 impl Plant {
@@ -227,6 +236,8 @@ impl Plant {
             override_pct: 100,
             rng: ChaCha8Rng::seed_from_u64(seed),
             noise: Normal::new(0.0, drive.adc_noise.max(1e-12)).expect("positive sigma"),
+            mismatch: None,
+            kienzle: None,
         };
         p.state.p_g = p.state.t_e * p.state.omega_s;
         p.state.p_o = p.state.t_e * speed;
@@ -263,10 +274,12 @@ impl Plant {
             let ks = pr.ks * (1.0 + pr.ks_drift * s.t);
             let tau = (pr.tau_p * (1.0 + pr.tau_drift * s.t)).max(1e-3);
             let feed = pr.feed_mm_per_rev * f64::from(self.override_pct) / 100.0;
-            let target = if self.engaged {
-                ks * s.depth * feed
-            } else {
+            let target = if !self.engaged {
                 0.0
+            } else if let Some(k) = &self.kienzle {
+                k.steady_force(ks, s.depth, feed, s.t)
+            } else {
+                ks * s.depth * feed
             };
             s.force += (target - s.force) * self.dt / tau;
             if !self.engaged {
@@ -276,7 +289,10 @@ impl Plant {
             s.dynamometer += (cutting - s.dynamometer) * dyn_alpha;
             // drive
             let t_c = cutting * pr.radius;
-            let t_load = d.coulomb + d.friction_f0 * t_c + d.friction_g0 * t_c * t_c + t_c;
+            let t_load = match &self.mismatch {
+                None => d.coulomb + d.friction_f0 * t_c + d.friction_g0 * t_c * t_c + t_c,
+                Some(m) => d.coulomb + m.load_friction(&d, s.omega, t_c) + t_c,
+            };
             self.integ += d.speed_ki * (speed_ref - s.omega) * self.dt;
             s.omega_s = speed_ref + self.integ;
             s.t_e = d.slip_stiffness * (s.omega_s - s.omega);
@@ -290,19 +306,13 @@ impl Plant {
         let n: f64 = self.rng.sample(StandardNormal);
         self.ripple += (self.process.ripple * n * 3.0 - self.ripple) * 0.05;
         let s = self.state;
-        let v = d.line_voltage;
-        let a = 1.5 * v;
-        let rs = d.stator_resistance;
-        let disc = (a * a - 12.0 * rs * s.p_g).max(0.0);
-        let i = if rs > 0.0 {
-            (a - disc.sqrt()) / (6.0 * rs)
-        } else {
-            s.p_g / a
+        let (volts, amps) = match &self.mismatch {
+            None => Self::nominal_waveforms(&d, &s, self.theta),
+            Some(m) => {
+                let i = m.line_current(&d, s.p_g, s.t_e);
+                m.waveforms(self.theta, d.line_voltage, i, s.t_e)
+            }
         };
-        let phase = |k: f64| self.theta - 2.0 * PI * k / 3.0;
-        let sq2 = std::f64::consts::SQRT_2;
-        let volts = [0.0, 1.0, 2.0].map(|k| sq2 * v * phase(k).sin());
-        let amps = [0.0, 1.0].map(|k| sq2 * i * (phase(k) - PI / 6.0).sin());
         let [ks, kp, kf, kv, ka] = self.scales;
         let mut code = |x: f64, scale: f64, mid: f64| -> u16 {
             let c = (x / scale + mid + self.noise.sample(&mut self.rng)).round();
@@ -316,5 +326,24 @@ impl Plant {
             volts: volts.map(|x| code(x, kv, mid)),
             amps: amps.map(|x| code(x, ka, mid)),
         }
+    }
+
+    /// The estimator's own electrics: line voltage V, currents lagging π/6 with
+    /// `(3/2)·V·I − 3·R_s·I² = P_g`.
+    fn nominal_waveforms(d: &DriveParams, s: &PlantState, theta: f64) -> ([f64; 3], [f64; 2]) {
+        let v = d.line_voltage;
+        let a = 1.5 * v;
+        let rs = d.stator_resistance;
+        let disc = (a * a - 12.0 * rs * s.p_g).max(0.0);
+        let i = if rs > 0.0 {
+            (a - disc.sqrt()) / (6.0 * rs)
+        } else {
+            s.p_g / a
+        };
+        let phase = |k: f64| theta - 2.0 * PI * k / 3.0;
+        let sq2 = std::f64::consts::SQRT_2;
+        let volts = [0.0, 1.0, 2.0].map(|k| sq2 * v * phase(k).sin());
+        let amps = [0.0, 1.0].map(|k| sq2 * i * (phase(k) - PI / 6.0).sin());
+        (volts, amps)
     }
 }
