@@ -15,6 +15,7 @@ pub mod force;
 pub mod optimize;
 pub mod output;
 pub mod point_settings;
+pub mod ranges;
 pub mod reference;
 pub mod scenario;
 pub mod spec;

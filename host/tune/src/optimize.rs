@@ -20,8 +20,10 @@
 //!   conceivable point (each axis at its cheapest value: the cost model is a sum of
 //!   per-parameter terms) costs more than the best point found are skipped.
 //! - **force path** (cost = the fixed-point kernel's IAE, known only by simulating):
-//!   pattern search from the axes' middle values, moving to the best neighbour (one value
-//!   up or down on one axis) until none improves.
+//!   compass search from the axes' middle values: try the points a step up and down each
+//!   axis (a quarter of the longest axis at first), move to the best that improves, halve
+//!   the step when none does, stop when a step of one value improves nothing. It finds a
+//!   local optimum; the tests state how far from the swept one.
 //!
 //! Every simulated point is an *evaluation* (logged, counted against `[limits]`); a point
 //! is simulated once. The answer is the cheapest point meeting every tolerance (ties: the
@@ -925,17 +927,21 @@ impl Search<'_> {
         }
     }
 
-    /// The force path's pattern search in one family.
+    /// The force path's pattern (compass) search in one family: from the middle, try
+    /// the points `step` values up and down each axis, move to the best that improves,
+    /// halve the step when none does, until a step of one value improves nothing.
     fn pattern(&mut self, f: usize, fam: &Family) -> Result<Option<usize>, Stopped> {
         let mut x = self.start_point(fam);
         let Some(mut cur) = self.eval(f, fam, &x)? else {
             return Ok(None);
         };
+        let longest = fam.axes.iter().map(|a| a.values.len()).max().unwrap_or(1);
+        let mut step = (longest / 4).max(1) as i64;
         loop {
             let mut best: Option<(Coords, usize)> = None;
             for k in 0..fam.axes.len() {
-                for step in [-1i64, 1] {
-                    let i = x[k] as i64 + step;
+                for dir in [-1i64, 1] {
+                    let i = x[k] as i64 + dir * step;
                     if i < 0 || i >= fam.axes[k].values.len() as i64 {
                         continue;
                     }
@@ -964,6 +970,7 @@ impl Search<'_> {
                     x = y;
                     cur = e;
                 }
+                None if step > 1 => step /= 2,
                 None => return Ok(self.evaluations[cur].feasible().then_some(cur)),
             }
         }

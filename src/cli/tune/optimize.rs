@@ -29,8 +29,14 @@ pub struct Args {
 pub fn run(a: &Args) -> Result<ExitCode> {
     let text = tooltouch_settings::read_text_file(&a.spec, "optimizer spec")
         .map_err(anyhow::Error::msg)?;
-    let spec = OptimizeSpec::from_toml(&text)
-        .with_context(|| format!("optimizer spec {}", a.spec.display()))?;
+    let spec = OptimizeSpec::from_toml(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "optimizer spec {}: key `{}`: {}",
+            a.spec.display(),
+            e.parameter,
+            e.message
+        )
+    })?;
     let log = a
         .log
         .clone()
