@@ -300,6 +300,12 @@ impl OptimizeSpec {
     }
 }
 
+/// Whether a measured value (`None`: not measured, e.g. nothing decided, or NaN) is
+/// within its tolerance.
+fn meets(v: Option<f64>, tol: f64) -> bool {
+    v.is_some_and(|v| v <= tol)
+}
+
 fn path_name(p: TunedPath) -> &'static str {
     match p {
         TunedPath::Measure => "measure",
@@ -691,7 +697,7 @@ impl Search<'_> {
         let violated = self
             .constraints(&metrics)
             .into_iter()
-            .filter(|(_, tol, v)| v.is_none_or(|v| !(v <= *tol)))
+            .filter(|(_, tol, v)| !meets(*v, *tol))
             .map(|(k, _, _)| k)
             .collect();
         let e = Evaluation {
@@ -1122,7 +1128,7 @@ fn unmet(s: &Search<'_>) -> Option<Unmet> {
     let cons = s.constraints(&s.evaluations[closest].metrics);
     let worst = cons
         .iter()
-        .filter(|(_, tol, v)| v.is_none_or(|v| !(v <= *tol)))
+        .filter(|(_, tol, v)| !meets(*v, *tol))
         .max_by(|a, b| {
             let r = |(_, tol, v): &(String, f64, Option<f64>)| {
                 v.map_or(f64::INFINITY, |v| (v - tol) / tol.max(0.01))
