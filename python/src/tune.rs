@@ -70,9 +70,7 @@ pub fn ranges<'py>(
             .map_err(value_error)?,
     };
     let r = py
-        .detach(|| {
-            tune_ranges::ranges(&measure, &force, &ApproachSettings::default(), scenarios)
-        })
+        .detach(|| tune_ranges::ranges(&measure, &force, &ApproachSettings::default(), scenarios))
         .map_err(value_error)?;
     let text = serde_json::to_string(&r).map_err(value_error)?;
     from_json(py, &text)
