@@ -363,7 +363,7 @@ fn fixtures(dir: &Path) -> Fixtures {
         &optimize_spec,
         "path = \"measure\"\n[space]\nscenarios = 1\nmethod = [\"counter\"]\n\
          contact_rule = [\"sticky\"]\nlaw = [\"linear\"]\ncharge_bits = [6]\nscale_bits = [16]\n\
-         glitch_cycles = [0]\n[space.approach]\nrevolutions = 2\n[constraints]\n\
+         glitch_cycles = [0]\n[constraints]\n\
          diameter_error_um = 100.0\n",
     )
     .unwrap();

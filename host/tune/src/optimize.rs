@@ -394,14 +394,28 @@ pub struct Unmet {
 
 impl std::fmt::Display for Unmet {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let best = self
-            .best
-            .map_or_else(|| "none measured".to_string(), |b| format!("{b}"));
-        write!(
-            f,
-            "no point meets `{}` ≤ {}: the best value reached is {best}",
-            self.constraint, self.tolerance
-        )
+        match (self.constraint.as_str(), self.best) {
+            ("decided", _) => write!(
+                f,
+                "no evaluated point decided on any scenario (`decided`: lengthen the approach or \
+                 widen the space)"
+            ),
+            ("misses", Some(b)) => write!(
+                f,
+                "every evaluated point missed a decision its float reference took, or took one \
+                 it did not (`misses`): the fewest is {b}"
+            ),
+            (c, Some(b)) => write!(
+                f,
+                "no point meets `{c}` ≤ {}: the best value reached is {b}",
+                self.tolerance
+            ),
+            (c, None) => write!(
+                f,
+                "no point meets `{c}` ≤ {}: no evaluated point measured it",
+                self.tolerance
+            ),
+        }
     }
 }
 
@@ -1126,15 +1140,19 @@ fn unmet(s: &Search<'_>) -> Option<Unmet> {
     let closest =
         (0..s.evaluations.len()).min_by(|&a, &b| s.violation(a).total_cmp(&s.violation(b)))?;
     let cons = s.constraints(&s.evaluations[closest].metrics);
-    let worst = cons
-        .iter()
-        .filter(|(_, tol, v)| !meets(*v, *tol))
-        .max_by(|a, b| {
-            let r = |(_, tol, v): &(String, f64, Option<f64>)| {
-                v.map_or(f64::INFINITY, |v| (v - tol) / tol.max(0.01))
-            };
-            r(a).total_cmp(&r(b))
-        })?;
+    let unmet: Vec<&(String, f64, Option<f64>)> =
+        cons.iter().filter(|(_, tol, v)| !meets(*v, *tol)).collect();
+    let implicit = ["decided", "misses"]
+        .into_iter()
+        .find_map(|k| unmet.iter().find(|c| c.0 == k).copied());
+    let ratio = |(_, tol, v): &(String, f64, Option<f64>)| {
+        v.map_or(f64::INFINITY, |v| (v - tol) / tol.max(0.01))
+    };
+    let worst = implicit.or_else(|| {
+        unmet
+            .into_iter()
+            .max_by(|a, b| ratio(a).total_cmp(&ratio(b)))
+    })?;
     let best = s
         .evaluations
         .iter()
