@@ -41,6 +41,20 @@ pub fn run(a: &Args) -> Result<ExitCode> {
         .log
         .clone()
         .unwrap_or_else(|| a.out.with_extension("jsonl"));
+    // The files' folders are checked before the search, not after it.
+    for file in [&a.out, &log] {
+        if file.is_dir() {
+            anyhow::bail!("output file {}: is a folder", file.display());
+        }
+        let folder = file.parent().filter(|p| !p.as_os_str().is_empty());
+        if let Some(folder) = folder.filter(|p| !p.is_dir()) {
+            anyhow::bail!(
+                "output file {}: its folder {} does not exist (create it first)",
+                file.display(),
+                folder.display()
+            );
+        }
+    }
     let bar = ProgressBar::new(u64::from(spec.limits.evaluations));
     bar.set_style(
         ProgressStyle::with_template(
