@@ -83,10 +83,16 @@ impl Ranges {
     }
 }
 
+/// Bits a register needs to hold `v` (its integer part, `floor(v)`): the magnitude's bits,
+/// and a sign bit for a signed one (two's complement: −2^(n−1) fits n bits).
 fn bits_needed(v: f64, signed: bool) -> u32 {
-    let m = v.abs().floor() as u64;
-    let magnitude = 64 - m.leading_zeros();
-    magnitude + u32::from(signed)
+    let whole = v.floor();
+    let magnitude = if whole < 0.0 {
+        (-whole) as u64 - 1
+    } else {
+        whole as u64
+    };
+    64 - magnitude.leading_zeros() + u32::from(signed)
 }
 
 /// Accumulates one register.
