@@ -18,6 +18,7 @@ mod model;
 mod settings;
 mod stimulus;
 mod ttv;
+mod tune;
 mod vcd;
 
 use pyo3::prelude::*;
@@ -49,6 +50,9 @@ fn _tooltouch(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(stimulus::read_stimulus, m)?)?;
     m.add_function(wrap_pyfunction!(stimulus::read_expect_hex, m)?)?;
     m.add_class::<vcd::VcdReader>()?;
+    m.add_function(wrap_pyfunction!(tune::tune_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(tune::tune_optimize, m)?)?;
+    m.add_function(wrap_pyfunction!(tune::ranges, m)?)?;
     m.add("PIN_ARM", pin::ARM)?;
     m.add("PIN_CONTACT", pin::CONTACT)?;
     m.add("PIN_INDEX", pin::INDEX)?;

@@ -35,6 +35,9 @@ from ._tooltouch import (
     lathe_stimulus,
     read_expect_hex,
     read_stimulus,
+    ranges,
+    tune_optimize,
+    tune_sweep,
 )
 
 __all__ = [
@@ -64,4 +67,7 @@ __all__ = [
     "lathe_stimulus",
     "read_expect_hex",
     "read_stimulus",
+    "ranges",
+    "tune_optimize",
+    "tune_sweep",
 ]

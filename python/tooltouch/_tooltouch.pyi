@@ -531,3 +531,26 @@ class VcdReader:
         x/z read 0), ``unknown`` (bool); None at the end."""
     def __iter__(self) -> Iterator[Dict[str, npt.NDArray[Any]]]: ...
     def __next__(self) -> Dict[str, npt.NDArray[Any]]: ...
+
+def tune_sweep(spec_toml: str = "") -> Dict[str, Any]:
+    """``tooltouch tune``'s sweep of a spec (TOML text, ``tune --spec``'s format; ``""``: the
+    default sweep) on all cores: ``results.json`` as a dict (``rows``: each point's cost in
+    flip-flops and iCE40 logic cells, its mean and largest |diameter error| vs the float
+    reference in µm, revolution error, misses, ``pareto``; ``force``: each gain point's IAE
+    in N·s)."""
+
+def tune_optimize(spec_toml: str) -> Dict[str, Any]:
+    """``tooltouch tune optimize`` on a spec (TOML text): ``evaluations`` (the JSON-lines
+    log: ``family``, ``parameters``, ``cost``, ``metrics``, ``violated``), ``best`` (the
+    answer's index, or None), ``stopped``, ``grid_points``, ``settings_toml`` (``tune
+    point``'s format), ``unmet`` (``constraint``, ``tolerance``, ``best`` value reached),
+    ``seconds``. A malformed spec is a ``ValueError`` naming the key."""
+
+def ranges(
+    settings: Optional[Settings] = None, force: Optional[ForceSettings] = None, scenarios: int = 8
+) -> Dict[str, Any]:
+    """``tooltouch ranges``: ``registers``, each ``path``, ``name``, ``format`` (``s24``,
+    ``u16``, ``I32F32`` …), ``bits``, ``signed``, ``overflow`` (``saturates`` / ``wraps``),
+    ``limits``, observed ``min``/``max``, ``saturations`` (clocks or events at a limit),
+    ``wraps``, ``headroom_bits``, ``samples``; over the tuning scenarios (seeds
+    ``1..=scenarios``) and the force path's control scenario."""

@@ -53,6 +53,7 @@ pub mod coverage;
 pub mod formal;
 pub mod hdl;
 pub mod measure;
+pub mod ranges;
 pub mod run_settings;
 pub mod run_tables;
 pub mod tune;
@@ -111,6 +112,8 @@ enum Command {
     Hdl(hdl::Args),
     /// Fixed-point tuning sweeps.
     Tune(tune::Args),
+    /// Observed ranges, saturations, wraps and headroom of every fixed-point register.
+    Ranges(ranges::Args),
     /// Run the QEMU firmware image on a stimulus and check its trace; write the
     /// configuration file a firmware build bakes in.
     Cosim(cosim::Args),
@@ -180,6 +183,7 @@ pub fn main() -> ExitCode {
         Command::Wear(args) => wear::run(args),
         Command::Hdl(args) => hdl::run(args),
         Command::Tune(args) => tune::run(args),
+        Command::Ranges(args) => ranges::run(args),
         Command::Cosim(args) => cosim::run(args),
         Command::Formal(args) => formal::run(args),
     };

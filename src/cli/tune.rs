@@ -10,6 +10,8 @@ use std::time::Instant;
 use tooltouch_tune::{self as tune, output, Overrides, Shard, SweepSpec};
 use tooltouch_vectors::output::OutputFolder;
 
+mod optimize;
+
 /// Arguments of `tooltouch tune`.
 #[derive(clap::Args, Debug)]
 #[command(
@@ -28,6 +30,10 @@ pub struct Args {
 
 #[derive(clap::Subcommand, Debug)]
 enum Command {
+    /// Find the cheapest point of a space that meets tolerances against the float
+    /// references, without running the grid, and write it as a settings file
+    /// (docs/tune.md#choosing-a-point-tune-optimize). Exit 1: no point meets the spec.
+    Optimize(optimize::Args),
     /// Join the slices of a sharded sweep (each DIR holds a `results.json` written with
     /// `--shard K/N`) into one result, equal to the unsharded run.
     Merge {
@@ -186,6 +192,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             index,
             out,
         }) => point(&results, index, &out),
+        Some(Command::Optimize(a)) => optimize::run(&a),
         None => sweep(&args.sweep),
     }
 }

@@ -114,3 +114,8 @@ fn the_second_rig_preset_runs_measure_and_budget() {
 fn the_spindle_path_example_runs_budget_and_measure() {
     run_example("spindle_path.toml", 2);
 }
+
+#[test]
+fn the_optimizer_spec_answers() {
+    run_example("optimize.toml", 1);
+}

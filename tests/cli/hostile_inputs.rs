@@ -299,6 +299,8 @@ struct Fixtures {
     spec: PathBuf,
     /// A sweep's folder (`tune point` reads it).
     tuned: PathBuf,
+    /// An optimizer spec (`tune optimize --spec`).
+    optimize_spec: PathBuf,
     results: PathBuf,
     /// `cosim firmware --image` of every row that does not test `--image` itself: a text
     /// file, so a run that gets past its inputs stops with "not an ELF image" instead of
@@ -356,7 +358,17 @@ fn fixtures(dir: &Path) -> Fixtures {
         ],
         dir,
     );
+    let optimize_spec = dir.join("optimize.toml");
+    std::fs::write(
+        &optimize_spec,
+        "path = \"measure\"\n[space]\nscenarios = 1\nmethod = [\"counter\"]\n\
+         contact_rule = [\"sticky\"]\nlaw = [\"linear\"]\ncharge_bits = [6]\nscale_bits = [16]\n\
+         glitch_cycles = [0]\n[constraints]\n\
+         diameter_error_um = 100.0\n",
+    )
+    .unwrap();
     Fixtures {
+        optimize_spec,
         dir: dir.to_path_buf(),
         settings,
         events: m.join("events.ttv"),
@@ -407,6 +419,8 @@ fn base_args(sub: &str, f: &Fixtures, out: &Path) -> Vec<(String, Option<String>
         "control" | "wear" | "hdl" => vec![("--out", o)],
         "tune" => vec![("--spec", p(&f.spec)), ("--out", o)],
         "tune merge" => vec![("<dirs>", p(&f.results)), ("--out", o)],
+        "tune optimize" => vec![("--spec", p(&f.optimize_spec)), ("--out", o)],
+        "ranges" => vec![("--scenarios", v("1")), ("--out", o)],
         "tune point" => vec![
             ("<results>", p(&f.tuned)),
             ("<index>", v("0")),
@@ -595,6 +609,7 @@ fn numeric_rows(f: &Fixtures, rows: &mut Vec<Case>) {
 fn valid_file_for<'a>(sub: &str, long: &str, f: &'a Fixtures) -> &'a Path {
     match (sub, long) {
         (_, "config") => &f.settings,
+        ("tune optimize", "spec") => &f.optimize_spec,
         (_, "spec") => &f.spec,
         ("vectors" | "cosim firmware" | "coverage", "stimulus") | ("hdl", "vectors") => &f.events,
         ("check", _) => &f.expected,

@@ -5,4 +5,5 @@
 
 mod cost_model;
 mod merge;
+mod optimize;
 mod reference;

@@ -12,8 +12,10 @@
 pub mod cost;
 pub mod evaluate;
 pub mod force;
+pub mod optimize;
 pub mod output;
 pub mod point_settings;
+pub mod ranges;
 pub mod reference;
 pub mod scenario;
 pub mod spec;
@@ -110,7 +112,9 @@ pub enum TuneError {
     Merge(String),
 }
 
-fn row(index: usize, point: &Point, approaches: &[Approach], model: &CostModel) -> Row {
+/// One measurement point's row: its cost and its errors against the float reference over
+/// `approaches` (the scenarios run in parallel, their outcomes summed in order).
+pub(crate) fn row(index: usize, point: &Point, approaches: &[Approach], model: &CostModel) -> Row {
     let s = &point.settings;
     let config = s.validate().unwrap_or_default();
     let cost = model.estimate(&config);
@@ -130,8 +134,12 @@ fn row(index: usize, point: &Point, approaches: &[Approach], model: &CostModel) 
     };
     let (mut decided, mut misses) = (0u32, 0u32);
     let (mut sum_d, mut max_d, mut sum_r) = (0.0f64, 0.0f64, 0.0f64);
-    for a in approaches {
-        match evaluate(a, &config, &point.intent) {
+    let outcomes: Vec<Outcome> = approaches
+        .par_iter()
+        .map(|a| evaluate(a, &config, &point.intent))
+        .collect();
+    for outcome in outcomes {
+        match outcome {
             Outcome::Both {
                 revolution_error,
                 diameter_error_um,

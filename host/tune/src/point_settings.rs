@@ -12,6 +12,7 @@ use anyhow::{anyhow, bail};
 use serde::Serialize;
 use tooltouch_model::MeasureSettings;
 use tooltouch_settings::firmware_config::ForceDesign;
+use tooltouch_settings::force_design::ForcePoint;
 
 /// The settings file's tables.
 #[derive(Serialize)]
@@ -84,17 +85,7 @@ pub fn settings_toml(results: &Results, index: usize) -> anyhow::Result<String> 
                 return Err(stale(index, "the force design"));
             }
         }
-        let design = ForceDesign {
-            controller: p.controller.to_string(),
-            kp_percent: p.kp_percent,
-            // The adaptive law has no integral gain (0 in the sweep); any valid value.
-            ki_percent: p.ki_percent.max(1),
-            force_source: match p.source {
-                tooltouch_model::force::config::ForceSource::Estimated => "estimated",
-                tooltouch_model::force::config::ForceSource::Measured => "measured",
-            }
-            .to_string(),
-        };
+        let design = force_design(p);
         (
             File {
                 measure: MeasureSettings::default(),
@@ -110,4 +101,41 @@ pub fn settings_toml(results: &Results, index: usize) -> anyhow::Result<String> 
     };
     let body = toml::to_string(&file).map_err(|e| anyhow!("point {index}: writing TOML: {e}"))?;
     Ok(format!("# tooltouch tune, {about}\n{body}"))
+}
+
+/// The `[force]` design of a force point.
+fn force_design(p: &ForcePoint) -> ForceDesign {
+    ForceDesign {
+        controller: p.controller.to_string(),
+        kp_percent: p.kp_percent,
+        // The adaptive law has no integral gain (0 in the sweep); any valid value.
+        ki_percent: p.ki_percent.max(1),
+        force_source: match p.source {
+            tooltouch_model::force::config::ForceSource::Estimated => "estimated",
+            tooltouch_model::force::config::ForceSource::Measured => "measured",
+        }
+        .to_string(),
+    }
+}
+
+/// A measurement point's settings file (the tables `tune point` writes for it), after the
+/// comment line `# {comment}`.
+pub fn measurement_toml(settings: &MeasureSettings, comment: &str) -> anyhow::Result<String> {
+    let file = File {
+        measure: *settings,
+        force: None,
+    };
+    let body = toml::to_string(&file).map_err(|e| anyhow!("writing TOML: {e}"))?;
+    Ok(format!("# {comment}\n{body}"))
+}
+
+/// A force point's settings file (the default `[measure]` table and its `[force]` design,
+/// as `tune point` writes it), after the comment line `# {comment}`.
+pub fn force_toml(p: &ForcePoint, comment: &str) -> anyhow::Result<String> {
+    let file = File {
+        measure: MeasureSettings::default(),
+        force: Some(force_design(p)),
+    };
+    let body = toml::to_string(&file).map_err(|e| anyhow!("writing TOML: {e}"))?;
+    Ok(format!("# {comment}\n{body}"))
 }

@@ -203,22 +203,22 @@ impl SweepSpec {
                 format!("{} is out of range: allowed 1..=10000", a.revolutions),
             ));
         }
-        let methods = self.method.expand("method", &METHODS)?;
-        let rules = self.contact_rule.expand("contact_rule", &RULES)?;
-        let laws = self.law.expand("law", &LAWS)?;
-        let charge_bits = self.charge_bits.expand("charge_bits", 4, 24)?;
-        let scale_bits = self.scale_bits.expand("scale_bits", 8, 32)?;
-        let glitch = self.glitch_cycles.expand("glitch_cycles", 0, 255)?;
-        let i_def = self.i_def.expand("i_def", 0, i64::from(u32::MAX))?;
-        let window = self.window_revs.expand("window_revs", 1, 16)?;
-        let cp = self.charge_pulses.expand("charge_pulses", 1, 1 << 24)?;
-        let dp = self
-            .discharge_pulses
-            .expand("discharge_pulses", 1, 1 << 24)?;
-        let cs = self.charge_shift.expand("charge_shift", 0, 24)?;
-        let ds = self.discharge_shift.expand("discharge_shift", 0, 24)?;
-        let fire = self.fire_percent.expand("fire_percent", 1, 100)?;
-        let rearm = self.rearm_percent.expand("rearm_percent", 0, 99)?;
+        let Axes {
+            methods,
+            rules,
+            laws,
+            charge_bits,
+            scale_bits,
+            glitch,
+            i_def,
+            window,
+            cp,
+            dp,
+            cs,
+            ds,
+            fire,
+            rearm,
+        } = self.axes()?;
         let linear = laws.iter().filter(|l| **l == Law::Linear).count();
         let exponential = laws.len() - linear;
         let factors: [(&str, usize); 10] = [
@@ -344,6 +344,64 @@ impl SweepSpec {
             }
         }
         Ok(out)
+    }
+}
+
+/// Every parameter's values, expanded and range-checked (in the spec's order; not combined).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axes {
+    /// Decision methods.
+    pub methods: Vec<DecisionMethod>,
+    /// Contact rules.
+    pub rules: Vec<ContactRule>,
+    /// Charge laws.
+    pub laws: Vec<Law>,
+    /// Capacitor widths, bits.
+    pub charge_bits: Vec<u32>,
+    /// Scale widths, bits.
+    pub scale_bits: Vec<u32>,
+    /// Glitch filter lengths, clocks.
+    pub glitch: Vec<u32>,
+    /// Counter thresholds, pulses.
+    pub i_def: Vec<u32>,
+    /// Windows, revolutions.
+    pub window: Vec<u32>,
+    /// Linear law: pulses from empty to full.
+    pub cp: Vec<u32>,
+    /// Linear law: pulses from full to empty.
+    pub dp: Vec<u32>,
+    /// Exponential law: charge shifts.
+    pub cs: Vec<u32>,
+    /// Exponential law: discharge shifts.
+    pub ds: Vec<u32>,
+    /// Fire thresholds, percent.
+    pub fire: Vec<u32>,
+    /// Re-arm thresholds, percent.
+    pub rearm: Vec<u32>,
+}
+
+impl SweepSpec {
+    /// Every parameter's values, each checked against its range (an error names the
+    /// parameter), without making any point.
+    pub fn axes(&self) -> Result<Axes, SpecError> {
+        Ok(Axes {
+            methods: self.method.expand("method", &METHODS)?,
+            rules: self.contact_rule.expand("contact_rule", &RULES)?,
+            laws: self.law.expand("law", &LAWS)?,
+            charge_bits: self.charge_bits.expand("charge_bits", 4, 24)?,
+            scale_bits: self.scale_bits.expand("scale_bits", 8, 32)?,
+            glitch: self.glitch_cycles.expand("glitch_cycles", 0, 255)?,
+            i_def: self.i_def.expand("i_def", 0, i64::from(u32::MAX))?,
+            window: self.window_revs.expand("window_revs", 1, 16)?,
+            cp: self.charge_pulses.expand("charge_pulses", 1, 1 << 24)?,
+            dp: self
+                .discharge_pulses
+                .expand("discharge_pulses", 1, 1 << 24)?,
+            cs: self.charge_shift.expand("charge_shift", 0, 24)?,
+            ds: self.discharge_shift.expand("discharge_shift", 0, 24)?,
+            fire: self.fire_percent.expand("fire_percent", 1, 100)?,
+            rearm: self.rearm_percent.expand("rearm_percent", 0, 99)?,
+        })
     }
 }
 
