@@ -205,7 +205,7 @@ impl Value {
     }
 
     /// A value of `bits` (least significant first), high zeros dropped.
-    fn from_bits(mut bits: BitVec<u64, Lsb0>, unknown: bool) -> Value {
+    pub(crate) fn from_bits(mut bits: BitVec<u64, Lsb0>, unknown: bool) -> Value {
         bits.truncate(bits.last_one().map_or(0, |top| top + 1));
         Value { bits, unknown }
     }
@@ -256,11 +256,11 @@ pub struct Signal {
 
 /// A malformed dump.
 #[derive(Debug, thiserror::Error)]
-#[error("{file}: line {line}: {message}")]
+#[error("{file}: {}{message}", if *line > 0 { format!("line {line}: ") } else { String::new() })]
 pub struct VcdError {
     /// File name (as given).
     pub file: String,
-    /// Line number, from 1.
+    /// Line number, from 1 (0: no line, e.g. an FST file).
     pub line: usize,
     /// What is wrong.
     pub message: String,
@@ -326,7 +326,7 @@ impl std::hash::Hasher for IdCodeHasher {
 }
 
 impl Declarations {
-    fn add(&mut self, signal: Signal) {
+    pub(crate) fn add(&mut self, signal: Signal) {
         if let Ok(code) = signal.id.parse::<vcd::IdCode>() {
             if !self.index.contains_key(&code) {
                 self.index.insert(code, self.codes.len());
@@ -677,6 +677,15 @@ pub trait Changes {
     fn line(&self) -> usize {
         0
     }
+    /// Only the changes of these code indexes are needed from now on (a source may skip
+    /// the others: an FST reader then decodes only their blocks); before the first
+    /// [`Changes::next_change`]. By default every change is still given.
+    fn select(&mut self, _codes: &[usize]) {}
+    /// `$comment` texts read after the declarations (a golden file's closing comment),
+    /// complete once `next_change` returned `None`.
+    fn late_comments(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 impl<R: std::io::BufRead> Changes for VcdReader<R> {
@@ -694,6 +703,9 @@ impl<R: std::io::BufRead> Changes for VcdReader<R> {
     }
     fn line(&self) -> usize {
         self.line
+    }
+    fn late_comments(&self) -> Vec<String> {
+        self.late_comments.clone()
     }
 }
 
