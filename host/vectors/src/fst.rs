@@ -111,6 +111,12 @@ pub fn open(path: &Path, file: &str) -> Result<(Declarations, FstChanges), VcdEr
     let timescale_fs = unit_fs(header.timescale_exponent, file)?;
     let mut declarations = Declarations::default();
     declarations.timescale_fs = timescale_fs;
+    // A golden FST's stamp and end ([`write_golden_fst`]) are its version and date strings.
+    for text in [&header.version, &header.date] {
+        if text.starts_with("tooltouch ") {
+            declarations.comments.push(text.trim().to_string());
+        }
+    }
     let mut scope: Vec<String> = Vec::new();
     let mut handles = Vec::new();
     let mut code_of_handle: Vec<Option<usize>> = Vec::new();
@@ -331,5 +337,222 @@ impl Drop for FstChanges {
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
+    }
+}
+
+/// The FST header's version string of a golden FST: the stamp a golden VCD carries in its
+/// `$comment` (`tooltouch measure_hash=<hex> clock_hz=<n>`), read back as a comment (the
+/// writer crate has no hierarchy comments).
+fn golden_stamp_text(config: &tooltouch_model::MeasureConfig, clock_hz: u32) -> String {
+    format!(
+        "tooltouch measure_hash={:016x} clock_hz={clock_hz}",
+        config.hash()
+    )
+}
+
+/// Bytes of buffered value changes after which the golden FST writer writes a block.
+const GOLDEN_BLOCK_BYTES: usize = 16 << 20;
+
+/// Writes the golden trace of `stimulus` clocks `[0, end)` (all of it when `end` is
+/// `None`) as an FST to `w`: the signals, scopes and times of the golden VCD
+/// ([`crate::vcd::write_golden`]), time unit 1 ns, in blocks of about
+/// [`GOLDEN_BLOCK_BYTES`] (memory flat in the length). The VCD's two comments go into the
+/// header: its version string is the stamp `tooltouch measure_hash=… clock_hz=…`, its date
+/// string the closing `tooltouch end cycles=<n>`; the reader ([`open`]) gives both back as
+/// comments, and the last clock is always in the time table. Returns the clocks covered.
+pub fn write_golden_fst<W: std::io::Write + Seek>(
+    w: W,
+    stimulus: &tooltouch_plant::stimulus::Stimulus,
+    config: &tooltouch_model::MeasureConfig,
+    end: Option<u64>,
+) -> std::io::Result<u64> {
+    write_golden_blocks(w, stimulus, config, end, GOLDEN_BLOCK_BYTES)
+}
+
+/// [`write_golden_fst`] writing a block each `block_bytes` of buffered changes.
+fn write_golden_blocks<W: std::io::Write + Seek>(
+    w: W,
+    stimulus: &tooltouch_plant::stimulus::Stimulus,
+    config: &tooltouch_model::MeasureConfig,
+    end: Option<u64>,
+    block_bytes: usize,
+) -> std::io::Result<u64> {
+    use fst_writer::{FstFileType, FstInfo, FstScopeType, FstSignalType, FstVarDirection, FstVarType};
+    use tooltouch_model::measure::frontend::pin;
+    let io = |e: fst_writer::FstWriteError| std::io::Error::other(e.to_string());
+    let p = crate::vcd::period_ns(stimulus.clock_hz);
+    let total = stimulus.total_cycles();
+    let cycles = end.unwrap_or(total).min(total);
+    let info = FstInfo {
+        start_time: 0,
+        timescale_exponent: -9,
+        version: golden_stamp_text(config, stimulus.clock_hz),
+        date: format!("{} cycles={cycles}", crate::vcd::END_COMMENT),
+        file_type: FstFileType::Verilog,
+    };
+    let mut header = fst_writer::FstHeaderWriter::new(w, &info).map_err(io)?;
+    let outputs = crate::vcd::output_signals(config);
+    let mut ids = Vec::new();
+    let mut widths = Vec::new();
+    header
+        .scope("tooltouch", "", FstScopeType::Module)
+        .map_err(io)?;
+    header.scope("inputs", "", FstScopeType::Module).map_err(io)?;
+    for name in pin::NAMES {
+        ids.push(
+            header
+                .var(name, FstSignalType::bit_vec(1), FstVarType::Wire, FstVarDirection::Implicit, None)
+                .map_err(io)?,
+        );
+        widths.push(1u32);
+    }
+    header.up_scope().map_err(io)?;
+    header.scope("outputs", "", FstScopeType::Module).map_err(io)?;
+    for (name, width) in &outputs {
+        ids.push(
+            header
+                .var(
+                    name,
+                    FstSignalType::bit_vec(*width),
+                    FstVarType::Wire,
+                    FstVarDirection::Implicit,
+                    None,
+                )
+                .map_err(io)?,
+        );
+        widths.push(*width);
+    }
+    header.up_scope().map_err(io)?;
+    header.up_scope().map_err(io)?;
+    let mut body = header.finish().map_err(io)?;
+    let mut now = vec![0u64; ids.len()];
+    let mut digits: Vec<u8> = Vec::with_capacity(64);
+    let digits_of = |value: u64, width: u32, digits: &mut Vec<u8>| {
+        digits.clear();
+        digits.extend((0..width).rev().map(|b| {
+            if b < 64 && (value >> b) & 1 == 1 {
+                b'1'
+            } else {
+                b'0'
+            }
+        }));
+    };
+    let (covered, last) = crate::vcd::golden_changes(stimulus, config, end, &mut |k, changes| {
+        if body.size() > block_bytes {
+            body.flush().map_err(io)?;
+        }
+        body.time_change(k * p).map_err(io)?;
+        for &(i, value) in changes {
+            now[i] = value;
+            digits_of(value, widths[i], &mut digits);
+            body.signal_change(ids[i], &digits).map_err(io)?;
+        }
+        Ok(())
+    })?;
+    if covered > 0 && last != Some(covered - 1) {
+        // The last clock in the time table: one change that repeats a value.
+        body.time_change((covered - 1) * p).map_err(io)?;
+        body.set_deduplicate(false);
+        digits_of(now[0], widths[0], &mut digits);
+        body.signal_change(ids[0], &digits).map_err(io)?;
+    }
+    body.finish().map_err(io)?;
+    Ok(covered)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::check::{check_files, CheckOptions, Verdict};
+    use rand::SeedableRng;
+    use tooltouch_model::MeasureConfig;
+
+    fn stimulus(seed: u64, cycles: u64) -> tooltouch_plant::stimulus::Stimulus {
+        let config = MeasureConfig::default();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        tooltouch_plant::random::random_stimulus(&mut rng, &config, 50_000_000, cycles)
+    }
+
+    fn golden_vcd(path: &Path, s: &tooltouch_plant::stimulus::Stimulus) {
+        let mut f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+        crate::vcd::write_golden(&mut f, s, &MeasureConfig::default(), None).unwrap();
+    }
+
+    fn golden_fst(path: &Path, s: &tooltouch_plant::stimulus::Stimulus, block_bytes: usize) {
+        let f = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+        write_golden_blocks(f, s, &MeasureConfig::default(), None, block_bytes).unwrap();
+    }
+
+    #[test]
+    fn a_golden_fst_in_many_blocks_checks_like_its_vcd_both_ways() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = stimulus(7, 30_000);
+        let (vcd, fst) = (dir.path().join("g.vcd"), dir.path().join("g.fst"));
+        golden_vcd(&vcd, &s);
+        golden_fst(&fst, &s, 4096);
+        let (d, mut c) = open(&fst, "g.fst").unwrap();
+        assert!(
+            crate::vcd::golden_end(&d.comments) == Some(s.total_cycles())
+                && d.golden_stamp().map(|x| x.1) == Some(50_000_000),
+            "{:?}",
+            d.comments
+        );
+        assert_eq!(d.signals.len(), 21);
+        let mut n = 0;
+        while c.next_change().unwrap().is_some() {
+            n += 1;
+        }
+        assert!(n > 1000, "{n} changes");
+        assert_eq!(c.end_fs(), (s.total_cycles() - 1) * 20_000_000);
+        for (e, dut) in [(&vcd, &fst), (&fst, &vcd), (&fst, &fst)] {
+            let r = check_files(e, dut, &CheckOptions::default()).unwrap();
+            let Verdict::Match(line) = &r.verdict else {
+                panic!("{} against {}: {:?}", e.display(), dut.display(), r.verdict);
+            };
+            assert!(line.contains("30000 cycles × 15 signals"), "{line}");
+        }
+    }
+
+    #[test]
+    fn an_fst_of_another_run_mismatches_with_the_vcd_report() {
+        let dir = tempfile::tempdir().unwrap();
+        let (vcd, fst) = (dir.path().join("g.vcd"), dir.path().join("other.fst"));
+        golden_vcd(&vcd, &stimulus(1, 20_000));
+        golden_fst(&fst, &stimulus(2, 20_000), GOLDEN_BLOCK_BYTES);
+        let window = dir.path().join("w.vcd");
+        let options = CheckOptions {
+            window: Some(window.clone()),
+            ..Default::default()
+        };
+        let r = check_files(&vcd, &fst, &options).unwrap();
+        assert!(matches!(r.verdict, Verdict::Mismatch(_)), "{:?}", r.verdict);
+        let first = r.first.expect("a first mismatching clock");
+        assert!(!first.differing.is_empty());
+        assert!(r.details.iter().any(|l| l.starts_with("window: ")), "{:?}", r.details);
+        assert!(window.is_file());
+    }
+
+    #[test]
+    fn a_cut_or_foreign_file_is_bad_input_naming_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let (vcd, fst) = (dir.path().join("g.vcd"), dir.path().join("g.fst"));
+        let s = stimulus(3, 5_000);
+        golden_vcd(&vcd, &s);
+        golden_fst(&fst, &s, GOLDEN_BLOCK_BYTES);
+        let bytes = std::fs::read(&fst).unwrap();
+        for cut_at in [bytes.len() / 2, bytes.len() - 3, 40] {
+            let cut = dir.path().join("cut.fst");
+            std::fs::write(&cut, &bytes[..cut_at]).unwrap();
+            let e = check_files(&vcd, &cut, &CheckOptions::default())
+                .err()
+                .unwrap_or_else(|| panic!("a file cut at byte {cut_at} was read"));
+            assert!(e.0.contains("cut.fst"), "{e}");
+        }
+        let other = dir.path().join("other.bin");
+        std::fs::write(&other, [7u8, 1, 2, 3]).unwrap();
+        let e = check_files(&vcd, &other, &CheckOptions::default())
+            .err()
+            .unwrap();
+        assert!(e.0.contains("other.bin") && e.0.contains("nor an FST"), "{e}");
     }
 }
