@@ -79,7 +79,11 @@ fn hdl_fst_dumps_of_verilator_and_icarus_check_as_the_vcd_does() {
             let (fst, passed) = dump(&config, &s, &dir, fault, sim, Trace::Fst);
             assert_eq!(passed, fault == Fault::None, "{sim} {fault:?}");
             let head = std::fs::read(&fst).expect("dut.fst");
-            assert_eq!(head.first(), Some(&0), "{sim}: dut.fst is not an FST (header block 0)");
+            assert_eq!(
+                head.first(),
+                Some(&0),
+                "{sim}: dut.fst is not an FST (header block 0)"
+            );
             let (code, fst_text, json, window) = check_with_reports(&golden, &fst, &dir);
             assert_eq!(code, Some(expected_code), "{sim} {fault:?}: {fst_text}");
             assert_eq!(json["dut_scope"], scope, "{sim}: {json}");

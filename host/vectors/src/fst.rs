@@ -246,8 +246,7 @@ impl FstChanges {
                     let FstSignalValue::String(digits) = value else {
                         return Ok(());
                     };
-                    let Some(Some(code)) = code_of_handle.get(handle.get_index()).copied()
-                    else {
+                    let Some(Some(code)) = code_of_handle.get(handle.get_index()).copied() else {
                         return Ok(());
                     };
                     if digits.is_empty() {
@@ -377,7 +376,9 @@ fn write_golden_blocks<W: std::io::Write + Seek>(
     end: Option<u64>,
     block_bytes: usize,
 ) -> std::io::Result<u64> {
-    use fst_writer::{FstFileType, FstInfo, FstScopeType, FstSignalType, FstVarDirection, FstVarType};
+    use fst_writer::{
+        FstFileType, FstInfo, FstScopeType, FstSignalType, FstVarDirection, FstVarType,
+    };
     use tooltouch_model::measure::frontend::pin;
     let io = |e: fst_writer::FstWriteError| std::io::Error::other(e.to_string());
     let p = crate::vcd::period_ns(stimulus.clock_hz);
@@ -397,17 +398,27 @@ fn write_golden_blocks<W: std::io::Write + Seek>(
     header
         .scope("tooltouch", "", FstScopeType::Module)
         .map_err(io)?;
-    header.scope("inputs", "", FstScopeType::Module).map_err(io)?;
+    header
+        .scope("inputs", "", FstScopeType::Module)
+        .map_err(io)?;
     for name in pin::NAMES {
         ids.push(
             header
-                .var(name, FstSignalType::bit_vec(1), FstVarType::Wire, FstVarDirection::Implicit, None)
+                .var(
+                    name,
+                    FstSignalType::bit_vec(1),
+                    FstVarType::Wire,
+                    FstVarDirection::Implicit,
+                    None,
+                )
                 .map_err(io)?,
         );
         widths.push(1u32);
     }
     header.up_scope().map_err(io)?;
-    header.scope("outputs", "", FstScopeType::Module).map_err(io)?;
+    header
+        .scope("outputs", "", FstScopeType::Module)
+        .map_err(io)?;
     for (name, width) in &outputs {
         ids.push(
             header
@@ -529,7 +540,11 @@ mod tests {
         assert!(matches!(r.verdict, Verdict::Mismatch(_)), "{:?}", r.verdict);
         let first = r.first.expect("a first mismatching clock");
         assert!(!first.differing.is_empty());
-        assert!(r.details.iter().any(|l| l.starts_with("window: ")), "{:?}", r.details);
+        assert!(
+            r.details.iter().any(|l| l.starts_with("window: ")),
+            "{:?}",
+            r.details
+        );
         assert!(window.is_file());
     }
 
@@ -554,6 +569,9 @@ mod tests {
         let e = check_files(&vcd, &other, &CheckOptions::default())
             .err()
             .unwrap();
-        assert!(e.0.contains("other.bin") && e.0.contains("nor an FST"), "{e}");
+        assert!(
+            e.0.contains("other.bin") && e.0.contains("nor an FST"),
+            "{e}"
+        );
     }
 }

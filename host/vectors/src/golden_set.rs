@@ -287,8 +287,9 @@ impl GoldenSet {
             };
             let mut w = out.create_file(name)?;
             match format {
-                GoldenFormat::Vcd => vcd::write_golden(&mut w, &c.stimulus, &c.config, None)
-                    .and_then(|_| w.flush()),
+                GoldenFormat::Vcd => {
+                    vcd::write_golden(&mut w, &c.stimulus, &c.config, None).and_then(|_| w.flush())
+                }
                 GoldenFormat::Fst => {
                     crate::fst::write_golden_fst(&mut w, &c.stimulus, &c.config, None)
                         .and_then(|_| w.flush())

@@ -99,7 +99,13 @@ pub fn write_golden<W: Write>(
     writeln!(w, "$upscope $end")?;
     writeln!(w, "$enddefinitions $end")?;
 
-    let width_of = |i: usize| if i < pin::COUNT { 1 } else { outputs[i - pin::COUNT].1 };
+    let width_of = |i: usize| {
+        if i < pin::COUNT {
+            1
+        } else {
+            outputs[i - pin::COUNT].1
+        }
+    };
     let mut buffer = String::new();
     let (end, last_time) = golden_changes(stimulus, config, end, &mut |k, changes| {
         buffer.clear();
