@@ -15,6 +15,7 @@
 //! measurement outputs and force outputs record by record, the firmware's status (a lost or
 //! overflowed event is a mismatch), record counts, the headers' hashes and tick rates.
 
+mod dump;
 mod files;
 pub mod json;
 pub mod resolve;

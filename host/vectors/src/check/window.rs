@@ -40,7 +40,7 @@ fn sample(
     period_fs: u64,
 ) -> Result<Vec<Vec<Option<Value>>>, BadInput> {
     let name = path.display().to_string();
-    let (d, mut r): (Declarations, _) = super::files::open_dump(path, &name)?;
+    let (d, mut r): (Declarations, _) = super::dump::open_dump(path, &name)?;
     let mut of_code: Vec<Vec<usize>> = vec![Vec::new(); d.codes().len()];
     for (i, p) in paths.iter().enumerate() {
         if let Some(code) = d
@@ -145,7 +145,7 @@ pub fn add_details(
         return Ok(());
     };
     let en = expected.display().to_string();
-    let (ed, e_head) = super::files::open_dump(expected, &en)?;
+    let (ed, e_head) = super::dump::open_dump(expected, &en)?;
     drop(e_head);
     let (hash, _, period_fs) = golden_period_fs(&ed, &en)?;
     let k = first.cycle;
