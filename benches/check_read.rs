@@ -1,14 +1,17 @@
 //! Reading speed of `tooltouch check` on a large DUT dump: the generated RTL under
 //! Verilator, dumped once as FST (`--trace-fst`, `+fst`) and once as VCD (`--trace`,
-//! `+vcd`), each checked against the golden VCD of the same stimulus (the first
-//! `TOOLTOUCH_CHECK_BENCH_CYCLES` clocks, default 4 000 000, of the realistic lathe
-//! stimulus at the default configuration).
+//! `+vcd`), each checked against the golden VCD of the same stimulus: the stress stimulus
+//! of the default configuration (seed 1) with `TOOLTOUCH_CHECK_BENCH_CYCLES` clocks of
+//! constrained-random tail (default 2 000 000), whose outputs change often (the lathe
+//! run's first millions of clocks hardly change an output).
 //!
 //! `cargo bench --bench check_read` prints, per format, the dump's size, the compared
-//! changes in it, and MB/s of file and changes/s of the whole `check` (golden file
-//! included, best of three), then runs the criterion benches (throughput in bytes of the
-//! DUT file). Building the two Verilator testbenches and running them takes a minute or
-//! two before the first figure.
+//! changes in it (DUT side), and MB/s of DUT file and changes/s of the whole `check`
+//! (golden file included: the golden VCD, and for the FST dump also the same golden trace
+//! as FST; FST best of three, VCD one run), then runs the criterion benches of the FST path
+//! (throughput in bytes of the DUT file; the VCD path takes tens of seconds a run).
+//! Building the two Verilator testbenches and running them takes a minute or two before
+//! the first figure.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::collections::HashSet;
@@ -16,7 +19,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
 use tooltouch_cosim::hdl::runner::{CxxOpt, Simulator, Trace};
-use tooltouch_cosim::speed;
 use tooltouch_model::MeasureConfig;
 use tooltouch_vectors::check::{check_files, CheckOptions, Verdict};
 use tooltouch_vectors::vcd::{output_signals, Changes, Declarations, VcdReader};
@@ -27,6 +29,8 @@ const DUT_SCOPE: &str = "TOP.tt_testbench.dut";
 struct Fixture {
     _work: tempfile::TempDir,
     golden: PathBuf,
+    /// The same golden trace as FST.
+    golden_fst: PathBuf,
     dumps: Vec<(&'static str, PathBuf)>,
 }
 
@@ -34,17 +38,21 @@ fn fixture() -> Fixture {
     let cycles: u64 = std::env::var("TOOLTOUCH_CHECK_BENCH_CYCLES")
         .ok()
         .and_then(|v| v.parse().ok())
-        .unwrap_or(4_000_000);
+        .unwrap_or(2_000_000);
     let config = MeasureConfig::default();
-    let stim = match speed::realistic_stimulus(&config, 1) {
-        Ok(s) => speed::prefix(&s, cycles),
-        Err(e) => panic!("the realistic stimulus: {e:#}"),
+    let size = tooltouch_plant::stress::StressSize {
+        random_cycles: cycles,
+        ..Default::default()
     };
+    let stim = tooltouch_plant::stress::stress_stimulus(&config, 1, 50_000_000, &size);
     let work = tempfile::tempdir().expect("temporary folder");
     let golden = work.path().join("golden.vcd");
     let mut f = std::io::BufWriter::new(std::fs::File::create(&golden).expect("golden.vcd"));
     tooltouch_vectors::vcd::write_golden(&mut f, &stim, &config, None).expect("golden.vcd");
     drop(f);
+    let golden_fst = work.path().join("golden.fst");
+    let f = std::io::BufWriter::new(std::fs::File::create(&golden_fst).expect("golden.fst"));
+    tooltouch_vectors::fst::write_golden_fst(f, &stim, &config, None).expect("golden.fst");
     let mut dumps = Vec::new();
     for (format, trace, plusarg, file) in [
         ("FST", Trace::Fst, "+fst", "dut.fst"),
@@ -73,6 +81,7 @@ fn fixture() -> Fixture {
     Fixture {
         _work: work,
         golden,
+        golden_fst,
         dumps,
     }
 }
@@ -121,28 +130,37 @@ fn check(golden: &Path, dut: &Path) {
 
 fn table(f: &Fixture) {
     println!(
-        "check reading speed (golden {:.1} MB VCD):",
-        size(&f.golden) as f64 / 1e6
+        "check reading speed (golden {:.1} MB VCD, {:.1} MB FST):",
+        size(&f.golden) as f64 / 1e6,
+        size(&f.golden_fst) as f64 / 1e6
     );
     println!(
-        "  {:<4} {:>10} {:>14} {:>10} {:>10} {:>14}",
-        "dump", "MB", "changes", "s", "MB/s", "changes/s"
+        "  {:<4} {:<6} {:>10} {:>14} {:>10} {:>10} {:>14}",
+        "dump", "golden", "MB", "changes", "s", "MB/s", "changes/s"
     );
     for (format, path) in &f.dumps {
         let changes = compared_changes(path);
-        let best = (0..3)
-            .map(|_| {
-                let t = Instant::now();
-                check(&f.golden, path);
-                t.elapsed().as_secs_f64()
-            })
-            .fold(f64::INFINITY, f64::min);
-        let mb = size(path) as f64 / 1e6;
-        println!(
-            "  {format:<4} {mb:>10.1} {changes:>14} {best:>10.3} {:>10.0} {:>14.3e}",
-            mb / best,
-            changes as f64 / best
-        );
+        let goldens: &[(&str, &PathBuf)] = if *format == "FST" {
+            &[("VCD", &f.golden), ("FST", &f.golden_fst)]
+        } else {
+            &[("VCD", &f.golden)]
+        };
+        for (golden_format, golden) in goldens {
+            let runs = if *format == "FST" { 3 } else { 1 };
+            let best = (0..runs)
+                .map(|_| {
+                    let t = Instant::now();
+                    check(golden, path);
+                    t.elapsed().as_secs_f64()
+                })
+                .fold(f64::INFINITY, f64::min);
+            let mb = size(path) as f64 / 1e6;
+            println!(
+                "  {format:<4} {golden_format:<6} {mb:>10.1} {changes:>14} {best:>10.3} {:>10.0} {:>14.3e}",
+                mb / best,
+                changes as f64 / best
+            );
+        }
     }
 }
 
@@ -155,10 +173,13 @@ fn read(c: &mut Criterion) {
     table(&f);
     let mut g = c.benchmark_group("check_read");
     g.sample_size(10);
-    for (format, path) in &f.dumps {
+    for (format, path) in f.dumps.iter().filter(|(f, _)| *f == "FST") {
         g.throughput(Throughput::Bytes(size(path)));
-        g.bench_function(format!("verilator_{format}"), |b| {
+        g.bench_function(format!("verilator_{format}_golden_vcd"), |b| {
             b.iter(|| check(&f.golden, path))
+        });
+        g.bench_function(format!("verilator_{format}_golden_fst"), |b| {
+            b.iter(|| check(&f.golden_fst, path))
         });
     }
     g.finish();

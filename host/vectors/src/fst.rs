@@ -198,18 +198,18 @@ fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
 
 /// A value from the crate's digits (`0`, `1`, else unknown), most significant first.
 fn value_of(digits: &[u8]) -> Value {
-    let mut bits: BitVec<u64, Lsb0> = BitVec::with_capacity(digits.len());
+    let n = digits.len();
+    let mut words = vec![0u64; n.div_ceil(64)];
     let mut unknown = false;
-    for &d in digits.iter().rev() {
+    for (i, &d) in digits.iter().rev().enumerate() {
         match d {
-            b'0' => bits.push(false),
-            b'1' => bits.push(true),
-            _ => {
-                unknown = true;
-                bits.push(false);
-            }
+            b'1' => words[i / 64] |= 1 << (i % 64),
+            b'0' => {}
+            _ => unknown = true,
         }
     }
+    let mut bits = BitVec::<u64, Lsb0>::from_vec(words);
+    bits.truncate(n);
     Value::from_bits(bits, unknown)
 }
 
@@ -509,6 +509,10 @@ mod tests {
             d.comments
         );
         assert_eq!(d.signals.len(), 21);
+        assert_eq!(value_of(b"0101"), Value::known(5));
+        let wide = value_of(format!("1{}1", "0".repeat(70)).as_bytes());
+        assert!(wide.bit(71) && wide.bit(0) && wide.bits.count_ones() == 2 && !wide.unknown);
+        assert!(value_of(b"1x0").unknown && value_of(b"z").unknown);
         let mut n = 0;
         while c.next_change().unwrap().is_some() {
             n += 1;
