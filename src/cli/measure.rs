@@ -83,10 +83,11 @@ pub enum VcdSpan {
 pub const UNDECIDED: u8 = super::NOT_PASSED;
 
 /// Every file `measure` can write into its output folder.
-pub const OUTPUTS: [&str; 6] = [
+pub const OUTPUTS: [&str; 7] = [
     "contact_density.svg",
     "diameters.svg",
     "measure.vcd",
+    "measure.fst",
     "events.ttv",
     "expected_outputs.ttv",
     "summary.json",
@@ -111,6 +112,10 @@ pub struct Args {
     /// Part of the run written as VCD.
     #[arg(long, value_enum, default_value = "first")]
     pub vcd: VcdSpan,
+    /// Format of that golden trace: `vcd` writes measure.vcd, `fst` measure.fst (the same
+    /// signals and times; `tooltouch check` reads either).
+    #[arg(long, value_enum, default_value = "vcd")]
+    pub golden_format: super::vectors::GoldenFormatArg,
     /// No progress bar.
     #[arg(long)]
     pub no_progress: bool,
@@ -736,10 +741,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         VcdSpan::All => Some(run.stimulus.total_cycles()),
     };
     if let Some(end) = vcd_end {
-        let mut w = out.create_file("measure.vcd")?;
-        vcd::write_golden(&mut w, &run.stimulus, &config, Some(end))
-            .and_then(|_| w.flush())
-            .with_context(|| format!("writing {}", out.final_path("measure.vcd").display()))?;
+        let fst = args.golden_format == super::vectors::GoldenFormatArg::Fst;
+        let name = if fst { "measure.fst" } else { "measure.vcd" };
+        let mut w = out.create_file(name)?;
+        if fst {
+            vectors::fst::write_golden_fst(&mut w, &run.stimulus, &config, Some(end))
+        } else {
+            vcd::write_golden(&mut w, &run.stimulus, &config, Some(end))
+        }
+        .and_then(|_| w.flush())
+        .with_context(|| format!("writing {}", out.final_path(name).display()))?;
     }
 
     let events = vectors::events_from_stimulus(&run.stimulus, &config);

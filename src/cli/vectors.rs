@@ -58,6 +58,28 @@ pub struct Args {
     /// was.
     #[arg(long)]
     pub out: PathBuf,
+    /// Format of the golden trace: `vcd` writes golden.vcd, `fst` golden.fst (the same
+    /// signals and times; `tooltouch check` reads either).
+    #[arg(long, value_enum, default_value = "vcd")]
+    pub golden_format: GoldenFormatArg,
+}
+
+/// The golden trace's format (`--golden-format`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GoldenFormatArg {
+    /// Value change dump (text).
+    Vcd,
+    /// GTKWave's FST (compressed blocks; Verilator's `--trace-fst` format).
+    Fst,
+}
+
+impl From<GoldenFormatArg> for golden_set::GoldenFormat {
+    fn from(f: GoldenFormatArg) -> Self {
+        match f {
+            GoldenFormatArg::Vcd => golden_set::GoldenFormat::Vcd,
+            GoldenFormatArg::Fst => golden_set::GoldenFormat::Fst,
+        }
+    }
 }
 
 /// Runs `tooltouch vectors`.
@@ -90,7 +112,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         "format": format,
         "settings": args.config.as_ref().map(|p| p.display().to_string()),
     });
-    let summary = set.write(&out, source)?;
+    let summary = set.write_as(&out, source, args.golden_format.into())?;
     let dir = out.dir().to_path_buf();
     let files = out.commit()?;
     let hashes = [

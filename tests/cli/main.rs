@@ -10,6 +10,7 @@ mod check_firmware;
 mod check_inputs;
 mod check_truncated;
 mod examples;
+mod golden_fst;
 mod hdl_clock;
 mod hdl_faults;
 mod hdl_vectors;

@@ -14,7 +14,7 @@ use tooltouch_model::MeasureConfig;
 use tooltouch_plant::random::random_stimulus;
 use tooltouch_plant::stimulus::Stimulus;
 
-fn stimulus(config: &MeasureConfig) -> Stimulus {
+pub(crate) fn stimulus(config: &MeasureConfig) -> Stimulus {
     let mut rng = ChaCha8Rng::seed_from_u64(0xfa17);
     random_stimulus(&mut rng, config, 50_000_000, 40_000)
 }
@@ -33,7 +33,7 @@ fn plan(fault: Fault, plusargs: &[&str]) -> CosimPlan {
 
 /// Equal steps that divide the fire threshold: every rise from empty passes through it, so
 /// [`Fault::FireThresholdPlusOne`] is observable.
-fn observable_config() -> MeasureConfig {
+pub(crate) fn observable_config() -> MeasureConfig {
     tooltouch_model::MeasureSettings {
         charge_law: tooltouch_model::measure::config::ChargeLaw::Linear {
             charge_step: 4096,
@@ -183,7 +183,11 @@ fn rename_var(text: &str, scope: &[&str], name: &str, new: &str) -> String {
 }
 
 /// The golden VCD of `s` at `config`, written into `dir`.
-fn golden_vcd(dir: &Path, s: &mut Stimulus, config: &MeasureConfig) -> std::path::PathBuf {
+pub(crate) fn golden_vcd(
+    dir: &Path,
+    s: &mut Stimulus,
+    config: &MeasureConfig,
+) -> std::path::PathBuf {
     // The golden VCD writer skips clock 0 when the stimulus starts with all pins low (a
     // settled front end); start with the next segment so clock 0 is written.
     if s.segments.first().is_some_and(|seg| seg.pins.0 == 0) {

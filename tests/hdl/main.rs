@@ -12,6 +12,7 @@ mod cosim;
 mod faults;
 mod formal;
 mod formal_dut;
+mod fst;
 mod lathe;
 mod lint;
 mod reference;

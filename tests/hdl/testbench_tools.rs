@@ -3,7 +3,8 @@
 //! commands of docs/hdl.md,
 //!
 //! - Icarus: `iverilog -g2005 -o tb *.v && vvp tb`,
-//! - Verilator 5: `verilator --binary --top-module tt_testbench -o tb *.v && obj_dir/tb`,
+//! - Verilator 5: `verilator --binary --trace-fst --top-module tt_testbench -o tb *.v &&
+//!   obj_dir/tb +fst`, whose `dut.fst` passes `tooltouch check` against the golden VCD,
 //!
 //! print `TESTBENCH OK <cycles>`; and with a vector file missing, shorter than its header
 //! says, or holding an X or Z digit, the testbench stops with its own `TESTBENCH ERROR`
@@ -171,15 +172,34 @@ fn hdl_verilator_binary_runs_the_generated_testbench_and_stops_on_bad_vectors() 
     require(&["verilator"]);
     let work = tempfile::tempdir().unwrap();
     let rtl = rtl_with_vectors(work.path());
+    // docs/hdl.md's Verilator line with its FST dump, fed to `tooltouch check`.
     let o = shell(
         &rtl,
-        "verilator --binary --top-module tt_testbench -o tb *.v && obj_dir/tb",
+        "verilator --binary --trace-fst --top-module tt_testbench -o tb *.v && obj_dir/tb +fst",
     );
     assert!(o.status.success(), "{}", text(&o));
     assert!(
         text(&o)
             .lines()
             .any(|l| l == format!("TESTBENCH OK {CYCLES}")),
+        "{}",
+        text(&o)
+    );
+    let toml = work.path().join("fast.toml");
+    let golden = work.path().join("m");
+    let o = tooltouch(&["measure", "--config", s(&toml), "--out", s(&golden)]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = tooltouch(&[
+        "check",
+        "--expected",
+        s(&golden.join("measure.vcd")),
+        "--dut",
+        s(&rtl.join("dut.fst")),
+    ]);
+    assert!(
+        o.status.success()
+            && text(&o).contains(&format!("OK: {CYCLES} cycles × 15 signals"))
+            && text(&o).contains("in DUT scope `TOP.tt_testbench.dut`"),
         "{}",
         text(&o)
     );

@@ -5,7 +5,8 @@
 // directory after checking them (a missing file, an X, Z or non-hex character, a word too
 // wide, more words than the depth or not as many as the header says: TESTBENCH ERROR and
 // $fatal); compares every output on every cycle. Clock 50000000 Hz, period 20 ns:
-// rising edge k at time k*20 ns. Plusargs: +vcd (dump dut.vcd, Icarus), +nostop.
+// rising edge k at time k*20 ns. Plusargs: +nostop, +vcd[=FILE] (dump dut.vcd),
+// +fst[=FILE] (dump dut.fst: vvp tb -fst +fst, or Verilator built with --trace-fst).
 // Run in that directory with Icarus,    iverilog -g2005 -o tb *.v && vvp tb
 //                     or with Verilator 5, verilator --binary --top-module tt_testbench -o tb *.v && obj_dir/tb
 `timescale 1ns / 1ns
@@ -43,21 +44,21 @@ module tt_testbench;
     reg [3:0]  mcu_addr = 4'd0;
     wire [31:0] mcu_rdata;
     wire       irq;
-    wire armed;
-    wire contact;
-    wire register_now;
-    wire [23:0] decision_position;
-    wire first_contact;
-    wire [23:0] first_contact_position;
-    wire [23:0] position;
-    wire [7:0] scale_errors;
-    wire [10:0] count;
-    wire [10:0] last_window_count;
-    wire [15:0] charge;
-    wire density_armed;
-    wire density_fired;
-    wire [15:0] revolutions;
-    wire [31:0] pulses;
+    wire dut_armed;
+    wire dut_contact;
+    wire dut_register_now;
+    wire [23:0] dut_decision_position;
+    wire dut_first_contact;
+    wire [23:0] dut_first_contact_position;
+    wire [23:0] dut_position;
+    wire [7:0] dut_scale_errors;
+    wire [10:0] dut_count;
+    wire [10:0] dut_last_window_count;
+    wire [15:0] dut_charge;
+    wire dut_density_armed;
+    wire dut_density_fired;
+    wire [15:0] dut_revolutions;
+    wire [31:0] dut_pulses;
 
     reg [171:0] expected = 172'd0;
     wire exp_armed = expected[171:171];
@@ -122,21 +123,21 @@ module tt_testbench;
         .pin_scale_a(pins[4]),
         .pin_scale_b(pins[5]),
         .mcu_addr(mcu_addr), .mcu_rdata(mcu_rdata),
-        .armed(armed),
-        .contact(contact),
-        .register_now(register_now),
-        .decision_position(decision_position),
-        .first_contact(first_contact),
-        .first_contact_position(first_contact_position),
-        .position(position),
-        .scale_errors(scale_errors),
-        .count(count),
-        .last_window_count(last_window_count),
-        .charge(charge),
-        .density_armed(density_armed),
-        .density_fired(density_fired),
-        .revolutions(revolutions),
-        .pulses(pulses),
+        .armed(dut_armed),
+        .contact(dut_contact),
+        .register_now(dut_register_now),
+        .decision_position(dut_decision_position),
+        .first_contact(dut_first_contact),
+        .first_contact_position(dut_first_contact_position),
+        .position(dut_position),
+        .scale_errors(dut_scale_errors),
+        .count(dut_count),
+        .last_window_count(dut_last_window_count),
+        .charge(dut_charge),
+        .density_armed(dut_density_armed),
+        .density_fired(dut_density_fired),
+        .revolutions(dut_revolutions),
+        .pulses(dut_pulses),
         .irq(irq)
     );
 
@@ -157,6 +158,7 @@ module tt_testbench;
     reg [31:0] next_cycle;   // cycle of the next expected word
     reg [31:0] previous_cycle;
     reg        nostop;
+    reg [8*256-1:0] dump_file; // +vcd=FILE / +fst=FILE
     reg        ready = 1'b0; // the vectors are read and checked
 
     reg [63:0] k_time;       // k*PERIOD ns: the time `tooltouch check` names clock k by
@@ -274,12 +276,22 @@ module tt_testbench;
         $readmemh("stim.hex", stim_mem, 0, stim_words - 1);
         $readmemh("expect.hex", expect_mem, 0, expect_words - 1);
         nostop = $test$plusargs("nostop");
-`ifndef VERILATOR
-        if ($test$plusargs("vcd")) begin
+        // +fst[=FILE] / +vcd[=FILE]: dump the design. The simulator picks the format:
+        // Icarus writes VCD unless run with -fst (vvp tb -fst +fst), Verilator the one its
+        // build traces (--trace-fst: FST, --trace: VCD; without either no dump).
+        if ($value$plusargs("fst=%s", dump_file)) begin
+            $dumpfile(dump_file);
+            $dumpvars(0, dut);
+        end else if ($test$plusargs("fst")) begin
+            $dumpfile("dut.fst");
+            $dumpvars(0, dut);
+        end else if ($value$plusargs("vcd=%s", dump_file)) begin
+            $dumpfile(dump_file);
+            $dumpvars(0, dut);
+        end else if ($test$plusargs("vcd")) begin
             $dumpfile("dut.vcd");
             $dumpvars(0, dut);
         end
-`endif
         // Headers: word 0 counts the words after it.
         segments    = stim_words - 1;
         entries     = expect_words - 1;
@@ -371,23 +383,23 @@ module tt_testbench;
     // Falling edge after edge k: compare, then the pins for clock k+1.
     always @(negedge clk) begin
         // One compare of every output bit; the field-by-field report only on a mismatch.
-        if ({armed, contact, register_now, decision_position, first_contact, first_contact_position, position, scale_errors, count, last_window_count, charge, density_armed, density_fired, revolutions, pulses} !== expected || irq !== exp_register_now || mcu_rdata !== exp_rdata) begin
+        if ({dut_armed, dut_contact, dut_register_now, dut_decision_position, dut_first_contact, dut_first_contact_position, dut_position, dut_scale_errors, dut_count, dut_last_window_count, dut_charge, dut_density_armed, dut_density_fired, dut_revolutions, dut_pulses} !== expected || irq !== exp_register_now || mcu_rdata !== exp_rdata) begin
             bad_signals = 0;
-            if (armed !== exp_armed) report("armed", {63'd0, exp_armed}, {63'd0, armed});
-            if (contact !== exp_contact) report("contact", {63'd0, exp_contact}, {63'd0, contact});
-            if (register_now !== exp_register_now) report("register_now", {63'd0, exp_register_now}, {63'd0, register_now});
-            if (decision_position !== exp_decision_position) report("decision_position", {40'd0, exp_decision_position}, {40'd0, decision_position});
-            if (first_contact !== exp_first_contact) report("first_contact", {63'd0, exp_first_contact}, {63'd0, first_contact});
-            if (first_contact_position !== exp_first_contact_position) report("first_contact_position", {40'd0, exp_first_contact_position}, {40'd0, first_contact_position});
-            if (position !== exp_position) report("position", {40'd0, exp_position}, {40'd0, position});
-            if (scale_errors !== exp_scale_errors) report("scale_errors", {56'd0, exp_scale_errors}, {56'd0, scale_errors});
-            if (count !== exp_count) report("count", {53'd0, exp_count}, {53'd0, count});
-            if (last_window_count !== exp_last_window_count) report("last_window_count", {53'd0, exp_last_window_count}, {53'd0, last_window_count});
-            if (charge !== exp_charge) report("charge", {48'd0, exp_charge}, {48'd0, charge});
-            if (density_armed !== exp_density_armed) report("density_armed", {63'd0, exp_density_armed}, {63'd0, density_armed});
-            if (density_fired !== exp_density_fired) report("density_fired", {63'd0, exp_density_fired}, {63'd0, density_fired});
-            if (revolutions !== exp_revolutions) report("revolutions", {48'd0, exp_revolutions}, {48'd0, revolutions});
-            if (pulses !== exp_pulses) report("pulses", {32'd0, exp_pulses}, {32'd0, pulses});
+            if (dut_armed !== exp_armed) report("armed", {63'd0, exp_armed}, {63'd0, dut_armed});
+            if (dut_contact !== exp_contact) report("contact", {63'd0, exp_contact}, {63'd0, dut_contact});
+            if (dut_register_now !== exp_register_now) report("register_now", {63'd0, exp_register_now}, {63'd0, dut_register_now});
+            if (dut_decision_position !== exp_decision_position) report("decision_position", {40'd0, exp_decision_position}, {40'd0, dut_decision_position});
+            if (dut_first_contact !== exp_first_contact) report("first_contact", {63'd0, exp_first_contact}, {63'd0, dut_first_contact});
+            if (dut_first_contact_position !== exp_first_contact_position) report("first_contact_position", {40'd0, exp_first_contact_position}, {40'd0, dut_first_contact_position});
+            if (dut_position !== exp_position) report("position", {40'd0, exp_position}, {40'd0, dut_position});
+            if (dut_scale_errors !== exp_scale_errors) report("scale_errors", {56'd0, exp_scale_errors}, {56'd0, dut_scale_errors});
+            if (dut_count !== exp_count) report("count", {53'd0, exp_count}, {53'd0, dut_count});
+            if (dut_last_window_count !== exp_last_window_count) report("last_window_count", {53'd0, exp_last_window_count}, {53'd0, dut_last_window_count});
+            if (dut_charge !== exp_charge) report("charge", {48'd0, exp_charge}, {48'd0, dut_charge});
+            if (dut_density_armed !== exp_density_armed) report("density_armed", {63'd0, exp_density_armed}, {63'd0, dut_density_armed});
+            if (dut_density_fired !== exp_density_fired) report("density_fired", {63'd0, exp_density_fired}, {63'd0, dut_density_fired});
+            if (dut_revolutions !== exp_revolutions) report("revolutions", {48'd0, exp_revolutions}, {48'd0, dut_revolutions});
+            if (dut_pulses !== exp_pulses) report("pulses", {32'd0, exp_pulses}, {32'd0, dut_pulses});
             if (irq !== exp_register_now) report("irq", {63'd0, exp_register_now}, {63'd0, irq});
             if (mcu_rdata !== exp_rdata) report("mcu_rdata", {32'd0, exp_rdata}, {32'd0, mcu_rdata});
             if (mcu_rdata !== exp_rdata && bad_cycles == 0)

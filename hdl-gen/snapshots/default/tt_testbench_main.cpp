@@ -8,6 +8,9 @@
 int main(int argc, char** argv) {
     const auto context = std::make_unique<VerilatedContext>();
     context->commandArgs(argc, argv);
+#if VM_TRACE
+    context->traceEverOn(true);  // built with --trace or --trace-fst: +vcd / +fst dump
+#endif
     const auto tb = std::make_unique<Vtt_testbench>(context.get());
     tb->clk = 0;
     tb->eval();  // initial blocks: vectors read, pins of clock 0 applied

@@ -31,7 +31,11 @@
 //! Depths are checked where they are set: [`testbench`] refuses a depth outside
 //! `2..=`[`MAX_DEPTH`].
 //!
-//! Plusargs: `+vcd` dumps the design to `dut.vcd` (Icarus);
+//! Plusargs: `+vcd` dumps the design to `dut.vcd`, `+fst` to `dut.fst` (`+vcd=FILE`,
+//! `+fst=FILE`: to FILE); the simulator picks the format (Icarus: VCD, FST with `vvp -fst`;
+//! Verilator: the one its build traces, `--trace` VCD, `--trace-fst` FST, no dump without
+//! either). The testbench's own copies of the outputs are `dut_<name>`, so a dump of the
+//! whole testbench holds the golden names only in the DUT's scope;
 //! `+nostop` keeps running after a mismatch (to get a whole trace) instead of `$fatal`.
 //! The last line is `TESTBENCH OK <cycles>`, or `TESTBENCH FAIL <mismatching cycles>
 //! <cycles>` with `+nostop`.
@@ -120,14 +124,16 @@ pub fn testbench(
         };
         let hi = lo - 1;
         lo -= f.width;
-        wires.push_str(&format!("    wire {range}{};\n", f.name));
+        // `dut_` names: a dump of the whole testbench (Verilator's) must not hold the
+        // golden output names outside the DUT's scope.
+        wires.push_str(&format!("    wire {range}dut_{};\n", f.name));
         expected.push_str(&format!(
             "    wire {range}exp_{0} = expected[{hi}:{lo}];\n",
             f.name
         ));
-        conns.push_str(&format!("        .{0}({0}),\n", f.name));
+        conns.push_str(&format!("        .{0}(dut_{0}),\n", f.name));
         compare.push_str(&format!(
-            "            if ({0} !== exp_{0}) report(\"{0}\", {{{pad}exp_{0}}}, {{{pad}{0}}});\n",
+            "            if (dut_{0} !== exp_{0}) report(\"{0}\", {{{pad}exp_{0}}}, {{{pad}dut_{0}}});\n",
             f.name,
             pad = if f.width < 64 {
                 format!("{}'d0, ", 64 - f.width)
@@ -167,7 +173,8 @@ pub fn testbench(
 // directory after checking them (a missing file, an X, Z or non-hex character, a word too
 // wide, more words than the depth or not as many as the header says: TESTBENCH ERROR and
 // $fatal); compares every output on every cycle. Clock {clock_hz} Hz, period {period} ns:
-// rising edge k at time k*{period} ns. Plusargs: +vcd (dump dut.vcd, Icarus), +nostop.
+// rising edge k at time k*{period} ns. Plusargs: +nostop, +vcd[=FILE] (dump dut.vcd),
+// +fst[=FILE] (dump dut.fst: vvp tb -fst +fst, or Verilator built with --trace-fst).
 // Run in that directory with Icarus,    iverilog -g2005 -o tb *.v && vvp tb
 //                     or with Verilator 5, verilator --binary --top-module {TESTBENCH} -o tb *.v && obj_dir/tb
 `timescale 1ns / 1ns
@@ -244,6 +251,7 @@ module {TESTBENCH};
     reg [31:0] next_cycle;   // cycle of the next expected word
     reg [31:0] previous_cycle;
     reg        nostop;
+    reg [8*256-1:0] dump_file; // +vcd=FILE / +fst=FILE
     reg        ready = 1'b0; // the vectors are read and checked
 
     reg [63:0] k_time;       // k*PERIOD ns: the time `tooltouch check` names clock k by
@@ -361,12 +369,22 @@ module {TESTBENCH};
         $readmemh("{STIM_HEX}", stim_mem, 0, stim_words - 1);
         $readmemh("{EXPECT_HEX}", expect_mem, 0, expect_words - 1);
         nostop = $test$plusargs("nostop");
-`ifndef VERILATOR
-        if ($test$plusargs("vcd")) begin
+        // +fst[=FILE] / +vcd[=FILE]: dump the design. The simulator picks the format:
+        // Icarus writes VCD unless run with -fst (vvp tb -fst +fst), Verilator the one its
+        // build traces (--trace-fst: FST, --trace: VCD; without either no dump).
+        if ($value$plusargs("fst=%s", dump_file)) begin
+            $dumpfile(dump_file);
+            $dumpvars(0, dut);
+        end else if ($test$plusargs("fst")) begin
+            $dumpfile("dut.fst");
+            $dumpvars(0, dut);
+        end else if ($value$plusargs("vcd=%s", dump_file)) begin
+            $dumpfile(dump_file);
+            $dumpvars(0, dut);
+        end else if ($test$plusargs("vcd")) begin
             $dumpfile("dut.vcd");
             $dumpvars(0, dut);
         end
-`endif
         // Headers: word 0 counts the words after it.
         segments    = stim_words - 1;
         entries     = expect_words - 1;
@@ -512,7 +530,11 @@ endmodule
         db = MCU_DATA_BITS,
         db1 = MCU_DATA_BITS - 1,
         dpad = format!("{}'d0, ", 64 - MCU_DATA_BITS),
-        concat = fields.iter().map(|f| f.name).collect::<Vec<_>>().join(", "),
+        concat = fields
+            .iter()
+            .map(|f| format!("dut_{}", f.name))
+            .collect::<Vec<_>>()
+            .join(", "),
     );
     Some(crate::design::VerilogFile {
         name: format!("{TESTBENCH}.v"),

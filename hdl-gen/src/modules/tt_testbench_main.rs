@@ -10,7 +10,9 @@ pub const VERILATOR_MAIN: &str = "tt_testbench_main.cpp";
 
 /// The C++ `main` that clocks the testbench under Verilator (built with `--cc --exe`,
 /// without `--timing`): rising edge k at time k·P ns, falling edge P/2 later, until the
-/// testbench calls `$finish` (or `$fatal`, which exits non-zero). Returns `None` for an
+/// testbench calls `$finish` (or `$fatal`, which exits non-zero). Built with `--trace` or
+/// `--trace-fst`, it turns tracing on, so the testbench's `+vcd` / `+fst` dump works.
+/// Returns `None` for an
 /// unusable clock (see [`TestbenchSpec::period_ns`]).
 pub fn verilator_main(
     config: &MeasureConfig,
@@ -28,6 +30,9 @@ pub fn verilator_main(
 int main(int argc, char** argv) {{
     const auto context = std::make_unique<VerilatedContext>();
     context->commandArgs(argc, argv);
+#if VM_TRACE
+    context->traceEverOn(true);  // built with --trace or --trace-fst: +vcd / +fst dump
+#endif
     const auto tb = std::make_unique<V{TESTBENCH}>(context.get());
     tb->clk = 0;
     tb->eval();  // initial blocks: vectors read, pins of clock 0 applied

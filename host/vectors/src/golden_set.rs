@@ -24,6 +24,19 @@ use tooltouch_plant::stimulus::Stimulus;
 
 /// The golden VCD's file name.
 pub const GOLDEN_VCD: &str = "golden.vcd";
+/// The golden trace's file name as FST ([`GoldenFormat::Fst`]).
+pub const GOLDEN_FST: &str = "golden.fst";
+
+/// The file format of the golden trace.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GoldenFormat {
+    /// A VCD ([`vcd::write_golden`]).
+    #[default]
+    Vcd,
+    /// An FST ([`crate::fst::write_golden_fst`]): the same signals and times, a file a few
+    /// times smaller, which `check` reads as it reads the VCD.
+    Fst,
+}
 /// The firmware's input stream.
 pub const EVENTS: &str = "events.ttv";
 /// The firmware's expected output stream.
@@ -31,8 +44,9 @@ pub const EXPECTED_OUTPUTS: &str = "expected_outputs.ttv";
 /// The summary.
 pub const SUMMARY: &str = "summary.json";
 /// Every file a golden set can hold.
-pub const FILES: [&str; 6] = [
+pub const FILES: [&str; 7] = [
     GOLDEN_VCD,
+    GOLDEN_FST,
     tooltouch_hdl_gen::STIM_HEX,
     tooltouch_hdl_gen::EXPECT_HEX,
     EVENTS,
@@ -255,11 +269,33 @@ impl GoldenSet {
         out: &OutputFolder,
         source: serde_json::Value,
     ) -> anyhow::Result<serde_json::Value> {
+        self.write_as(out, source, GoldenFormat::Vcd)
+    }
+
+    /// [`GoldenSet::write`] with the golden trace in `format` (`golden.vcd` or
+    /// `golden.fst`).
+    pub fn write_as(
+        &self,
+        out: &OutputFolder,
+        source: serde_json::Value,
+        format: GoldenFormat,
+    ) -> anyhow::Result<serde_json::Value> {
         if let Some(c) = &self.cycle {
-            let mut w = out.create_file(GOLDEN_VCD)?;
-            vcd::write_golden(&mut w, &c.stimulus, &c.config, None)
-                .and_then(|_| w.flush())
-                .with_context(|| format!("writing {}", out.final_path(GOLDEN_VCD).display()))?;
+            let name = match format {
+                GoldenFormat::Vcd => GOLDEN_VCD,
+                GoldenFormat::Fst => GOLDEN_FST,
+            };
+            let mut w = out.create_file(name)?;
+            match format {
+                GoldenFormat::Vcd => {
+                    vcd::write_golden(&mut w, &c.stimulus, &c.config, None).and_then(|_| w.flush())
+                }
+                GoldenFormat::Fst => {
+                    crate::fst::write_golden_fst(&mut w, &c.stimulus, &c.config, None)
+                        .and_then(|_| w.flush())
+                }
+            }
+            .with_context(|| format!("writing {}", out.final_path(name).display()))?;
             if let Ok(v) = &c.hex {
                 out.write(tooltouch_hdl_gen::STIM_HEX, &v.stim_hex)?;
                 out.write(tooltouch_hdl_gen::EXPECT_HEX, &v.expect_hex)?;

@@ -26,6 +26,7 @@ pub mod cocotb_coverage;
 pub mod coverage;
 pub mod firmware_error;
 pub mod force_run;
+pub mod fst;
 pub mod golden_set;
 pub mod hex;
 pub mod output;

@@ -99,18 +99,60 @@ pub fn write_golden<W: Write>(
     writeln!(w, "$upscope $end")?;
     writeln!(w, "$enddefinitions $end")?;
 
+    let width_of = |i: usize| {
+        if i < pin::COUNT {
+            1
+        } else {
+            outputs[i - pin::COUNT].1
+        }
+    };
+    let mut buffer = String::new();
+    let (end, last_time) = golden_changes(stimulus, config, end, &mut |k, changes| {
+        buffer.clear();
+        for &(i, value) in changes {
+            buffer.push_str(&value_text(value, width_of(i), &id_code(i)));
+        }
+        if k == 0 {
+            write!(w, "#0\n$dumpvars\n{buffer}$end\n")
+        } else {
+            write!(w, "#{}\n{buffer}", k * p)
+        }
+    })?;
+    // Mark the end of the covered time so a reader knows the last clock.
+    if end > 0 && last_time != Some(end - 1) {
+        writeln!(w, "#{}", (end - 1) * p)?;
+    }
+    writeln!(w, "$comment {END_COMMENT} cycles={end} $end")?;
+    Ok(end)
+}
+
+/// One clock's changes of a golden trace: `(signal, value)`, signals numbered as
+/// declared (the [`pin::NAMES`] first, then [`output_signals`]).
+pub(crate) type GoldenChanges<'a> = &'a [(usize, u64)];
+
+/// The changes of the golden trace of `stimulus` clocks `[0, end)` (all of it when `end`
+/// is `None`), clock by clock: `emit(k, changes)` for clock 0 with every signal's value
+/// (when `end > 0`), then for each clock `k` at which a pin or an output changed — inputs
+/// sampled at clock `k`, outputs registered after it. Returns the number of clocks
+/// covered and the last clock emitted.
+pub(crate) fn golden_changes(
+    stimulus: &Stimulus,
+    config: &MeasureConfig,
+    end: Option<u64>,
+    emit: &mut dyn FnMut(u64, GoldenChanges) -> io::Result<()>,
+) -> io::Result<(u64, Option<u64>)> {
     let total = stimulus.total_cycles();
     let end = end.unwrap_or(total).min(total);
     let mut last_pins: Option<Pins> = None;
     let mut last_out: Option<[u64; 15]> = None;
-    let mut buffer = String::new();
+    let mut changes: Vec<(usize, u64)> = Vec::new();
     let mut error = None;
     // Pin changes at segment starts and output changes at clocked clocks, merged by
     // clock: `clock_through` visits every clock at which an output can change, and pin
     // levels only change at segment starts, which it always clocks (a changed pin is
     // never settled).
     let mut stopped = false;
-    let mut last_time = None;
+    let mut last_clock = None;
     // Every signal's value at time 0, even when nothing happens at clock 0 (a settled
     // start is skipped by `clock_through`): the pins of the first segment and the reset
     // outputs, which are the outputs after clock 0 (no edge can be detected at clock 0).
@@ -119,16 +161,16 @@ pub fn write_golden<W: Write>(
             .iter()
             .enumerate()
         {
-            buffer.push_str(&value_text((*level).into(), 1, &id_code(i)));
+            changes.push((i, (*level).into()));
         }
         let values = output_values(&FrontEnd::new(config).outputs(), config);
-        for (i, (_, width)) in outputs.iter().enumerate() {
-            buffer.push_str(&value_text(values[i], *width, &id_code(pin::COUNT + i)));
+        for (i, v) in values.iter().enumerate() {
+            changes.push((pin::COUNT + i, *v));
         }
-        write!(w, "#0\n$dumpvars\n{buffer}$end\n")?;
+        emit(0, &changes)?;
         last_pins = Some(first.pins);
         last_out = Some(values);
-        last_time = Some(0);
+        last_clock = Some(0);
     }
     clock_through(stimulus, config, |k, pins, fe, edges| {
         if stopped || error.is_some() {
@@ -138,47 +180,37 @@ pub fn write_golden<W: Write>(
             stopped = true;
             return;
         }
-        buffer.clear();
+        changes.clear();
         if last_pins != Some(pins) {
             let levels = &pins.0.view_bits::<Lsb0>()[..pin::COUNT];
             let before = last_pins.map(|l| l.0);
             for (i, level) in levels.iter().enumerate() {
                 if before.is_none_or(|b| b.view_bits::<Lsb0>()[i] != *level) {
-                    buffer.push_str(&value_text((*level).into(), 1, &id_code(i)));
+                    changes.push((i, (*level).into()));
                 }
             }
             last_pins = Some(pins);
         }
         if last_out.is_none() || !edges.is_empty() {
             let values = output_values(&fe.outputs(), config);
-            for (i, (_, width)) in outputs.iter().enumerate() {
-                if last_out.is_none_or(|l| l[i] != values[i]) {
-                    buffer.push_str(&value_text(values[i], *width, &id_code(pin::COUNT + i)));
+            for (i, v) in values.iter().enumerate() {
+                if last_out.is_none_or(|l| l[i] != *v) {
+                    changes.push((pin::COUNT + i, *v));
                 }
             }
             last_out = Some(values);
         }
-        if !buffer.is_empty() {
-            let r = if k == 0 {
-                write!(w, "#0\n$dumpvars\n{buffer}$end\n")
-            } else {
-                write!(w, "#{}\n{buffer}", k * p)
-            };
-            last_time = Some(k * p);
-            if let Err(e) = r {
+        if !changes.is_empty() {
+            last_clock = Some(k);
+            if let Err(e) = emit(k, &changes) {
                 error = Some(e);
             }
         }
     });
-    if let Some(e) = error {
-        return Err(e);
+    match error {
+        Some(e) => Err(e),
+        None => Ok((end, last_clock)),
     }
-    // Mark the end of the covered time so a reader knows the last clock.
-    if end > 0 && last_time != Some((end - 1) * p) {
-        writeln!(w, "#{}", (end - 1) * p)?;
-    }
-    writeln!(w, "$comment {END_COMMENT} cycles={end} $end")?;
-    Ok(end)
 }
 
 /// The `$comment` text a golden file ends with: `tooltouch end cycles=<n>`, so a reader
@@ -205,7 +237,7 @@ impl Value {
     }
 
     /// A value of `bits` (least significant first), high zeros dropped.
-    fn from_bits(mut bits: BitVec<u64, Lsb0>, unknown: bool) -> Value {
+    pub(crate) fn from_bits(mut bits: BitVec<u64, Lsb0>, unknown: bool) -> Value {
         bits.truncate(bits.last_one().map_or(0, |top| top + 1));
         Value { bits, unknown }
     }
@@ -256,11 +288,11 @@ pub struct Signal {
 
 /// A malformed dump.
 #[derive(Debug, thiserror::Error)]
-#[error("{file}: line {line}: {message}")]
+#[error("{file}: {}{message}", if *line > 0 { format!("line {line}: ") } else { String::new() })]
 pub struct VcdError {
     /// File name (as given).
     pub file: String,
-    /// Line number, from 1.
+    /// Line number, from 1 (0: no line, e.g. an FST file).
     pub line: usize,
     /// What is wrong.
     pub message: String,
@@ -326,7 +358,7 @@ impl std::hash::Hasher for IdCodeHasher {
 }
 
 impl Declarations {
-    fn add(&mut self, signal: Signal) {
+    pub(crate) fn add(&mut self, signal: Signal) {
         if let Ok(code) = signal.id.parse::<vcd::IdCode>() {
             if !self.index.contains_key(&code) {
                 self.index.insert(code, self.codes.len());
@@ -677,6 +709,15 @@ pub trait Changes {
     fn line(&self) -> usize {
         0
     }
+    /// Only the changes of these code indexes are needed from now on (a source may skip
+    /// the others: an FST reader then decodes only their blocks); before the first
+    /// [`Changes::next_change`]. By default every change is still given.
+    fn select(&mut self, _codes: &[usize]) {}
+    /// `$comment` texts read after the declarations (a golden file's closing comment),
+    /// complete once `next_change` returned `None`.
+    fn late_comments(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 impl<R: std::io::BufRead> Changes for VcdReader<R> {
@@ -694,6 +735,9 @@ impl<R: std::io::BufRead> Changes for VcdReader<R> {
     }
     fn line(&self) -> usize {
         self.line
+    }
+    fn late_comments(&self) -> Vec<String> {
+        self.late_comments.clone()
     }
 }
 

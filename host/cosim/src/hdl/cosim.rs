@@ -1,7 +1,7 @@
 //! Co-simulation of the generated Verilog with the golden cycle model: one configuration,
 //! a batch of stimuli, the testbench built once per simulator and run once per stimulus.
 
-use super::runner::{build, lint_verilator, run, CxxOpt, SimRun, Simulator};
+use super::runner::{build_traced, lint_verilator, run_with, CxxOpt, SimRun, Simulator, Trace};
 use super::{write_design, HdlError, Result};
 use std::path::Path;
 use tooltouch_hdl_gen::{generate, testbench, verilator_main, Options, TestbenchSpec};
@@ -20,8 +20,11 @@ pub struct CosimPlan {
     pub opt: CxxOpt,
     /// Lint the design with `verilator --lint-only -Wall` first.
     pub lint: bool,
-    /// Extra plusargs (`+vcd`, `+nostop`).
+    /// Extra plusargs (`+vcd`, `+fst`, `+nostop`).
     pub plusargs: Vec<String>,
+    /// The dump format: Verilator built with `--trace` / `--trace-fst`, Icarus run with
+    /// `vvp -fst` for [`Trace::Fst`] (Icarus dumps VCD otherwise).
+    pub trace: Trace,
 }
 
 impl Default for CosimPlan {
@@ -32,6 +35,7 @@ impl Default for CosimPlan {
             opt: CxxOpt::O1,
             lint: false,
             plusargs: Vec::new(),
+            trace: Trace::None,
         }
     }
 }
@@ -117,10 +121,21 @@ pub fn cosim(
         cycles: vectors.iter().map(|v| v.cycles).collect(),
     };
     for &sim in &plan.simulators {
-        let b = build(sim, &files, &work.join(format!("build_{sim}")), plan.opt)?;
+        let b = build_traced(
+            sim,
+            &files,
+            &work.join(format!("build_{sim}")),
+            plan.opt,
+            plan.trace,
+        )?;
         report.build_seconds.push((sim, b.seconds));
         for (i, v) in vectors.iter().enumerate() {
-            let r = run(&b, &work.join(format!("case{i}")), &plusargs)?;
+            let r = run_with(
+                &b,
+                &work.join(format!("case{i}")),
+                &plusargs,
+                plan.trace == Trace::Fst,
+            )?;
             if r.passed && r.cycles != v.cycles {
                 return Err(HdlError::Check {
                     check: format!("{sim} case {i}"),

@@ -168,9 +168,33 @@ pub struct Build {
     pub seconds: f64,
 }
 
+/// Which dump a Verilator build can write (the testbench's `+vcd` / `+fst`); Icarus can
+/// always dump, VCD or (run with `vvp -fst`, [`run_with`]) FST.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Trace {
+    /// No tracing compiled in (quickest build and run; `+vcd` / `+fst` write nothing).
+    #[default]
+    None,
+    /// `--trace`: VCD.
+    Vcd,
+    /// `--trace-fst`: FST.
+    Fst,
+}
+
 /// Compiles the testbench `files` (design files, `tt_testbench.v`, and the Verilator
 /// driver `tt_testbench_main.cpp`, which Icarus skips) into `work`.
 pub fn build(sim: Simulator, files: &[PathBuf], work: &Path, opt: CxxOpt) -> Result<Build> {
+    build_traced(sim, files, work, opt, Trace::None)
+}
+
+/// [`build`], with Verilator's tracing `trace` compiled in (Icarus ignores it).
+pub fn build_traced(
+    sim: Simulator,
+    files: &[PathBuf],
+    work: &Path,
+    opt: CxxOpt,
+    trace: Trace,
+) -> Result<Build> {
     std::fs::create_dir_all(work).map_err(io_err(work))?;
     let t = Instant::now();
     let image = match sim {
@@ -188,6 +212,11 @@ pub fn build(sim: Simulator, files: &[PathBuf], work: &Path, opt: CxxOpt) -> Res
                 .arg("-Mdir")
                 .arg(&mdir)
                 .args(["-o", "tb", "-MAKEFLAGS", flags])
+                .args(match trace {
+                    Trace::None => &[][..],
+                    Trace::Vcd => &["--trace"][..],
+                    Trace::Fst => &["--trace-fst"][..],
+                })
                 .args(files);
             run_checked("verilator", &mut cmd)?;
             mdir.join("tb")
@@ -242,17 +271,31 @@ impl SimRun {
 }
 
 /// Runs a compiled testbench in `vectors` (the directory holding `stim.hex` and
-/// `expect.hex`) with the given plusargs (e.g. `+vcd`, `+nostop`).
+/// `expect.hex`) with the given plusargs (e.g. `+vcd`, `+fst`, `+nostop`).
 ///
 /// A run that mismatches is `Ok` with `passed == false`; a run that ends without the
 /// testbench's verdict line is an error.
 pub fn run(build: &Build, vectors: &Path, plusargs: &[&str]) -> Result<SimRun> {
+    run_with(build, vectors, plusargs, false)
+}
+
+/// [`run`]; `icarus_fst`: Icarus dumps FST (`vvp -fst`) instead of VCD (Verilator: the
+/// build's [`Trace`] decides).
+pub fn run_with(
+    build: &Build,
+    vectors: &Path,
+    plusargs: &[&str],
+    icarus_fst: bool,
+) -> Result<SimRun> {
     let mut cmd = match build.simulator {
         Simulator::Verilator => Command::new(&build.image),
         Simulator::Icarus => {
             find_tool("vvp")?;
             let mut c = Command::new("vvp");
             c.arg("-n").arg(&build.image);
+            if icarus_fst {
+                c.arg("-fst");
+            }
             c
         }
     };

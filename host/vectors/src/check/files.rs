@@ -1,72 +1,29 @@
-//! `check` on two files: each told from its first bytes (a binary vector stream or a VCD),
-//! opened as a stream, and compared like with like; an empty, unknown or mixed pair is bad
-//! input naming the file and its role.
+//! `check` on two files: each told from its first bytes (a binary vector stream, a VCD or
+//! an FST), opened as a stream, and compared like with like (a VCD and an FST are both
+//! dumps: either side may be either); an empty, unknown or mixed pair is bad input naming
+//! the file and its role.
 
+use super::dump::{kind_of, open, open_dump_as, Kind};
 use super::{
     compare_output_sources, compare_vcd_sides_with, BadInput, CheckOptions, Report, VcdSide,
     Verdict,
 };
-use crate::vcd::{Changes, Value, VcdError, VcdReader};
-use std::io::{BufRead, BufReader};
+use crate::vcd::{Changes, Value, VcdError};
+use std::io::BufRead as _;
 use std::path::Path;
-
-fn open(path: &Path) -> Result<BufReader<std::fs::File>, BadInput> {
-    std::fs::File::open(path)
-        .map(|f| BufReader::with_capacity(1 << 20, f))
-        .map_err(|e| BadInput(format!("{}: {e}", path.display())))
-}
-
-/// What a file given to `check` holds, told from its first bytes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    /// A binary vector stream (magic `TTVX`).
-    Binary,
-    /// A VCD (its first non-blank byte is `$`).
-    Vcd,
-    /// Nothing at all.
-    Empty,
-    /// Anything else.
-    Unknown,
-}
-
-impl Kind {
-    fn describe(self) -> &'static str {
-        match self {
-            Kind::Binary => "a binary vector file (TTVX)",
-            Kind::Vcd => "a VCD",
-            Kind::Empty => "empty (0 bytes)",
-            Kind::Unknown => "neither",
-        }
-    }
-}
-
-/// The kind of the file behind `r` (peeked, not consumed).
-fn kind_of(r: &mut BufReader<std::fs::File>, path: &Path) -> Result<Kind, BadInput> {
-    let head = r
-        .fill_buf()
-        .map_err(|e| BadInput(format!("{}: {e}", path.display())))?;
-    Ok(if head.is_empty() {
-        Kind::Empty
-    } else if head.starts_with(&tooltouch_model::wire::MAGIC) {
-        Kind::Binary
-    } else if head.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'$') {
-        Kind::Vcd
-    } else {
-        Kind::Unknown
-    })
-}
 
 /// Why a file of kind `kind` cannot be compared, naming it and its role.
 fn unusable(kind: Kind, name: &str, role: &str, head: &[u8]) -> BadInput {
     match kind {
         Kind::Empty => BadInput(format!(
-            "{name} (the {role} trace): empty file (0 bytes): expected a VCD or a binary vector file"
+            "{name} (the {role} trace): empty file (0 bytes): expected a VCD, an FST or a binary vector file"
         )),
         _ => {
             let shown: Vec<String> = head.iter().take(8).map(|b| format!("{b:02x}")).collect();
             BadInput(format!(
                 "{name} (the {role} trace): byte 0: neither a binary vector file (it would start \
-                 with \"TTVX\") nor a VCD (it would start with a `$` command); it starts with {}",
+                 with \"TTVX\") nor a VCD (it would start with a `$` command) nor an FST (it \
+                 would start with its header block, type 0); it starts with {}",
                 shown.join(" ")
             ))
         }
@@ -107,25 +64,23 @@ pub fn check_files(
                 details: Vec::new(),
             })
         }
-        (Kind::Vcd, Kind::Vcd) => {
-            let mut e = VcdReader::new(e, &en)?;
-            let mut d = VcdReader::new(d, &dn)?;
-            let ed = e.declarations().clone();
-            let dd = d.declarations().clone();
+        (Kind::Vcd | Kind::Fst, Kind::Vcd | Kind::Fst) => {
+            let (ed, mut e) = open_dump_as(e, ek, expected, &en)?;
+            let (dd, mut d) = open_dump_as(d, dk, dut, &dn)?;
             let late = std::cell::RefCell::new(Vec::new());
             let verdict = {
                 let mut es = VcdSide {
                     name: &en,
                     declarations: &ed,
                     changes: &mut CommentsKept {
-                        reader: &mut e,
+                        changes: e.as_mut(),
                         late: &late,
                     },
                 };
                 let mut ds = VcdSide {
                     name: &dn,
                     declarations: &dd,
-                    changes: &mut d,
+                    changes: d.as_mut(),
                 };
                 compare_vcd_sides_with(&mut es, &mut ds, &|| late.borrow().clone(), options)?
             };
@@ -144,25 +99,31 @@ pub fn check_files(
     }
 }
 
-/// A reader that copies its late comments out when it reaches the end, so the golden
-/// side's closing comment can be looked up while the reader is borrowed.
-struct CommentsKept<'a, R> {
-    reader: &'a mut VcdReader<R>,
+/// A change source that copies its late comments out when it reaches the end, so the
+/// golden side's closing comment can be looked up while the source is borrowed.
+struct CommentsKept<'a> {
+    changes: &'a mut dyn Changes,
     late: &'a std::cell::RefCell<Vec<String>>,
 }
 
-impl<R: BufRead> Changes for CommentsKept<'_, R> {
+impl Changes for CommentsKept<'_> {
     fn next_change(&mut self) -> Result<Option<(u64, usize, Value)>, VcdError> {
-        let c = self.reader.next_change()?;
+        let c = self.changes.next_change()?;
         if c.is_none() {
-            *self.late.borrow_mut() = self.reader.late_comments().to_vec();
+            *self.late.borrow_mut() = self.changes.late_comments();
         }
         Ok(c)
     }
     fn end_fs(&self) -> u64 {
-        self.reader.end_fs()
+        self.changes.end_fs()
     }
     fn line(&self) -> usize {
-        self.reader.line()
+        self.changes.line()
+    }
+    fn select(&mut self, codes: &[usize]) {
+        self.changes.select(codes);
+    }
+    fn late_comments(&self) -> Vec<String> {
+        self.changes.late_comments()
     }
 }

@@ -15,6 +15,7 @@
 //! measurement outputs and force outputs record by record, the firmware's status (a lost or
 //! overflowed event is a mismatch), record counts, the headers' hashes and tick rates.
 
+mod dump;
 mod files;
 pub mod json;
 pub mod resolve;
@@ -263,6 +264,12 @@ pub fn compare_vcd_sides_with(
             d_slots[di].push(slot);
         }
     }
+    // Only the compared signals' changes are needed (an FST source decodes only those).
+    let wanted = |slots: &[Vec<usize>]| -> Vec<usize> {
+        (0..slots.len()).filter(|&c| !slots[c].is_empty()).collect()
+    };
+    e.changes.select(&wanted(&e_slots));
+    d.changes.select(&wanted(&d_slots));
     let n = outputs.len();
     let mut ev: Vec<Option<Value>> = vec![None; n];
     let mut dv: Vec<Option<Value>> = vec![None; n];

@@ -1,4 +1,4 @@
-//! The mismatch report of a VCD `check`: a second, short pass over both files up to a few
+//! The mismatch report of a VCD or FST `check`: a second, short pass over both files up to a few
 //! clocks past the first mismatching clock `K` (the comparison itself keeps no history),
 //! sampling at `k·P + P/2` like the comparison:
 //!
@@ -18,9 +18,8 @@
 use super::resolve::path_of;
 use super::surfer::Group;
 use super::{golden_period_fs, BadInput, FirstMismatch, Report};
-use crate::vcd::{Changes, Declarations, Value, VcdReader};
+use crate::vcd::{Declarations, Value};
 use std::fmt::Write as _;
-use std::io::BufReader;
 use std::path::Path;
 use tooltouch_hdl_gen::MCU_REGISTERS;
 use tooltouch_model::measure::frontend::pin;
@@ -43,9 +42,7 @@ fn sample(
     period_fs: u64,
 ) -> Result<Vec<Vec<Option<Value>>>, BadInput> {
     let name = path.display().to_string();
-    let file = std::fs::File::open(path).map_err(|e| BadInput(format!("{name}: {e}")))?;
-    let mut r = VcdReader::new(BufReader::with_capacity(1 << 20, file), &name)?;
-    let d: Declarations = r.declarations().clone();
+    let (d, mut r): (Declarations, _) = super::dump::open_dump(path, &name)?;
     let mut of_code: Vec<Vec<usize>> = vec![Vec::new(); d.codes().len()];
     for (i, p) in paths.iter().enumerate() {
         if let Some(code) = d
@@ -57,6 +54,11 @@ fn sample(
             of_code[code].push(i);
         }
     }
+    r.select(
+        &(0..of_code.len())
+            .filter(|&c| !of_code[c].is_empty())
+            .collect::<Vec<_>>(),
+    );
     let half = period_fs / 2;
     let mut now: Vec<Option<Value>> = vec![None; paths.len()];
     let mut rows = Vec::new();
@@ -145,11 +147,7 @@ pub fn add_details(
         return Ok(());
     };
     let en = expected.display().to_string();
-    let e_head = VcdReader::new(
-        BufReader::new(std::fs::File::open(expected).map_err(|e| BadInput(format!("{en}: {e}")))?),
-        &en,
-    )?;
-    let ed = e_head.declarations().clone();
+    let (ed, e_head) = super::dump::open_dump(expected, &en)?;
     drop(e_head);
     let (hash, _, period_fs) = golden_period_fs(&ed, &en)?;
     let k = first.cycle;
