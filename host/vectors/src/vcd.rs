@@ -10,6 +10,9 @@ use bitvec::prelude::*;
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
 use std::io::{self, Write};
+
+mod body;
+use body::{Body, LastByte, Step};
 use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 use tooltouch_plant::stimulus::Stimulus;
@@ -463,21 +466,35 @@ pub enum Item {
 }
 
 /// Reads a dump as a stream: the declarations first ([`VcdReader::new`]), then the body
-/// item by item, so that a file of any length is read in constant memory. The tokens are
-/// the `vcd` crate's ([`vcd::Parser`], which reads command by command from a `BufRead`);
-/// this layer resolves identifier codes, scales times to femtoseconds and checks what the
-/// crate leaves to its user: times that go backwards, unknown codes, a value with more
-/// digits than its signal's width. Scopes, `$timescale`, reals and strings (skipped) of
-/// any tool's dump are accepted; errors name the file and line.
+/// item by item, so that a file of any length is read in constant memory. The declarations
+/// are the `vcd` crate's ([`vcd::Parser`], which reads command by command from a
+/// `BufRead`); the body is scanned from a large buffer of the file (times, scalar and
+/// vector changes, `$end`), everything else handed to the crate's parser command by
+/// command, so both accept and reject exactly the same text. This layer resolves
+/// identifier codes, scales times to femtoseconds and checks what the crate leaves to its
+/// user: times that go backwards, unknown codes, a value with more digits than its
+/// signal's width. Scopes, `$timescale`, reals and strings (skipped) of any tool's dump
+/// are accepted; errors name the file and line.
 pub struct VcdReader<R> {
     /// The file, and one newline after its end: the crate needs whitespace after the last
     /// token, which a dump whose last line has no newline lacks.
-    parser: vcd::Parser<std::io::Chain<R, &'static [u8]>>,
+    parser: vcd::Parser<LastByte<std::io::Chain<R, &'static [u8]>>>,
     file: String,
     line: usize,
     declarations: Declarations,
     time_fs: u64,
     late_comments: Vec<String>,
+    /// The body's buffer and position.
+    body: Body,
+    /// A `$dumpvars`/`$dumpon`/`$dumpoff`/`$dumpall` is open (its `$end` closes it; any
+    /// other `$end` is an error, as the crate's parser has it).
+    simulation_open: bool,
+    /// Dense index of each short identifier code by its number (`u32::MAX`: none); longer
+    /// codes are looked up in [`Declarations`]' map.
+    short_codes: Vec<u32>,
+    /// Per dense index, whether [`Changes::next_change`] gives its changes (all when
+    /// `None`).
+    selected: Option<Vec<bool>>,
 }
 
 /// A time for messages: whole nanoseconds as `… ns`, else femtoseconds.
@@ -500,7 +517,7 @@ impl<R: std::io::BufRead> VcdReader<R> {
     /// errors.
     pub fn new(src: R, file: &str) -> Result<Self, VcdError> {
         let mut r = VcdReader {
-            parser: vcd::Parser::new(src.chain(&b"\n"[..])),
+            parser: vcd::Parser::new(LastByte::new(src.chain(&b"\n"[..]))),
             file: file.to_string(),
             line: 0,
             declarations: Declarations {
@@ -509,8 +526,13 @@ impl<R: std::io::BufRead> VcdReader<R> {
             },
             time_fs: 0,
             late_comments: Vec::new(),
+            body: Body::default(),
+            simulation_open: false,
+            short_codes: Vec::new(),
+            selected: None,
         };
         r.read_declarations()?;
+        r.start_body();
         Ok(r)
     }
 
@@ -549,10 +571,20 @@ impl<R: std::io::BufRead> VcdReader<R> {
         }
     }
 
-    /// The next command, `None` at the end of the file; a parse error names its line.
+    /// The next command of the declarations, `None` at the end of the file; a parse error
+    /// names its line.
     fn command(&mut self) -> Result<Option<vcd::Command>, VcdError> {
         let next = self.parser.next();
         self.line = usize::try_from(self.parser.line()).unwrap_or(usize::MAX);
+        self.parsed(next, 0)
+    }
+
+    /// The result of the crate's parser, its lines `line_offset` after the file's.
+    fn parsed(
+        &self,
+        next: Option<io::Result<vcd::Command>>,
+        line_offset: usize,
+    ) -> Result<Option<vcd::Command>, VcdError> {
         match next {
             None => Ok(None),
             Some(Ok(c)) => Ok(Some(c)),
@@ -563,7 +595,9 @@ impl<R: std::io::BufRead> VcdReader<R> {
                 Err(match parse {
                     Some(p) => VcdError {
                         file: self.file.clone(),
-                        line: usize::try_from(p.line()).unwrap_or(usize::MAX),
+                        line: usize::try_from(p.line())
+                            .unwrap_or(usize::MAX)
+                            .saturating_add(line_offset),
                         message: p.kind().to_string(),
                     },
                     None if e.kind() == std::io::ErrorKind::UnexpectedEof => {
@@ -623,6 +657,8 @@ impl<R: std::io::BufRead> VcdReader<R> {
                         .ok_or_else(|| self.error(format!("bad $timescale `{n}{unit}`")))?;
                 }
                 C::Comment(text) => self.declarations.comments.push(comment_words(&text)),
+                C::Begin(_) => self.simulation_open = true,
+                C::End(_) => self.simulation_open = false,
                 C::Enddefinitions => return Ok(()),
                 C::Timestamp(t) => {
                     return Err(self.error(format!("unexpected `#{t}` before $enddefinitions")))
@@ -638,61 +674,16 @@ impl<R: std::io::BufRead> VcdReader<R> {
         }
     }
 
-    /// The dense index of `code`, or an error naming it.
-    fn index_of(&self, code: vcd::IdCode) -> Result<usize, VcdError> {
-        self.declarations
-            .index
-            .get(&code)
-            .copied()
-            .ok_or_else(|| self.error(format!("unknown identifier `{code}`")))
-    }
-
     /// The next time or value change of the body; `None` at the end of the file.
     /// Comments are kept ([`VcdReader::late_comments`]); times must not go backwards; a
     /// vector value must not have more digits than its signal is wide.
     pub fn next_item(&mut self) -> Result<Option<Item>, VcdError> {
-        use vcd::Command as C;
         loop {
-            let Some(command) = self.command()? else {
-                return Ok(None);
-            };
-            match command {
-                C::Timestamp(n) => {
-                    let fs = n
-                        .checked_mul(self.declarations.timescale_fs)
-                        .ok_or_else(|| self.error(format!("time `#{n}` overflows")))?;
-                    if fs < self.time_fs {
-                        return Err(self.error(format!("time goes backwards: #{n}")));
-                    }
-                    self.time_fs = fs;
-                    return Ok(Some(Item::Time(fs)));
-                }
-                C::ChangeScalar(code, v) => {
-                    let index = self.index_of(code)?;
-                    let value = Value::from_bits(
-                        BitVec::repeat(v == vcd::Value::V1, 1),
-                        matches!(v, vcd::Value::X | vcd::Value::Z),
-                    );
-                    return Ok(Some(Item::Change(index, value)));
-                }
-                C::ChangeVector(code, digits) => {
-                    let index = self.index_of(code)?;
-                    let width = self.declarations.widths[index];
-                    let digits: Vec<vcd::Value> = digits.into();
-                    if digits.len() as u64 > u64::from(width) {
-                        let s = self.declarations.signal_of(index);
-                        return Err(self.error(format!(
-                            "a value of {} bits for `{}`, declared {width} bits wide (line {}), at time {}",
-                            digits.len(),
-                            s.scope.iter().chain([&s.name]).cloned().collect::<Vec<_>>().join("."),
-                            s.line,
-                            time_text(self.time_fs)
-                        )));
-                    }
-                    return Ok(Some(Item::Change(index, vector_value(&digits, width))));
-                }
-                C::Comment(text) => self.late_comments.push(comment_words(&text)),
-                _ => {}
+            match self.next_step(true)? {
+                Step::End => return Ok(None),
+                Step::Time(fs) => return Ok(Some(Item::Time(fs))),
+                Step::Change(index, Some(value)) => return Ok(Some(Item::Change(index, value))),
+                Step::Change(_, None) => {}
             }
         }
     }
@@ -723,12 +714,21 @@ pub trait Changes {
 impl<R: std::io::BufRead> Changes for VcdReader<R> {
     fn next_change(&mut self) -> Result<Option<(u64, usize, Value)>, VcdError> {
         loop {
-            match self.next_item()? {
-                None => return Ok(None),
-                Some(Item::Time(_)) => {}
-                Some(Item::Change(i, v)) => return Ok(Some((self.time_fs, i, v))),
+            match self.next_step(false)? {
+                Step::End => return Ok(None),
+                Step::Time(_) | Step::Change(_, None) => {}
+                Step::Change(i, Some(v)) => return Ok(Some((self.time_fs, i, v))),
             }
         }
+    }
+    fn select(&mut self, codes: &[usize]) {
+        let mut wanted = vec![false; self.declarations.codes.len()];
+        for &c in codes {
+            if let Some(w) = wanted.get_mut(c) {
+                *w = true;
+            }
+        }
+        self.selected = Some(wanted);
     }
     fn end_fs(&self) -> u64 {
         self.time_fs
