@@ -346,9 +346,7 @@ impl<R: BufRead> VcdReader<R> {
                 time_text(self.time_fs)
             )));
         }
-        let value = self
-            .wanted(index, all)
-            .then(|| digits_value(digits, width));
+        let value = self.wanted(index, all).then(|| digits_value(digits, width));
         Ok(Step::Change(index, value))
     }
 
