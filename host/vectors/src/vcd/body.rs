@@ -421,10 +421,11 @@ impl<R: BufRead> VcdReader<R> {
         let rest = &self.body.buf[self.body.pos..self.body.end];
         let rest_len = rest.len();
         let mut src = LastByte::new(rest.chain(self.parser.reader()));
-        let mut parser = vcd::Parser::new(&mut src);
-        let next = parser.next();
-        let line = usize::try_from(parser.line()).unwrap_or(usize::MAX);
-        drop(parser);
+        let (next, line) = {
+            let mut parser = vcd::Parser::new(&mut src);
+            let next = parser.next();
+            (next, usize::try_from(parser.line()).unwrap_or(usize::MAX))
+        };
         let last_newline = src.last == Some(b'\n');
         let left = src.inner.get_ref().0.len();
         self.body.pos += rest_len - left;
