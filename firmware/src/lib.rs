@@ -23,6 +23,8 @@ pub mod board;
 pub mod cosim;
 pub mod handlers;
 pub mod interrupts;
+#[cfg(all(feature = "nucleo", target_os = "none"))]
+pub mod nucleo;
 #[cfg(target_os = "none")]
 mod panic;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]

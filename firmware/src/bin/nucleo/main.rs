@@ -45,10 +45,11 @@
 //! channel is an input (CC2S = 01), so the pin is never driven; channel 1 is an output
 //! compare in frozen mode (OC1M = 000, CC1E = 0) that drives no pin either.
 //!
-//! `init` sets the board up in named steps, one module each: the clock tree first
-//! ([`clocks`]: SYSCLK 168 MHz from the PLL fed by the HSI; every setting below derived
+//! `init` sets the board up in named steps, one module each of the library's board code
+//! (`tooltouch_firmware::nucleo`, shared with the on-target tests): the clock tree first
+//! (`clocks`: SYSCLK 168 MHz from the PLL fed by the HSI; every setting below derived
 //! from it at compile time and checked by `const` assertions), then the pins and their
-//! EXTI lines ([`pins`]), the ADC ([`adc`]) and the timers ([`timers`]). Every wait of the
+//! EXTI lines (`pins`), the ADC (`adc`) and the timers (`timers`). Every wait of the
 //! setup is bounded; should one run out, the board logs the step with defmt and stays on
 //! the reset clocks (HSI 16 MHz, every bus /1) with timer and ADC settings derived for
 //! those, so the 1 kHz and 20 Hz periods and the 15.625 kHz PWM stay exact and only the
@@ -58,15 +59,8 @@
 #![no_std]
 #![no_main]
 
-mod adc;
-mod board;
-mod clocks;
-#[cfg(feature = "cpu-load")]
-mod cpu_load;
 #[cfg(feature = "emulated")]
 mod emulated;
-mod pins;
-mod timers;
 
 #[cfg(not(any(feature = "panic-check", feature = "emulated")))]
 use defmt_rtt as _;
@@ -89,12 +83,13 @@ mod null_logger {
     }
 }
 
-use adc::AdcClock;
-use clocks::ClockTree;
 use stm32f4::stm32f446 as pac;
-use timers::TimerSettings;
 use tooltouch_firmware::interrupts;
 use tooltouch_firmware::model::MeasureOutputs;
+#[cfg(feature = "cpu-load")]
+use tooltouch_firmware::nucleo::cpu_load;
+#[cfg(not(feature = "emulated"))]
+use tooltouch_firmware::nucleo::pins;
 
 /// The interrupt of the `observe` task (TIM7 stays disabled: only software pends it).
 const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
@@ -157,49 +152,6 @@ fn log_register_now(on: bool, o: &MeasureOutputs, dropped: u32) {
     }
 }
 
-/// Every setting that depends on the clock tree, for one tree; built at compile time.
-#[derive(Clone, Copy)]
-struct BusTiming {
-    /// SYSCLK = HCLK (Hz).
-    sysclk_hz: u32,
-    /// The APB1 timers' prescalers and reloads.
-    timers: TimerSettings,
-    /// The ADC clock.
-    adc: AdcClock,
-}
-
-impl BusTiming {
-    const fn for_clocks(tree: &ClockTree) -> Self {
-        BusTiming {
-            sysclk_hz: tree.sysclk_hz(),
-            timers: TimerSettings::for_clocks(tree),
-            adc: AdcClock::for_clocks(tree),
-        }
-    }
-}
-
-/// The settings of the clock tree this firmware sets up: PLL, SYSCLK 168 MHz.
-const PLL_TIMING: BusTiming = BusTiming::for_clocks(&clocks::PLL_168_MHZ);
-/// The fallback if the PLL does not come up: the reset clocks (HSI 16 MHz, every bus /1).
-const RESET_TIMING: BusTiming = BusTiming::for_clocks(&clocks::RESET_CLOCKS);
-
-/// The clock tree first: every timer and the ADC are set from the bus clocks it gives.
-/// Should the PLL not come up, the board runs on the reset clocks with settings derived
-/// for them, and says so.
-fn configure_clocks(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> BusTiming {
-    match clocks::start_pll(rcc, pwr, flash) {
-        Ok(()) => PLL_TIMING,
-        Err(fault) => {
-            defmt::error!(
-                "clock setup failed ({}): running from the 16 MHz HSI, the measurement \
-                 tasks take 10.5 times longer than the 168 MHz budget of docs/firmware.md",
-                fault
-            );
-            RESET_TIMING
-        }
-    }
-}
-
 // The measurement tasks' bindings below are the ones the host tests replay events in
 // (`interrupts::NUCLEO`): a rebinding must change both.
 const _: () = {
@@ -216,8 +168,6 @@ const _: () = {
 
 #[rtic::app(device = stm32f4::stm32f446, peripherals = true)]
 mod app {
-    use crate::board::Nucleo;
-    use crate::{adc, clocks, configure_clocks, pins, timers};
     use tooltouch_firmware::baked;
     use tooltouch_firmware::board::Board;
     use tooltouch_firmware::handlers::{
@@ -225,6 +175,8 @@ mod app {
     };
     use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureOutputs, Measurement};
+    use tooltouch_firmware::nucleo::board::Nucleo;
+    use tooltouch_firmware::nucleo::{adc, clocks, configure_clocks, pins, timers};
 
     #[shared]
     struct Shared {
@@ -253,7 +205,7 @@ mod app {
         #[cfg(feature = "cpu-load")]
         {
             let mut core = cx.core;
-            crate::cpu_load::start_cycle_counter(&mut core.DCB, &mut core.DWT);
+            tooltouch_firmware::nucleo::cpu_load::start_cycle_counter(&mut core.DCB, &mut core.DWT);
         }
         let timing = configure_clocks(&dp.RCC, &dp.PWR, &dp.FLASH);
         clocks::enable_peripheral_clocks(&dp.RCC);

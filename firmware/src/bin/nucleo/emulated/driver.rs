@@ -6,9 +6,6 @@
 //! with the outputs `observe` snapshots.
 
 use super::registers::drive;
-use crate::adc::ADC_CHANNELS;
-use crate::board::Nucleo;
-use crate::pins;
 use cortex_m::peripheral::syst::SystClkSource;
 use stm32f4::stm32f446::Interrupt;
 use tooltouch_firmware::board::Board;
@@ -18,6 +15,9 @@ use tooltouch_firmware::model::force::config::ForceConfig;
 use tooltouch_firmware::model::force::events::ForceEvent;
 use tooltouch_firmware::model::force::kernel::{ForceKernel, ForceOutputs};
 use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_firmware::nucleo::adc::ADC_CHANNELS;
+use tooltouch_firmware::nucleo::board::Nucleo;
+use tooltouch_firmware::nucleo::pins;
 use tooltouch_firmware::{pend, stack};
 
 use crate::OBSERVE;

@@ -5,21 +5,20 @@
 //! its bounded waits run out and the board falls back to the 16 MHz HSI, which the boot
 //! log says), SYSCFG and EXTI (line sources, edges, masks, the acknowledging writes),
 //! TIM2–TIM4's registers, ADC1's register sequence, the NVIC with the Nucleo's interrupt
-//! numbers and priorities, the FPU. What it does not is replaced by [`registers`], one
+//! numbers and priorities, the FPU. What it does not is replaced by [`registers`] (in the
+//! library's board code, `tooltouch_firmware::nucleo::emulated`), one
 //! function per seam (docs/firmware.md lists them with the reason): the GPIO data
 //! registers, TIM2's external-clock count and its compare match, the ADC's results, the
 //! EXTI pending bits of the command lines, TIM3's update interrupt (left disabled: the
 //! stream's control ticks pend it), TIM6 (not emulated: the stream's samples pend it),
-//! and RTT ([`defmt_log`]: the frames go to a semihosting file).
+//! and RTT (the library's `emulated::defmt_log`: the frames go to a semihosting file).
 //!
 //! [`driver`] replays the stream (`tooltouch_firmware::cosim`) from `idle` as the QEMU
 //! image's driver does, pending the Nucleo's interrupts: EXTI0, EXTI1, EXTI2, EXTI9_5,
 //! TIM2 (on the virtual count's compare match), TIM7 (observe), EXTI15_10, TIM6_DAC, TIM3.
 
-#[cfg(not(feature = "panic-check"))]
-pub mod defmt_log;
 pub mod driver;
-pub mod registers;
+pub use tooltouch_firmware::nucleo::emulated::registers;
 
 use tooltouch_firmware::handlers::Counters;
 use tooltouch_firmware::model::force::kernel::ForceKernel;

@@ -4,10 +4,10 @@
 //! the same functions that touch the hardware registers in the flashable image
 //! (`pins`, `timers`, `adc` pick these with `#[cfg(feature = "emulated")]`).
 
+use crate::model::Measurement;
 use core::cell::Cell;
 use core::sync::atomic::{AtomicU16, AtomicU32, Ordering};
 use cortex_m::interrupt::Mutex;
-use tooltouch_firmware::model::Measurement;
 
 /// GPIOA_IDR (QEMU: GPIO not emulated, reads 0): PA0 arm, PA1 contact.
 static IDR_A: AtomicU32 = AtomicU32::new(0);

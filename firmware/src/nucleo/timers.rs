@@ -8,27 +8,24 @@
 //!   interrupt, the fold's (`handlers::MeasureDomain`).
 //!
 //! Prescalers and reloads come from [`TimerSettings`], derived from a
-//! [`ClockTree`](crate::clocks::ClockTree) at compile time (84 MHz or, on the reset
+//! [`ClockTree`](crate::nucleo::clocks::ClockTree) at compile time (84 MHz or, on the reset
 //! clocks, 16 MHz timer clock). Each start loads them with an update event (UG) rather
 //! than after a first period at prescaler 1, and clears the update flag that event sets
 //! before its interrupt is enabled. The registers the tasks use afterwards (the FES count
 //! and compare, the duty, the flags to clear) have accessors here too.
 
-use crate::clocks::{ClockTree, PLL_168_MHZ, RESET_CLOCKS};
+use crate::nucleo::clocks::{ClockTree, PLL_168_MHZ, RESET_CLOCKS};
 use stm32f4::stm32f446 as pac;
 
 /// The ADC sample tick (Hz), TIM6: the baked force configuration's sample rate (1 kHz by
 /// default).
-pub const SAMPLE_HZ: u32 = tooltouch_firmware::baked::SAMPLE_HZ as u32;
+pub const SAMPLE_HZ: u32 = crate::baked::SAMPLE_HZ as u32;
 /// TIM6's count rate (Hz): 1 µs per count (TIM6 is 16-bit).
 const TIM6_COUNT_HZ: u32 = 1_000_000;
 /// The control period (Hz), TIM3: the baked configuration's samples per period (20 Hz,
 /// 50 samples, by default). A configuration whose rates these timers cannot divide
 /// exactly fails the build ([`exact_div`]).
-pub const CONTROL_HZ: u32 = exact_div(
-    SAMPLE_HZ,
-    tooltouch_firmware::baked::SAMPLES_PER_PERIOD as u32,
-);
+pub const CONTROL_HZ: u32 = exact_div(SAMPLE_HZ, crate::baked::SAMPLES_PER_PERIOD as u32);
 /// TIM3's count rate (Hz): 100 µs per count (TIM3 is 16-bit).
 const TIM3_COUNT_HZ: u32 = 10_000;
 /// Duty steps of the feed-override PWM: TIM4 ARR = 255, duty = CCR1 / 256 (CCR1 = %).
@@ -174,7 +171,7 @@ pub fn start_fes_counter(tim2: &pac::TIM2, gpiob: &pac::GPIOB) {
 #[inline(always)]
 pub fn fes_count() -> u32 {
     #[cfg(feature = "emulated")]
-    let count = crate::emulated::registers::fes_count();
+    let count = crate::nucleo::emulated::registers::fes_count();
     // SAFETY: a read of TIM2's counter; TIM2 counts FES edges (set up once in `init`).
     #[cfg(not(feature = "emulated"))]
     let count = unsafe { (*pac::TIM2::ptr()).cnt().read().cnt().bits() };
@@ -189,7 +186,7 @@ pub fn set_fes_compare(at: u32) {
     unsafe { (*pac::TIM2::ptr()).ccr1().write(|w| w.ccr().set(at)) };
     // QEMU's TIM2 keeps the write but never compares: the seam's count matches it.
     #[cfg(feature = "emulated")]
-    crate::emulated::registers::set_fes_compare(at);
+    crate::nucleo::emulated::registers::set_fes_compare(at);
 }
 
 /// Clears TIM2's compare flag CC1IF, so a match after the next compare value raises the

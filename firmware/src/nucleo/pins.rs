@@ -7,9 +7,9 @@
 //! (SYSCFG_EXTICRx selects the port), which is why the pins are where they are. The
 //! analog inputs are the ADC's (`adc`), PB3 and PB6 the timers' (`timers`).
 
+use crate::model::force::events::ForceEvent;
 use core::sync::atomic::{AtomicU32, Ordering};
 use stm32f4::stm32f446 as pac;
-use tooltouch_firmware::model::force::events::ForceEvent;
 
 /// EXTI line of the force-path command "control on" (PC11), as a bit of EXTI_PR.
 const CONTROL: u32 = 1 << 11;
@@ -181,7 +181,7 @@ mod data {
     }
 }
 #[cfg(feature = "emulated")]
-use crate::emulated::registers as data;
+use crate::nucleo::emulated::registers as data;
 
 fn exti() -> &'static pac::exti::RegisterBlock {
     // SAFETY: the tasks only write 1s to their own lines of PR (write 1 to clear: other

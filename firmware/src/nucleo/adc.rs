@@ -7,9 +7,9 @@
 //! clock tree at compile time ([`AdcClock`]); every channel is sampled for
 //! [`ADC_SAMPLE_CYCLES`].
 
-use crate::clocks::{ClockTree, PLL_168_MHZ, RESET_CLOCKS};
+use crate::model::force::sampling::AdcCodes;
+use crate::nucleo::clocks::{ClockTree, PLL_168_MHZ, RESET_CLOCKS};
 use stm32f4::stm32f446 as pac;
-use tooltouch_firmware::model::force::sampling::AdcCodes;
 
 use pac::adc1::smpr1::SMP10;
 use pac::adc_common::ccr::ADCPRE;
@@ -171,11 +171,13 @@ pub fn convert_all() -> AdcCodes {
 
 /// One software-started ADC1 conversion of `channel` ([`ADC_CONVERSION_CYCLES`] ADC
 /// clocks: 3.2 µs at the PLL tree's 21 MHz, 8.5 µs at the fallback's 8 MHz); 0 if it
-/// does not complete within [`ADC_EOC_POLLS`] polls (never blocks forever).
-fn convert(channel: u8) -> u16 {
-    // SAFETY: ADC1 is owned by the 1 kHz sample task alone. SQ1 has no named values in
-    // the PAC: `channel` is one of ADC_CHANNELS, all below 19. EOC is cleared by reading
-    // DR.
+/// does not complete within [`ADC_EOC_POLLS`] polls (never blocks forever). The sample
+/// task converts [`ADC_CHANNELS`]; the on-target tests the internal reference (17).
+pub fn convert(channel: u8) -> u16 {
+    // SAFETY: ADC1 is owned by the 1 kHz sample task alone (the on-target tests run
+    // without it). SQ1 has no named values in the PAC; the field writer keeps its 5
+    // bits, so any `channel` selects an input (the board's are below 19). EOC is cleared
+    // by reading DR.
     unsafe {
         let adc = &*pac::ADC1::ptr();
         adc.sqr3().write(|w| w.sq1().bits(channel));
@@ -198,5 +200,5 @@ fn result(adc: &pac::adc1::RegisterBlock, _channel: u8) -> u16 {
 /// Emulated: QEMU's ADC never sets EOC; the seam holds the code the driver put there.
 #[cfg(feature = "emulated")]
 fn result(_adc: &pac::adc1::RegisterBlock, channel: u8) -> u16 {
-    crate::emulated::registers::adc_result(channel) & 0x0fff
+    crate::nucleo::emulated::registers::adc_result(channel) & 0x0fff
 }

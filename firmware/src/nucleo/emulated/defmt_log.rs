@@ -7,10 +7,10 @@
 //! The board logs only from `init` and `idle`; the frame is still encoded inside a
 //! critical section, so a log from an interrupt would wait, not interleave.
 
+use crate::semihosting::{create, write_all, DEFMT_FILE};
 use core::cell::UnsafeCell;
 use core::sync::atomic::{AtomicBool, Ordering};
 use semihosting::fd::OwnedFd;
-use tooltouch_firmware::semihosting::{create, write_all, DEFMT_FILE};
 
 /// The encoder and the open log file, used only between `acquire` and `release`.
 struct State {

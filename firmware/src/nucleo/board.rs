@@ -2,11 +2,11 @@
 //! `pins`, the FES count and compare in TIM2, the feed override in TIM4's duty, the drive
 //! signals from ADC1.
 
-use crate::{adc, pins, timers};
+use super::{adc, pins, timers};
+use crate::board::Board;
+use crate::model::force::events::ForceEvent;
+use crate::model::force::sampling::AdcCodes;
 use stm32f4::stm32f446 as pac;
-use tooltouch_firmware::board::Board;
-use tooltouch_firmware::model::force::events::ForceEvent;
-use tooltouch_firmware::model::force::sampling::AdcCodes;
 
 /// The Nucleo-F446RE.
 pub struct Nucleo;
