@@ -120,8 +120,9 @@ pub fn build_all(baked: Option<&Path>) -> Result<()> {
 
 /// fmt and clippy (`-D warnings`) of the firmware for every board, the no-panic link
 /// check (with the `panic-check` feature the panic handler refers to an undefined symbol,
-/// so the link fails if any panic path is left in the image), then the release builds of
-/// the shipped images with their sizes.
+/// so the link fails if any panic path is left in the image), clippy of the on-target
+/// tests and their board image's build, then the release builds of the shipped images
+/// with their sizes.
 pub fn check_all() -> Result<()> {
     let dir = firmware_dir()?;
     crate::process::run(&dir, "cargo", &["fmt", "--", "--check"])?;
@@ -192,6 +193,46 @@ pub fn check_all() -> Result<()> {
         "warnings",
     ];
     crate::process::run(&dir, "cargo", &emulated)?;
+    // The on-target tests (tests/on_target.rs, defmt-test): linted for the board and for
+    // the emulated build tests/firmware boots under netduinoplus2, and the board's image
+    // linked (defmt-rtt, panic-probe, the Nucleo's memory map) so that `cargo nucleo-test`
+    // builds on a bench as it does here.
+    for features in ["nucleo", "emulated"] {
+        crate::process::run(
+            &dir,
+            "cargo",
+            &[
+                "clippy",
+                "--release",
+                "--target",
+                "thumbv7em-none-eabihf",
+                "--no-default-features",
+                "--features",
+                features,
+                "--test",
+                "on_target",
+                "--",
+                "-D",
+                "warnings",
+            ],
+        )?;
+    }
+    crate::process::run(
+        &dir,
+        "cargo",
+        &[
+            "build",
+            "--release",
+            "--target",
+            "thumbv7em-none-eabihf",
+            "--no-default-features",
+            "--features",
+            "nucleo",
+            "--test",
+            "on_target",
+        ],
+    )
+    .context("the on-target tests' board image failed to build")?;
     // …and its handlers, driver and defmt logger link no panic path either.
     crate::process::run(
         &dir,
