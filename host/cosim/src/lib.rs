@@ -22,6 +22,7 @@ pub mod formal;
 pub mod hal;
 pub mod hdl;
 pub mod nucleo;
+pub mod on_target;
 pub mod qemu;
 pub mod scenario;
 pub mod speed;
