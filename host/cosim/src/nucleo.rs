@@ -1,5 +1,5 @@
-//! The Nucleo-F446RE image executed: its `emulated` build (firmware/src/bin/nucleo/
-//! emulated/) booted on QEMU's `netduinoplus2` (STM32F405, Cortex-M4F), driven over
+//! The Nucleo-F446RE image executed: its `emulated` build (the driver in firmware/src/bin/
+//! nucleo/emulated/, the seams in firmware/src/nucleo/emulated/) booted on QEMU's `netduinoplus2` (STM32F405, Cortex-M4F), driven over
 //! semihosting like the lm3s6965 image, its trace checked against the golden model by
 //! [`crate::check_batch`], and its defmt log decoded with defmt's own decoder
 //! (`defmt-decoder`) from the frames the image writes to `tooltouch-defmt.bin`.

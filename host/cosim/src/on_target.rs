@@ -118,7 +118,9 @@ pub struct OnTargetRun {
 /// Boots the tests' `image` on netduinoplus2 and decodes its log; a test that failed is
 /// no error here (the run's status and log say so), a QEMU that cannot start or hangs is.
 pub fn run(image: &Path) -> Result<OnTargetRun, CosimError> {
-    let dir = std::env::temp_dir().join(format!("tooltouch-on-target-{}", std::process::id()));
+    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("tooltouch-on-target-{}-{n}", std::process::id()));
     let io = |what: &str, path: &Path, e: std::io::Error| {
         CosimError::Io(format!("{what} {}: {e}", path.display()))
     };
