@@ -256,13 +256,14 @@ pub fn calibrate(
             rpm: machine.rpm,
             offset_um: sim.bias_vs_mean_um,
             scale_resolution_um: machine.scale_resolution_um,
-            offset_counts: offset_counts(sim.bias_vs_mean_um, machine.scale_resolution_um)
-                .ok_or_else(|| CalibrationError::Counts {
+            offset_counts: offset_counts(sim.bias_vs_mean_um, machine.scale_resolution_um).ok_or(
+                CalibrationError::Counts {
                     offset_um: sim.bias_vs_mean_um,
                     counts: 0,
                     expected: 0,
                     resolution_um: machine.scale_resolution_um,
-                })?,
+                },
+            )?,
             standard_error_um: sim.bias_standard_error_um,
             sigma_um: sim.sigma_um,
             decided: sim.decided,
