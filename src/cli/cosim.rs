@@ -56,7 +56,7 @@ struct FirmwareArgs {
     /// A calibration file (`tooltouch calibrate`): the image is built with its entry for
     /// the configuration baked in (as `cosim config --calibration`), and the decisions it
     /// reports are compared with the golden model's latched positions minus that offset.
-    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
+    #[arg(long, value_name = "FILE")]
     calibration: Option<PathBuf>,
     /// Also write the firmware's trace here (for `tooltouch check` or a closer look). Its
     /// folder is checked before the image is built; a failed run leaves an existing file
@@ -81,7 +81,7 @@ struct ConfigArgs {
     /// method, contact rule, feed and speed, in scale counts; the firmware reports the
     /// decision position minus that offset. Refused when made with another configuration,
     /// feed or speed (naming both).
-    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
+    #[arg(long, value_name = "FILE")]
     calibration: Option<PathBuf>,
 }
 
