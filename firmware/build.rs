@@ -10,10 +10,15 @@
 //! defaults. The file's canonical bytes are decoded and validated here with the golden
 //! model, so a bad configuration fails the build, never the boot; `$OUT_DIR/baked_config.rs`
 //! then holds the bytes (decoded again at init, by the same decoder) and their hashes.
+//! A third part of the file, when present, is a reference-part calibration record
+//! (model::measure::calibration): checked against the measurement configuration here (made
+//! with it, its offset within the scale position), so an image never applies a
+//! calibration of another configuration.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use tooltouch_model::force::config::ForceSettings;
+use tooltouch_model::measure::calibration::CalibrationRecord;
 use tooltouch_model::wire::force_config::decode_force_settings;
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::MeasureConfig;
@@ -32,12 +37,12 @@ fn main() {
         std::fs::copy("memory-nucleo.x", out.join("memory.x")).expect("copying memory-nucleo.x");
         println!("cargo:rustc-link-search={}", out.display());
     }
-    let (measure, force, source) = match std::env::var_os(CONFIG_VAR) {
+    let (measure, force, calibration, source) = match std::env::var_os(CONFIG_VAR) {
         Some(path) if !path.is_empty() => {
             let path = PathBuf::from(path);
             println!("cargo:rerun-if-changed={}", path.display());
             match read_config(&path) {
-                Ok((m, f)) => (m, f, path.display().to_string()),
+                Ok((m, f, c)) => (m, f, c, path.display().to_string()),
                 Err(why) => fail(&format!("{CONFIG_VAR}={}: {why}", path.display())),
             }
         }
@@ -47,12 +52,22 @@ fn main() {
                 .validate()
                 .unwrap_or_else(|e| fail(&format!("the default force configuration: {e}")));
             let (f, k) = force.canonical_bytes();
-            (m[..n].to_vec(), f[..k].to_vec(), "defaults".to_string())
+            (
+                m[..n].to_vec(),
+                f[..k].to_vec(),
+                Vec::new(),
+                "defaults".to_string(),
+            )
         }
     };
-    let measure_hash = decode_config(&measure)
-        .unwrap_or_else(|e| fail(&format!("measurement configuration: {e}")))
-        .hash();
+    let measure_config = decode_config(&measure)
+        .unwrap_or_else(|e| fail(&format!("measurement configuration: {e}")));
+    let measure_hash = measure_config.hash();
+    if !calibration.is_empty() {
+        CalibrationRecord::decode(&calibration)
+            .and_then(|c| c.check_for(&measure_config))
+            .unwrap_or_else(|e| fail(&format!("calibration: {e}")));
+    }
     let force_config = decode_force_settings(&force)
         .map_err(|e| format!("does not decode at byte {}", e.at))
         .and_then(|s| s.validate().map_err(|e| e.to_string()))
@@ -80,6 +95,16 @@ fn main() {
         "/// The force configuration's canonical bytes (model::wire::force_config)."
     );
     let _ = writeln!(rs, "pub const FORCE: [u8; {}] = {force:?};", force.len());
+    let _ = writeln!(
+        rs,
+        "/// The calibration record's canonical bytes (model::measure::calibration), empty \
+         without a calibration."
+    );
+    let _ = writeln!(
+        rs,
+        "pub const CALIBRATION: [u8; {}] = {calibration:?};",
+        calibration.len()
+    );
     let _ = writeln!(rs, "/// `MeasureConfig::hash` of [`MEASURE`].");
     let _ = writeln!(rs, "pub const MEASURE_HASH: u64 = {measure_hash:#018x};");
     let _ = writeln!(rs, "/// `ForceConfig::hash` of [`FORCE`].");
@@ -98,21 +123,27 @@ fn main() {
     std::fs::write(out.join("baked_config.rs"), rs).expect("writing baked_config.rs");
 }
 
-/// Splits a configuration file into its measurement and force canonical bytes.
-fn read_config(path: &std::path::Path) -> Result<(Vec<u8>, Vec<u8>), String> {
+/// The parts of a configuration file: measurement, force, calibration (empty when absent).
+type Parts = (Vec<u8>, Vec<u8>, Vec<u8>);
+
+/// Splits a configuration file into its measurement and force canonical bytes and the
+/// optional calibration record.
+fn read_config(path: &std::path::Path) -> Result<Parts, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     let rest = bytes
         .strip_prefix(MAGIC.as_slice())
         .ok_or("not a firmware configuration file (write one with `tooltouch cosim config`)")?;
     let (measure, rest) = take_sized(rest).ok_or("cut short in the measurement configuration")?;
     let (force, rest) = take_sized(rest).ok_or("cut short in the force configuration")?;
+    let (calibration, rest) = if rest.is_empty() {
+        (&[][..], rest)
+    } else {
+        take_sized(rest).ok_or("cut short in the calibration record")?
+    };
     if !rest.is_empty() {
-        return Err(format!(
-            "{} bytes after the force configuration",
-            rest.len()
-        ));
+        return Err(format!("{} bytes after the calibration record", rest.len()));
     }
-    Ok((measure.to_vec(), force.to_vec()))
+    Ok((measure.to_vec(), force.to_vec(), calibration.to_vec()))
 }
 
 /// A u16 little-endian length, then that many bytes.

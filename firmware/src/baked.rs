@@ -8,9 +8,12 @@
 //! them with the model: a bad configuration fails the build. That file, as
 //! `tooltouch cosim config` writes it: `TTFWCFG1`, then the measurement configuration's
 //! canonical bytes and the force configuration's, each after its length (u16,
-//! little-endian).
+//! little-endian), then, when a calibration is baked (`tooltouch cosim config
+//! --calibration`), the calibration record's (model::measure::calibration), after its
+//! length: the offset the firmware subtracts from the decision position it reports.
 
 use tooltouch_model::force::config::ForceConfig;
+use tooltouch_model::measure::calibration::CalibrationRecord;
 use tooltouch_model::wire::force_config::decode_force_settings;
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::MeasureConfig;
@@ -38,6 +41,23 @@ pub fn force() -> Result<ForceConfig, Undecodable> {
         .ok()
         .and_then(|s| s.validate().ok())
         .ok_or(Undecodable)
+}
+
+/// The baked calibration (`None`: none baked, the decision is reported raw).
+pub fn calibration() -> Result<Option<CalibrationRecord>, Undecodable> {
+    if generated::CALIBRATION.is_empty() {
+        return Ok(None);
+    }
+    CalibrationRecord::decode(&generated::CALIBRATION)
+        .map(Some)
+        .map_err(|_| Undecodable)
+}
+
+/// How runs in `config` report their decision with the baked calibration (the raw
+/// position when none is baked, or for another configuration). The build checks the
+/// record, so it always decodes; if it did not, the decision would be reported raw.
+pub fn reported_decision(config: &MeasureConfig) -> crate::handlers::ReportedDecision {
+    crate::handlers::ReportedDecision::new(calibration().ok().flatten().as_ref(), config)
 }
 
 /// Length of [`boot_line`].

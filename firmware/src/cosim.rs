@@ -11,7 +11,10 @@
 //! [`ForceSettings::default`]), measurement and force event records, `END`. Output, per input
 //! stream: `Header{stream: Outputs}` with the same hashes, one `MEASURE_OUTPUTS` record
 //! after every measurement event (but FES pulses, when the stream's
-//! [`kind::FIRMWARE_OBSERVE`] record says so) and one force `OUTPUTS` record after every force event
+//! [`kind::FIRMWARE_OBSERVE`] record says so), followed by a [`kind::FIRMWARE_DECISION`]
+//! record (the decision position corrected by the baked calibration,
+//! [`crate::handlers::ReportedDecision`]) when "register now" rose since the previous
+//! outputs record, and one force `OUTPUTS` record after every force event
 //! except a sample (model::force's convention), each at its event's time; then
 //! [`kind::FIRMWARE_PROFILE`], [`kind::FIRMWARE_FORCE_PROFILE`] and
 //! [`kind::FIRMWARE_STATUS`] records (the status ends with the hashes of the configuration
@@ -21,7 +24,7 @@
 //! Board-independent: the board supplies the file [`Port`] and the [`Target`] that
 //! delivers an event through its interrupt.
 
-use crate::handlers::Counters;
+use crate::handlers::{Counters, ReportedDecision};
 use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceOutputs;
@@ -395,6 +398,7 @@ fn run_streams<P: Port, T: Target>(
         } else {
             idle_force
         };
+        let report = crate::baked::reported_decision(&config);
         target.configure(&config, &force);
         let out_header = Header {
             stream: StreamKind::Outputs,
@@ -408,6 +412,7 @@ fn run_streams<P: Port, T: Target>(
             writer,
             first.time,
             header.force_hash != 0,
+            &report,
         )?;
         streams = streams.saturating_add(1);
     }
@@ -455,8 +460,12 @@ fn replay<P: Port, T: Target>(
     writer: &mut Writer,
     start: u64,
     force_enabled: bool,
+    report: &ReportedDecision,
 ) -> Result<(), Error> {
     let mut previous = start;
+    // "Register now" in the last outputs record: a decision record follows the first
+    // outputs record that shows it raised.
+    let mut reported = false;
     let mut profile = Profile::default();
     let mut events: u32 = 0;
     let mut observe_fes = true;
@@ -497,11 +506,24 @@ fn replay<P: Port, T: Target>(
         match input {
             Input::Measure(MeasureEvent::Fes) if !observe_fes => {}
             Input::Measure(_) => {
-                let outputs = encode_outputs(&target.outputs());
+                let o = target.outputs();
                 writer.record(
                     port,
-                    &Record::new(wire::kind::MEASURE_OUTPUTS, record.time, &outputs),
+                    &Record::new(
+                        wire::kind::MEASURE_OUTPUTS,
+                        record.time,
+                        &encode_outputs(&o),
+                    ),
                 )?;
+                if o.register_now && !reported {
+                    let mut p = [0u8; 8];
+                    put_u32s(
+                        &mut p,
+                        &[report.position(&o) as u32, report.offset() as u32],
+                    );
+                    writer.record(port, &Record::new(kind::FIRMWARE_DECISION, record.time, &p))?;
+                }
+                reported = o.register_now;
             }
             // A sample changes no output (model::force): no record, as the model writes.
             Input::Force(ForceEvent::Sample(_)) => {}

@@ -25,7 +25,10 @@ use heapless::spsc::{Consumer, Producer, Queue};
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::AdcCodes;
-use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_model::measure::calibration::{
+    applied_offset, corrected_position, CalibrationRecord,
+};
+use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 
 /// The most FES pulses folded into the kernel at once: the counter's compare interrupt
 /// is set at most this many pulses past the last fold even when none of them can decide.
@@ -194,6 +197,37 @@ pub fn observe<B: Board>(d: &mut MeasureDomain) -> MeasureOutputs {
     d.fold::<B>();
     d.schedule::<B>();
     d.kernel.outputs()
+}
+
+/// The decision as the firmware reports it: the position the FPGA (here the kernel) latched
+/// at "register now", corrected by the baked reference-part calibration
+/// (model::measure::calibration: `decision_position − offset`, wrapped to `scale_bits`).
+/// Set once per configuration: the offset is the calibration's for the configuration it
+/// was made with, 0 for another one or without a calibration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReportedDecision {
+    offset: i32,
+    scale_bits: u8,
+}
+
+impl ReportedDecision {
+    /// The report for runs in `config` with `calibration` baked.
+    pub fn new(calibration: Option<&CalibrationRecord>, config: &MeasureConfig) -> Self {
+        ReportedDecision {
+            offset: applied_offset(calibration, config),
+            scale_bits: config.settings().scale_bits,
+        }
+    }
+
+    /// The offset subtracted, scale counts.
+    pub fn offset(&self) -> i32 {
+        self.offset
+    }
+
+    /// The corrected decision position of the outputs `o`, scale counts.
+    pub fn position(&self, o: &MeasureOutputs) -> i32 {
+        corrected_position(o.decision_position, self.offset, self.scale_bits)
+    }
 }
 
 /// Queued ADC samples: one control period holds `samples_per_period` (50 at docs/domain.md §3:

@@ -44,6 +44,7 @@ fn kind_name(k: u8) -> &'static str {
         kind::FORCE_CONFIG_CHUNK => "force_config_chunk",
         kind::MEASURE_OUTPUTS => "measure_outputs",
         kind::FORCE_OUTPUTS => "force_outputs",
+        kind::FIRMWARE_DECISION => "firmware_decision",
         kind::FIRMWARE_OBSERVE => "firmware_observe",
         kind::FIRMWARE_FORCE_PROFILE => "firmware_force_profile",
         kind::FIRMWARE_ERROR => "firmware_error",

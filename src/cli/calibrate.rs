@@ -102,10 +102,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         machine.feed_mm_per_rev,
         machine.rpm
     );
-    outln!("  variant            offset µm (Ø)   ± standard error   1σ of one   measure hash");
+    outln!(
+        "  variant            offset µm (Ø)   ± standard error   1σ of one   counts   measure hash"
+    );
     for e in &calibration.entries {
         outln!(
-            "  {:<18} {:>+10.2}      ± {:.2}             {:.2}        {}",
+            "  {:<18} {:>+10.2}      ± {:.2}             {:.2}     {:>+6}   {}",
             Variant {
                 method: e.method,
                 rule: e.contact_rule
@@ -114,6 +116,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             e.offset_um,
             e.standard_error_um,
             e.sigma_um,
+            e.offset_counts,
             e.measure_hash
         );
     }

@@ -53,6 +53,11 @@ struct FirmwareArgs {
     /// FPGA clock of a pin stimulus, Hz (as `tooltouch vectors --clock-hz`).
     #[arg(long)]
     clock_hz: Option<u32>,
+    /// A calibration file (`tooltouch calibrate`): the image is built with its entry for
+    /// the configuration baked in (as `cosim config --calibration`), and the decisions it
+    /// reports are compared with the golden model's latched positions minus that offset.
+    #[arg(long, value_name = "FILE")]
+    calibration: Option<PathBuf>,
     /// Also write the firmware's trace here (for `tooltouch check` or a closer look). Its
     /// folder is checked before the image is built; a failed run leaves an existing file
     /// as it was.
@@ -72,6 +77,12 @@ struct ConfigArgs {
     // `FilePath`: a file this command writes (the hostile-input test reads the hint).
     #[arg(long, value_hint = clap::ValueHint::FilePath)]
     out: PathBuf,
+    /// A calibration file (`tooltouch calibrate`) to bake: its entry for the settings'
+    /// method, contact rule, feed and speed, in scale counts; the firmware reports the
+    /// decision position minus that offset. Refused when made with another configuration,
+    /// feed or speed (naming both).
+    #[arg(long, value_name = "FILE")]
+    calibration: Option<PathBuf>,
 }
 
 /// Runs `tooltouch cosim`.
@@ -83,7 +94,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 }
 
 fn config(a: &ConfigArgs) -> anyhow::Result<ExitCode> {
-    let config = FirmwareConfig::load(a.config.as_deref())?;
+    let mut config = FirmwareConfig::load(a.config.as_deref())?;
+    if let Some(path) = &a.calibration {
+        config = with_calibration(config, a.config.as_deref(), path)?;
+    }
     tooltouch_vectors::output::write_file(&a.out, &config.baked_bytes())?;
     outln!(
         "{}: wrote {} (build with {CONFIG_VAR}={})",
@@ -92,6 +106,91 @@ fn config(a: &ConfigArgs) -> anyhow::Result<ExitCode> {
         a.out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// `config` with the calibration file at `path` baked: its entry for the configuration and
+/// the settings file's feed and speed.
+pub fn with_calibration(
+    config: FirmwareConfig,
+    settings: Option<&std::path::Path>,
+    path: &std::path::Path,
+) -> anyhow::Result<FirmwareConfig> {
+    use anyhow::Context;
+    let lathe = load_settings(settings, None)?.lathe;
+    let text =
+        tooltouch_settings::read_text_file(path, "calibration file").map_err(anyhow::Error::msg)?;
+    let file: tooltouch_metrology::calibration::Calibration = serde_json::from_str(&text)
+        .with_context(|| format!("reading the calibration file {}", path.display()))?;
+    let record = file
+        .firmware_record(&config.measure, lathe.feed_mm_per_rev, lathe.rpm)
+        .with_context(|| format!("--calibration {}", path.display()))?;
+    config
+        .with_calibration(record)
+        .with_context(|| format!("--calibration {}", path.display()))
+}
+
+/// Compares the decisions the firmware reported in `trace` with the golden model's
+/// ([`tooltouch_cosim::DecisionReporter`] over `set`'s expected outputs) for an image
+/// built with `calibration`: the first difference (time, field, both values) as the
+/// error; with a calibration, a line saying what was compared.
+fn check_decisions(
+    set: &tooltouch_vectors::golden_set::GoldenSet,
+    calibration: Option<&tooltouch_model::measure::calibration::CalibrationRecord>,
+    trace: &[u8],
+) -> Result<Option<String>, String> {
+    let Some(config) = set.inputs.measure else {
+        return Ok(None);
+    };
+    let mut reporter = tooltouch_cosim::DecisionReporter::new(&config, calibration);
+    let want: Vec<(u64, tooltouch_cosim::ReportedDecision)> = set
+        .outputs
+        .iter()
+        .filter_map(|(t, o)| match o {
+            binary::Output::Measure(o) => reporter.next(o).map(|d| (*t, d)),
+            binary::Output::Force(_) => None,
+        })
+        .collect();
+    let streams = trace::parse(trace).map_err(|e| e.to_string())?;
+    let got = streams
+        .first()
+        .map(|s| s.decisions.clone())
+        .unwrap_or_default();
+    for (k, (time, w)) in want.iter().enumerate() {
+        let Some((t, g)) = got.get(k) else {
+            return Err(format!(
+                "decision {k} at {time}: the golden model reports position {} (offset {}), \
+                 the firmware reports none",
+                w.position, w.offset
+            ));
+        };
+        for (field, a, b) in [
+            ("time", *time as i64, *t as i64),
+            ("corrected position", w.position.into(), g.position.into()),
+            ("offset", w.offset.into(), g.offset.into()),
+        ] {
+            if a != b {
+                return Err(format!(
+                    "decision {k} at {time}: {field} golden {a}, firmware {b}"
+                ));
+            }
+        }
+    }
+    if got.len() != want.len() {
+        return Err(format!(
+            "decisions reported: golden {}, firmware {}",
+            want.len(),
+            got.len()
+        ));
+    }
+    Ok(calibration.map(|c| {
+        format!(
+            "{} decisions reported corrected by {} counts (calibration_hash={:016x}), equal \
+             to the golden model's",
+            want.len(),
+            c.offset_for(&config),
+            c.hash()
+        )
+    }))
 }
 
 /// How `cosim firmware` ended.
@@ -124,7 +223,7 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         Ok(s) => s,
         Err(e) => return bad(e),
     };
-    let wanted = match FirmwareConfig::load(a.config.as_deref()) {
+    let mut wanted = match FirmwareConfig::load(a.config.as_deref()) {
         Ok(c) => c,
         Err(e) => return bad(e),
     };
@@ -139,6 +238,19 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         set.inputs.header.measure_hash = wanted.measure.hash();
     }
     let stream = set.inputs.header;
+    if let Some(path) = &a.calibration {
+        // The calibration is for the configuration the image runs: the settings', else
+        // the stream's own.
+        let base = FirmwareConfig {
+            measure: set.inputs.measure.unwrap_or(wanted.measure),
+            ..wanted
+        };
+        let base = if a.config.is_some() { wanted } else { base };
+        wanted = match with_calibration(base, a.config.as_deref(), path) {
+            Ok(c) => c,
+            Err(e) => return bad(e),
+        };
+    }
     if a.config.is_some() && stream.force_hash != 0 && stream.force_hash != wanted.force.hash() {
         return Outcome::BadInput(format!(
             "{}: made with force configuration {:016x}, the settings give {:016x}",
@@ -167,6 +279,7 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
                 None => FirmwareConfig {
                     measure: set.inputs.measure.unwrap_or(wanted.measure),
                     force: set.inputs.force.unwrap_or(wanted.force),
+                    calibration: wanted.calibration,
                 },
             };
             let built = qemu::build_configured_firmware(&config);
@@ -236,7 +349,13 @@ fn firmware_outcome(a: &FirmwareArgs) -> Outcome {
         wall.as_secs_f64()
     );
     match compare_binary(&expected, &golden_name, &trace_bytes, &dut_name) {
-        Ok(Verdict::Match(s)) => Outcome::Match(format!("{s}; {qemu_line}")),
+        Ok(Verdict::Match(s)) => {
+            match check_decisions(&set, wanted.calibration.as_ref(), &trace_bytes) {
+                Ok(None) => Outcome::Match(format!("{s}; {qemu_line}")),
+                Ok(Some(line)) => Outcome::Match(format!("{s}; {line}; {qemu_line}")),
+                Err(why) => Outcome::Mismatch(format!("{dut_name}: {why}")),
+            }
+        }
         Ok(Verdict::Mismatch(s)) => Outcome::Mismatch(s),
         Err(e) => Outcome::Mismatch(format!("{dut_name}: {e}")),
     }

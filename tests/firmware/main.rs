@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod calibrated;
 mod configured;
 mod convention;
 mod cosim;

@@ -16,6 +16,9 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 use tooltouch_cosim::nucleo::{self, NucleoRun};
 use tooltouch_cosim::{self as cosim, Case, Fault, Observe};
+use tooltouch_model::measure::calibration::{
+    applied_offset, corrected_position, CalibrationRecord,
+};
 use tooltouch_settings::firmware_config::FirmwareConfig;
 
 /// Builds the emulated Nucleo image once per test binary.
@@ -47,13 +50,17 @@ fn boot_log() -> Vec<String> {
     ]
 }
 
-/// The log a run of `cases` must leave: the boot, then per case every change of
-/// "register now" after an event, as the board's idle logs it (outputs of the golden
-/// model after that event; no ADC sample dropped), then the driver's end.
-fn expected_log(cases: &[Case]) -> Vec<String> {
+/// The log a run of `cases` must leave on an image built with `calibration`: the boot,
+/// then per case every change of "register now" after an event, as the board's idle logs
+/// it (outputs of the golden model after that event, the position corrected by the
+/// offset the image applies to the case's configuration; no ADC sample dropped), then the
+/// driver's end.
+pub(crate) fn expected_log(cases: &[Case], calibration: Option<&CalibrationRecord>) -> Vec<String> {
     let mut log = boot_log();
     for case in cases {
         let mut on = false;
+        let offset = applied_offset(calibration, &case.config);
+        let bits = case.config.settings().scale_bits;
         for o in cosim::golden(case) {
             if o.register_now == on {
                 continue;
@@ -61,9 +68,13 @@ fn expected_log(cases: &[Case]) -> Vec<String> {
             on = o.register_now;
             log.push(if on {
                 format!(
-                    "register now: position {} counts, first contact at {}, {} revolutions, \
-                     {} FES pulses; 0 ADC samples dropped",
-                    o.decision_position, o.first_contact_position, o.revolutions, o.pulses
+                    "register now: position {} counts, calibrated {} counts (offset {offset}), \
+                     first contact at {}, {} revolutions, {} FES pulses; 0 ADC samples dropped",
+                    o.decision_position,
+                    corrected_position(o.decision_position, offset, bits),
+                    o.first_contact_position,
+                    o.revolutions,
+                    o.pulses
                 )
             } else {
                 "measurement cycle armed; 0 ADC samples dropped".to_string()
@@ -76,8 +87,21 @@ fn expected_log(cases: &[Case]) -> Vec<String> {
 
 /// Runs `cases` on the emulated Nucleo with `observe`, checks every output and the log.
 fn run(what: &str, cases: &[Case], observe: Observe) -> NucleoRun {
-    let run = nucleo::run_batch(&image(), cases, observe).unwrap_or_else(|e| panic!("{what}: {e}"));
-    let want = expected_log(cases);
+    run_on(&image(), None, what, cases, observe)
+}
+
+/// Runs `cases` on the emulated Nucleo `image` built with `calibration`, with `observe`;
+/// checks every output, every reported decision and the log.
+pub(crate) fn run_on(
+    image: &std::path::Path,
+    calibration: Option<&CalibrationRecord>,
+    what: &str,
+    cases: &[Case],
+    observe: Observe,
+) -> NucleoRun {
+    let run = nucleo::run_calibrated_batch(image, cases, observe, calibration)
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let want = expected_log(cases, calibration);
     for (i, (w, g)) in want.iter().zip(&run.log).enumerate() {
         assert_eq!(w, g, "{what}: defmt line {i}");
     }

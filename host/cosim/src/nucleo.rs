@@ -12,9 +12,11 @@
 
 use super::error::CosimError;
 use super::qemu::{self, MachineRun};
-use super::{check_batch, encode_batch, Case, Observe, Report};
+use super::{check_calibrated_batch, encode_batch, Case, Observe, Report};
 use std::path::{Path, PathBuf};
 use tooltouch_model::force::events::ForceEvent;
+use tooltouch_model::measure::calibration::CalibrationRecord;
+use tooltouch_settings::firmware_config::FirmwareConfig;
 
 /// The Nucleo's target triple.
 pub const TARGET: &str = "thumbv7em-none-eabihf";
@@ -45,6 +47,16 @@ pub const MACHINE_ARGS: [&str; 11] = [
 /// Builds the emulated Nucleo image with the default configuration and returns its path
 /// (copied to `firmware/target/images/nucleo-emulated`, under the images' build lock).
 pub fn build_emulated() -> Result<PathBuf, CosimError> {
+    build_emulated_image(None)
+}
+
+/// Builds the emulated Nucleo image with `config` baked in and returns its path
+/// (`firmware/target/images/nucleo-emulated-<configuration's image name>`).
+pub fn build_configured_emulated(config: &FirmwareConfig) -> Result<PathBuf, CosimError> {
+    build_emulated_image(Some(config))
+}
+
+fn build_emulated_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
     qemu::check_tools_for(TARGET)?;
     let dir = qemu::firmware_dir();
     let images = dir.join("target").join("images");
@@ -55,9 +67,18 @@ pub fn build_emulated() -> Result<PathBuf, CosimError> {
     let lock_path = images.join("build.lock");
     let lock = std::fs::File::create(&lock_path).map_err(|e| io("creating", &lock_path, e))?;
     lock.lock().map_err(|e| io("locking", &lock_path, e))?;
-    let built = qemu::cargo_build_bin(&dir, &EMULATED_BUILD, "nucleo", None)?;
-    let image = images.join("nucleo-emulated");
-    let partial = images.join("nucleo-emulated.partial");
+    let (name, baked) = match config {
+        Some(c) => {
+            let name = format!("nucleo-emulated-{}", c.image_name());
+            let path = images.join(format!("{name}.bin"));
+            std::fs::write(&path, c.baked_bytes()).map_err(|e| io("writing", &path, e))?;
+            (name, Some(path))
+        }
+        None => ("nucleo-emulated".to_string(), None),
+    };
+    let built = qemu::cargo_build_bin(&dir, &EMULATED_BUILD, "nucleo", baked.as_deref())?;
+    let image = images.join(&name);
+    let partial = images.join(format!("{name}.partial"));
     std::fs::copy(&built, &partial).map_err(|e| io("copying the image to", &partial, e))?;
     std::fs::rename(&partial, &image).map_err(|e| io("renaming", &partial, e))?;
     Ok(image)
@@ -84,12 +105,23 @@ pub struct NucleoRun {
 /// Runs every case in one `netduinoplus2` boot of `image`, checks each against the golden
 /// model (every output after every event `observe` names) and decodes the defmt log.
 pub fn run_batch(image: &Path, cases: &[Case], observe: Observe) -> Result<NucleoRun, CosimError> {
+    run_calibrated_batch(image, cases, observe, None)
+}
+
+/// [`run_batch`] on an image built with `calibration` baked in: its reported decisions
+/// are checked against [`crate::golden_decisions`] of that calibration.
+pub fn run_calibrated_batch(
+    image: &Path,
+    cases: &[Case],
+    observe: Observe,
+    calibration: Option<&CalibrationRecord>,
+) -> Result<NucleoRun, CosimError> {
     let MachineRun {
         trace,
         elapsed,
         defmt,
     } = qemu::run_machine(&MACHINE_ARGS, image, &encode_batch(cases, observe))?;
-    let report = check_batch(cases, observe, &trace, elapsed)?;
+    let report = check_calibrated_batch(cases, observe, calibration, &trace, elapsed)?;
     let elf = std::fs::read(image)
         .map_err(|e| CosimError::Io(format!("reading {}: {e}", image.display())))?;
     Ok(NucleoRun {

@@ -145,8 +145,7 @@ fn build_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
     let lock_path = images.join("build.lock");
     let lock = std::fs::File::create(&lock_path).map_err(|e| io("creating", &lock_path, e))?;
     lock.lock().map_err(|e| io("locking", &lock_path, e))?;
-    let name = config.copied().unwrap_or_default();
-    let name = format!("{:016x}-{:016x}", name.measure.hash(), name.force.hash());
+    let name = config.copied().unwrap_or_default().image_name();
     let baked = match config {
         Some(c) => {
             let path = images.join(format!("config-{name}.bin"));

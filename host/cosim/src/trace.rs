@@ -76,8 +76,21 @@ pub struct StreamTrace {
     pub outputs: Vec<(u64, MeasureOutputs)>,
     /// Force outputs after each force event except samples, with the event's time.
     pub force_outputs: Vec<(u64, ForceOutputs)>,
+    /// The decisions the firmware reported ([`kind::FIRMWARE_DECISION`]), with their time:
+    /// the corrected position and the offset applied, scale counts.
+    pub decisions: Vec<(u64, ReportedDecision)>,
     /// The firmware's profile and status.
     pub profile: Profile,
+}
+
+/// A decision as the firmware reports it: the latched position corrected by the baked
+/// calibration (model::measure::calibration).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReportedDecision {
+    /// `decision_position − offset`, wrapped to `scale_bits`, counts.
+    pub position: i32,
+    /// The offset applied, counts (0 without a calibration for the configuration).
+    pub offset: i32,
 }
 
 fn u32_at(p: &[u8], i: usize) -> u32 {
@@ -132,6 +145,18 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<StreamTrace>, CosimError> {
                         bad(at, format!("force outputs record of {} bytes", p.len()))
                     })?;
                     stream.force_outputs.push((record.time, o));
+                }
+                kind::FIRMWARE_DECISION => {
+                    if p.len() != 8 {
+                        return Err(bad(at, format!("decision record of {} bytes", p.len())));
+                    }
+                    stream.decisions.push((
+                        record.time,
+                        ReportedDecision {
+                            position: u32_at(p, 0) as i32,
+                            offset: u32_at(p, 4) as i32,
+                        },
+                    ));
                 }
                 kind::FIRMWARE_PROFILE => {
                     for (k, slot) in stream.profile.per_kind.iter_mut().take(5).enumerate() {

@@ -11,17 +11,26 @@
 //! and feed subtracts it. What stays is the residual: the part of the bias that depends on
 //! the workpiece (its form moves the 50 % share level; its largest diameter is what the
 //! single pulse reads) and on conditions other than the calibrated ones.
+//!
+//! Each entry also holds its offset in scale counts, `round(offset_um / (2 · resolution))`
+//! (nearest, halves away from zero; one count moves the diameter by twice the scale's
+//! resolution), which [`Calibration::firmware_record`] turns into the record the firmware
+//! bakes (model::measure::calibration): the firmware subtracts it from the latched position
+//! it reports, where a controller applies it. Its corrected diameter
+//! ([`firmware_corrected_mm`]) differs from the host's ([`corrected_mm`]) by the rounding
+//! only: at most half a count on the radius, the scale's resolution on the diameter.
 
 use crate::budget::Variant;
 use crate::simulate::{config_of, simulate, SimulateError};
 use serde::{Deserialize, Serialize};
+use tooltouch_model::measure::calibration::CalibrationRecord;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 use tooltouch_plant::lathe::surface::mix;
 use tooltouch_plant::lathe::LatheScenario;
 
 /// The calibration file's format name.
-pub const FORMAT: &str = "tooltouch-calibration/1";
+pub const FORMAT: &str = "tooltouch-calibration/2";
 
 /// The reference part.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -53,6 +62,11 @@ pub struct CalibrationEntry {
     pub rpm: f64,
     /// The mean of (decided − known) diameter on the reference, µm.
     pub offset_um: f64,
+    /// The scale's resolution, µm per count (on the radius).
+    pub scale_resolution_um: f64,
+    /// The offset in scale counts as the firmware subtracts it from the latched position:
+    /// `round(offset_um / (2 · scale_resolution_um))`, halves away from zero.
+    pub offset_counts: i32,
     /// Its standard error, µm.
     pub standard_error_um: f64,
     /// The 1σ of one reference measurement, µm.
@@ -132,6 +146,26 @@ pub enum CalibrationError {
         /// This run's feed.
         run: f64,
     },
+    /// The offset in counts does not match the offset in µm, or does not fit a scale
+    /// position.
+    #[error(
+        "the calibration's offset of {offset_um} µm is {counts} scale counts, expected \
+         {expected} (a {resolution_um} µm scale): the file is damaged or hand-edited; \
+         calibrate again"
+    )]
+    Counts {
+        /// The file's offset, µm.
+        offset_um: f64,
+        /// The file's offset, counts.
+        counts: i32,
+        /// The counts the µm figure gives.
+        expected: i64,
+        /// The scale's resolution, µm.
+        resolution_um: f64,
+    },
+    /// The calibration does not fit the configuration's scale position.
+    #[error("{0}")]
+    Record(String),
     /// The file was made at another spindle speed.
     #[error(
         "the calibration was made at {file} rpm, this run measures at {run} rpm: the speed \
@@ -221,6 +255,15 @@ pub fn calibrate(
             feed_mm_per_rev: machine.feed_mm_per_rev,
             rpm: machine.rpm,
             offset_um: sim.bias_vs_mean_um,
+            scale_resolution_um: machine.scale_resolution_um,
+            offset_counts: offset_counts(sim.bias_vs_mean_um, machine.scale_resolution_um).ok_or(
+                CalibrationError::Counts {
+                    offset_um: sim.bias_vs_mean_um,
+                    counts: 0,
+                    expected: 0,
+                    resolution_um: machine.scale_resolution_um,
+                },
+            )?,
             standard_error_um: sim.bias_standard_error_um,
             sigma_um: sim.sigma_um,
             decided: sim.decided,
@@ -273,13 +316,61 @@ impl Calibration {
                 run: rpm,
             });
         }
+        let expected = (entry.offset_um / (2.0 * entry.scale_resolution_um)).round();
+        if !expected.is_finite() || expected != f64::from(entry.offset_counts) {
+            return Err(CalibrationError::Counts {
+                offset_um: entry.offset_um,
+                counts: entry.offset_counts,
+                expected: expected as i64,
+                resolution_um: entry.scale_resolution_um,
+            });
+        }
         Ok(entry)
+    }
+
+    /// The record a firmware image in `config` bakes (model::measure::calibration): the
+    /// entry [`Self::entry_for`] finds for a run approaching at `feed_mm_per_rev` with the
+    /// spindle at `rpm` (refused as it refuses), its offset in counts, feed and speed;
+    /// refused when the offset does not fit the configuration's scale position.
+    pub fn firmware_record(
+        &self,
+        config: &MeasureConfig,
+        feed_mm_per_rev: f64,
+        rpm: f64,
+    ) -> Result<CalibrationRecord, CalibrationError> {
+        let entry = self.entry_for(config, feed_mm_per_rev, rpm)?;
+        let record = CalibrationRecord {
+            measure_hash: config.hash(),
+            offset_counts: entry.offset_counts,
+            feed_nm_per_rev: (entry.feed_mm_per_rev * 1e6)
+                .round()
+                .clamp(0.0, u32::MAX.into()) as u32,
+            speed_milli_rpm: (entry.rpm * 1e3).round().clamp(0.0, u32::MAX.into()) as u32,
+        };
+        record
+            .check_for(config)
+            .map_err(|e| CalibrationError::Record(e.to_string()))?;
+        Ok(record)
     }
 }
 
 /// A diameter with the calibration's offset removed, mm.
 pub fn corrected_mm(diameter_mm: f64, entry: &CalibrationEntry) -> f64 {
     diameter_mm - entry.offset_um / 1000.0
+}
+
+/// The diameter the firmware's corrected position gives, mm: `diameter_mm` with the
+/// offset in counts removed (2 · resolution per count). Within the scale's resolution of
+/// [`corrected_mm`].
+pub fn firmware_corrected_mm(diameter_mm: f64, entry: &CalibrationEntry) -> f64 {
+    diameter_mm - 2.0 * f64::from(entry.offset_counts) * entry.scale_resolution_um / 1000.0
+}
+
+/// `offset_um` (on the diameter) in scale counts of `resolution_um`: to the nearest count,
+/// halves away from zero; `None` when it is not finite or does not fit an i32.
+pub fn offset_counts(offset_um: f64, resolution_um: f64) -> Option<i32> {
+    let counts = (offset_um / (2.0 * resolution_um)).round();
+    (counts.is_finite() && counts.abs() < f64::from(i32::MAX)).then_some(counts as i32)
 }
 
 /// The residual bias of one variant on the workpiece after the calibration.

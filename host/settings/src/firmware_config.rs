@@ -20,14 +20,24 @@
 //! wear monitor: its cuts' condition sets, efficiency and settling hold, by the same rule
 //! as the command's updating threshold.
 //!
+//! A reference-part calibration (`tooltouch calibrate`'s file, the entry for the
+//! configuration's method and contact rule, converted to scale counts by
+//! `tooltouch_metrology::calibration::firmware_record`) is added with
+//! [`FirmwareConfig::with_calibration`] (`tooltouch cosim config --calibration`,
+//! `cargo xtask firmware --calibration`): the firmware then reports the corrected decision
+//! position (model::measure::calibration).
+//!
 //! The baked file: `TTFWCFG1`, then the measurement configuration's canonical bytes and
-//! the force configuration's (model::wire), each after its length as a little-endian u16.
+//! the force configuration's (model::wire), each after its length as a little-endian u16,
+//! then, with a calibration only, the calibration record's canonical bytes after their
+//! length (a file without a calibration is the same as before calibrations existed).
 
 pub use crate::force_design::ForceDesign;
 use crate::load::load_settings;
 use anyhow::Context;
 use std::path::Path;
 use tooltouch_model::force::config::{ForceConfig, ForceSettings};
+use tooltouch_model::measure::calibration::CalibrationRecord;
 use tooltouch_model::MeasureConfig;
 
 /// The environment variable firmware/build.rs reads: the path of a baked configuration
@@ -43,6 +53,10 @@ pub struct FirmwareConfig {
     pub measure: MeasureConfig,
     /// The force configuration.
     pub force: ForceConfig,
+    /// The reference-part calibration the firmware applies to the decision it reports
+    /// (`None`: offset 0, the raw position). Part of the image's identity, not of the
+    /// FPGA's configuration hash.
+    pub calibration: Option<CalibrationRecord>,
 }
 
 impl Default for FirmwareConfig {
@@ -53,6 +67,7 @@ impl Default for FirmwareConfig {
             force: ForceSettings::default()
                 .validate()
                 .unwrap_or_else(|e| unreachable!("the default force settings are valid: {e}")),
+            calibration: None,
         }
     }
 }
@@ -92,25 +107,61 @@ impl FirmwareConfig {
         Ok(config)
     }
 
+    /// This configuration with `calibration` baked: refused, naming both hashes, when it
+    /// was made with another measurement configuration, or when its offset does not fit
+    /// the scale position.
+    pub fn with_calibration(self, calibration: CalibrationRecord) -> anyhow::Result<Self> {
+        calibration
+            .check_for(&self.measure)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+        Ok(FirmwareConfig {
+            calibration: Some(calibration),
+            ..self
+        })
+    }
+
     /// The baked configuration file's bytes (module documentation).
     pub fn baked_bytes(&self) -> Vec<u8> {
         let (m, n) = self.measure.canonical_bytes();
         let (f, k) = self.force.canonical_bytes();
+        let c = self.calibration.map(|c| c.canonical_bytes());
         let mut out = MAGIC.to_vec();
-        for part in [&m[..n], &f[..k]] {
+        for part in [&m[..n], &f[..k]]
+            .into_iter()
+            .chain(c.as_ref().map(|c| &c[..]))
+        {
             out.extend_from_slice(&(part.len() as u16).to_le_bytes());
             out.extend_from_slice(part);
         }
         out
     }
 
-    /// `measure_hash=… force_hash=…`, as the image reports it.
+    /// `measure_hash=… force_hash=…`, as the image reports it, and with a calibration
+    /// ` calibration_hash=… offset=… counts`.
     pub fn hashes(&self) -> String {
-        format!(
+        let mut s = format!(
             "measure_hash={:016x} force_hash={:016x}",
             self.measure.hash(),
             self.force.hash()
-        )
+        );
+        if let Some(c) = &self.calibration {
+            s.push_str(&format!(
+                " calibration_hash={:016x} offset={} counts",
+                c.hash(),
+                c.offset_counts
+            ));
+        }
+        s
+    }
+
+    /// A name for an image of this configuration: the measure and force hashes, and the
+    /// calibration's when one is baked.
+    pub fn image_name(&self) -> String {
+        let mut name = format!("{:016x}-{:016x}", self.measure.hash(), self.force.hash());
+        if let Some(c) = &self.calibration {
+            name.push_str(&format!("-{:016x}", c.hash()));
+        }
+        name
     }
 }
 
@@ -155,6 +206,45 @@ mod tests {
             "one rule"
         );
         assert_eq!(c.force.settings().wear.set_count, 2);
+        // A calibration of a non-default configuration.
+        let c = FirmwareConfig {
+            measure: tooltouch_model::MeasureSettings {
+                i_def: 300,
+                ..Default::default()
+            }
+            .validate()
+            .unwrap(),
+            ..c
+        };
+        let plain = c.baked_bytes();
+        let record = CalibrationRecord {
+            measure_hash: c.measure.hash(),
+            offset_counts: -21,
+            feed_nm_per_rev: 1000,
+            speed_milli_rpm: 800_000,
+        };
+        let calibrated = c.with_calibration(record).unwrap();
+        let bytes = calibrated.baked_bytes();
+        assert_eq!(
+            &bytes[..plain.len()],
+            &plain[..],
+            "the same file, then the record"
+        );
+        assert_eq!(
+            bytes[plain.len()..],
+            [&21u16.to_le_bytes()[..], &record.canonical_bytes()[..]].concat()
+        );
+        assert_ne!(calibrated.image_name(), c.image_name());
+        assert!(calibrated.hashes().contains("offset=-21 counts"));
+        let e = FirmwareConfig::default()
+            .with_calibration(record)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{:016x}", c.measure.hash()))
+                && e.contains(&format!("{:016x}", MeasureConfig::default().hash())),
+            "{e}"
+        );
         std::fs::write(&path, "[force]\nkp_percent = 0\n").unwrap();
         let e = format!("{:#}", FirmwareConfig::load(Some(&path)).unwrap_err());
         assert!(e.contains("kp_percent") && e.contains("1..=1000"), "{e}");

@@ -720,7 +720,10 @@ impl<R: Read> OutputReader<R> {
                         )))
                     }
                 },
-                kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {}
+                // The firmware's profile and its calibrated decision reports
+                // (`tooltouch cosim` checks those against the golden model).
+                kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE | kind::FIRMWARE_DECISION => {
+                }
                 kind::FIRMWARE_STATUS => {
                     if p.len() < 12 {
                         return Err(bad(format!("status payload of {} bytes", p.len())));
@@ -744,7 +747,7 @@ impl<R: Read> OutputReader<R> {
 }
 
 /// Decodes an Outputs stream of any device: `MEASURE_OUTPUTS` and force `OUTPUTS`
-/// records, the firmware's profile records (skipped) and status record (kept), END, and
+/// records, the firmware's profile and decision records (skipped) and status record (kept), END, and
 /// nothing after it. A firmware error record is [`BinaryError::Firmware`]. Holds every
 /// record: `tooltouch check` streams with [`OutputReader`] instead.
 pub fn decode_output_stream(bytes: &[u8], file: &str) -> Result<OutputStream, BinaryError> {

@@ -12,6 +12,7 @@
 //!   semantics). Both call the same kernel methods in the same canonical order, so both
 //!   reach the same state.
 
+pub mod calibration;
 pub mod config;
 pub mod density;
 pub mod events;

@@ -64,6 +64,12 @@ pub const FORCE_OUTPUTS: u8 = 0x41;
 // `tooltouch::cosim` reads and writes them), counted down from the top of the output range
 // so the force path can take its bottom ----
 
+/// The decision as the firmware reports it, after the `MEASURE_OUTPUTS` record of the
+/// event whose outputs first show "register now" since the previous outputs record:
+/// the corrected position i32 (`decision_position − offset`, wrapped to `scale_bits`,
+/// [`crate::measure::calibration::corrected_position`]) and the offset applied i32
+/// (scale counts, 0 without a calibration for the stream's configuration), 8 bytes.
+pub const FIRMWARE_DECISION: u8 = 0x5a;
 /// Input, before the first event of a stream: which measurement events get an outputs
 /// record. Payload u8: 1 = every event (the default), 0 = every event but FES pulses,
 /// whose runs the firmware then folds into the kernel many at a time, as on a board.
@@ -96,7 +102,7 @@ mod tests {
     use super::*;
 
     /// Every kind that names a record (range markers excluded), with its name.
-    const KINDS: [(u8, &str); 21] = [
+    const KINDS: [(u8, &str); 22] = [
         (MEASURE_CONFIG, "MEASURE_CONFIG"),
         (ARM, "ARM"),
         (CONTACT, "CONTACT"),
@@ -113,6 +119,7 @@ mod tests {
         (FORCE_CONFIG_CHUNK, "FORCE_CONFIG_CHUNK"),
         (MEASURE_OUTPUTS, "MEASURE_OUTPUTS"),
         (FORCE_OUTPUTS, "FORCE_OUTPUTS"),
+        (FIRMWARE_DECISION, "FIRMWARE_DECISION"),
         (FIRMWARE_OBSERVE, "FIRMWARE_OBSERVE"),
         (FIRMWARE_FORCE_PROFILE, "FIRMWARE_FORCE_PROFILE"),
         (FIRMWARE_ERROR, "FIRMWARE_ERROR"),
@@ -160,6 +167,7 @@ mod tests {
     #[test]
     fn firmware_kinds_are_distinct_and_inside_the_output_trace_range() {
         let kinds = [
+            FIRMWARE_DECISION,
             FIRMWARE_OBSERVE,
             FIRMWARE_FORCE_PROFILE,
             FIRMWARE_ERROR,

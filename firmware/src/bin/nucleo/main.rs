@@ -104,6 +104,10 @@ fn report_decisions(
     sysclk_hz: u32,
 ) -> ! {
     let mut reported = false;
+    let report = match tooltouch_firmware::baked::measure() {
+        Ok(config) => tooltouch_firmware::baked::reported_decision(&config),
+        Err(_) => tooltouch_firmware::baked::reported_decision(&Default::default()),
+    };
     #[cfg(feature = "cpu-load")]
     let mut load = cpu_load::CpuLoad::new(cpu_load::cycles(), sysclk_hz);
     #[cfg(not(feature = "cpu-load"))]
@@ -117,7 +121,7 @@ fn report_decisions(
             cortex_m::asm::isb();
             let o = snapshot.lock(|s| *s);
             let dropped = counters.lock(|c| c.overflowed);
-            log_register_now(reported, &o, dropped);
+            log_register_now(reported, &o, dropped, &report);
         }
         #[cfg(feature = "cpu-load")]
         if let Some(permille) = load.turn(cpu_load::cycles()) {
@@ -135,13 +139,20 @@ fn report_decisions(
 
 /// Logs a change of "register now" (to `on`) with the outputs `o` of the observe task
 /// and the ADC samples dropped so far: idle's report (and the emulated driver's, after
-/// every event).
-fn log_register_now(on: bool, o: &MeasureOutputs, dropped: u32) {
+/// every event), with the decision position corrected by the baked calibration (`report`).
+fn log_register_now(
+    on: bool,
+    o: &MeasureOutputs,
+    dropped: u32,
+    report: &tooltouch_firmware::handlers::ReportedDecision,
+) {
     if on {
         defmt::info!(
-            "register now: position {} counts, first contact at {}, {} revolutions, \
-             {} FES pulses; {} ADC samples dropped",
+            "register now: position {} counts, calibrated {} counts (offset {}), first \
+             contact at {}, {} revolutions, {} FES pulses; {} ADC samples dropped",
             o.decision_position,
+            report.position(o),
+            report.offset(),
             o.first_contact_position,
             o.revolutions,
             o.pulses,

@@ -11,6 +11,7 @@ use stm32f4::stm32f446::Interrupt;
 use tooltouch_firmware::board::Board;
 use tooltouch_firmware::cosim::{Input, Target};
 use tooltouch_firmware::handlers::Counters;
+use tooltouch_firmware::handlers::ReportedDecision;
 use tooltouch_firmware::model::force::config::ForceConfig;
 use tooltouch_firmware::model::force::events::ForceEvent;
 use tooltouch_firmware::model::force::kernel::{ForceKernel, ForceOutputs};
@@ -79,6 +80,8 @@ pub struct Driver<S, F, C> {
     calibration: (u32, u32),
     /// "Register now" as last logged (idle's `reported`).
     reported: bool,
+    /// How the stream's decision is reported (the baked calibration for its configuration).
+    report: ReportedDecision,
 }
 
 impl<S, F, C> Driver<S, F, C>
@@ -96,6 +99,7 @@ where
             counters,
             calibration: pend::calibrate(),
             reported: false,
+            report: tooltouch_firmware::baked::reported_decision(&Default::default()),
         }
     }
 
@@ -123,7 +127,7 @@ where
         run_now(OBSERVE);
         let o = self.snapshot.lock(|s| *s);
         let dropped = self.counters.lock(|c| c.overflowed);
-        crate::log_register_now(on, &o, dropped);
+        crate::log_register_now(on, &o, dropped, &self.report);
     }
 
     fn inject_force(&mut self, event: ForceEvent) -> Option<u32> {
@@ -173,6 +177,7 @@ where
         Nucleo::set_register_now(false);
         Nucleo::set_wear_alarm(false);
         self.reported = false;
+        self.report = tooltouch_firmware::baked::reported_decision(config);
         // The kernel is the measurement tasks' alone: observe installs the new one.
         drive::reset(Measurement::new(config));
         run_now(OBSERVE);
