@@ -4,6 +4,7 @@
 //! (`cargo test --release --test tune <topic>::`).
 
 mod cost_model;
+mod firmware_cost;
 mod merge;
 mod optimize;
 mod reference;

@@ -11,6 +11,7 @@
 
 pub mod cost;
 pub mod evaluate;
+pub mod firmware_cost;
 pub mod force;
 pub mod optimize;
 pub mod output;

@@ -23,13 +23,20 @@
 //!   compass search from the axes' middle values: try the points a step up and down each
 //!   axis (a quarter of the longest axis at first), move to the best that improves, halve
 //!   the step when none does, stop when a step of one value improves nothing. It finds a
-//!   local optimum; the tests state how far from the swept one.
+//!   local optimum; the tests state how far from the swept one. With
+//!   `cost = "firmware_instructions"` the same search minimizes the instructions the Nucleo
+//!   image spends per control period ([`crate::firmware_cost`]: each point executed under
+//!   QEMU, its force outputs checked bit for bit), under the tolerances — `iae` among them,
+//!   to say how good the gains must be. Each family's start point is evaluated first; the
+//!   families are searched cheapest first, and one whose start point costs more than the
+//!   best answer by over [`GAINS_COST_SPREAD`] is skipped.
 //!
 //! Every simulated point is an *evaluation* (logged, counted against `[limits]`); a point
 //! is simulated once. The answer is the cheapest point meeting every tolerance (ties: the
 //! smaller error of the first constraint).
 
 use crate::cost::CostModel;
+use crate::firmware_cost::CostImage;
 use crate::scenario::{self, Approach};
 use crate::spec::{method_name, rule_name, Axes, Law, SweepSpec};
 use crate::{point_settings, row, Row};
@@ -37,6 +44,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::time::Instant;
+use tooltouch_cosim::CosimError;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_plant::drive::scenario::{run, ControlScenario, Engine};
 use tooltouch_settings::force_design::{ForcePoint, ForceSpec};
@@ -63,6 +71,10 @@ pub enum CostKind {
     /// IAE of the fixed-point force kernel on the depth-step scenario, N·s (force path;
     /// its default).
     IaeModel,
+    /// Instructions the Nucleo image spends on the force path per control period, measured
+    /// by executing it under QEMU on the depth-step scenario ([`crate::firmware_cost`];
+    /// force path).
+    FirmwareInstructions,
 }
 
 impl CostKind {
@@ -72,6 +84,7 @@ impl CostKind {
             CostKind::LogicCells => "logic_cells",
             CostKind::FlipFlops => "flip_flops",
             CostKind::IaeModel => "iae_model",
+            CostKind::FirmwareInstructions => "firmware_instructions",
         }
     }
 }
@@ -93,6 +106,9 @@ pub struct Constraints {
     /// Largest |override of the fixed-point kernel − float reference's| over the control
     /// ticks, percentage points (force path).
     pub override_difference: Option<f64>,
+    /// IAE of the fixed-point kernel on the depth-step scenario, N·s (force path): how
+    /// good the gains must be, when the cost is not the IAE itself.
+    pub iae: Option<f64>,
 }
 
 /// Limits of the search: it stops at whichever comes first, and answers with the best
@@ -122,7 +138,7 @@ pub struct OptimizeSpec {
     /// `measure` or `force`.
     pub path: TunedPath,
     /// `logic_cells` (default) or `flip_flops` for the measurement path, `iae_model`
-    /// (default) for the force path.
+    /// (default) or `firmware_instructions` for the force path.
     #[serde(default)]
     pub cost: Option<CostKind>,
     /// The search space: a sweep spec (parameters not given keep the default sweep's
@@ -218,6 +234,7 @@ impl OptimizeSpec {
                 c.override_difference,
                 TunedPath::Force,
             ),
+            ("iae", c.iae, TunedPath::Force),
         ];
         for (key, value, path) in all {
             let key = format!("constraints.{key}");
@@ -242,7 +259,10 @@ impl OptimizeSpec {
             (
                 TunedPath::Measure,
                 CostKind::LogicCells | CostKind::FlipFlops
-            ) | (TunedPath::Force, CostKind::IaeModel)
+            ) | (
+                TunedPath::Force,
+                CostKind::IaeModel | CostKind::FirmwareInstructions
+            )
         );
         if !cost_ok {
             return Err(err(
@@ -253,7 +273,7 @@ impl OptimizeSpec {
                     path_name(self.path),
                     match self.path {
                         TunedPath::Measure => "logic_cells, flip_flops",
-                        TunedPath::Force => "iae_model",
+                        TunedPath::Force => "iae_model, firmware_instructions",
                     }
                 ),
             ));
@@ -352,6 +372,10 @@ pub struct Metrics {
     /// Overshoot after the depth step (model), %.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub overshoot_pct: Option<f64>,
+    /// Instructions the Nucleo image spent on the force path per control period (when the
+    /// cost is `firmware_instructions`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub firmware_instructions: Option<f64>,
 }
 
 /// One line of the evaluation log.
@@ -577,6 +601,10 @@ struct Search<'a> {
     evaluations: Vec<Evaluation>,
     cache: HashMap<(usize, Coords), Option<usize>>,
     progress: &'a (dyn Fn(&Evaluation) + Sync),
+    /// The image measuring `firmware_instructions`.
+    firmware: Option<CostImage>,
+    /// Why the firmware could not measure a point (the search stops).
+    firmware_failure: Option<String>,
 }
 
 impl Search<'_> {
@@ -681,9 +709,22 @@ impl Search<'_> {
                 point
                     .map(|p| Measured::Measure(Box::new(row(0, &p, &self.approaches, &self.model))))
             }
-            Categories::Force(..) => self
-                .force_point(fam, x)
-                .map(|p| Measured::Force(force_metrics(&p))),
+            Categories::Force(..) => match self.force_point(fam, x) {
+                None => None,
+                Some(p) => {
+                    let mut m = force_metrics(&p);
+                    if let Some(image) = &self.firmware {
+                        match firmware_instructions(image, &p) {
+                            Ok(i) => m.firmware_instructions = i,
+                            Err(e) => {
+                                self.firmware_failure = Some(format!("{}: {e}", fam.name()));
+                                return Err(Stopped("firmware measurement".into()));
+                            }
+                        }
+                    }
+                    Some(Measured::Force(m))
+                }
+            },
         };
         let Some(measured) = measured else {
             self.cache.insert((f, x.clone()), None);
@@ -706,7 +747,14 @@ impl Search<'_> {
                     ..Metrics::default()
                 },
             ),
-            Measured::Force(m) => (m.iae_model.unwrap_or(f64::INFINITY), m),
+            Measured::Force(m) => (
+                match self.spec.cost_kind() {
+                    CostKind::FirmwareInstructions => m.firmware_instructions,
+                    _ => m.iae_model,
+                }
+                .unwrap_or(f64::INFINITY),
+                m,
+            ),
         };
         let violated = self
             .constraints(&metrics)
@@ -760,6 +808,7 @@ impl Search<'_> {
                 c.override_difference,
                 m.override_difference,
             ),
+            ("iae", c.iae, m.iae_model),
         ];
         for (k, tol, v) in keyed {
             if let Some(tol) = tol {
@@ -1045,6 +1094,22 @@ pub fn force_metrics(p: &ForcePoint) -> Metrics {
     }
 }
 
+/// How much the gains can move a force point's firmware cost, as a fraction of it: a family
+/// whose start point costs more than the best answer by this much is skipped. The gains
+/// move it by less than 0.1 % on the tested spaces (their saturation and rule branches; the
+/// controller's code, 5–6 %), so 1 % is a wide margin.
+pub const GAINS_COST_SPREAD: f64 = 0.01;
+
+/// The force path's instructions per control period of point `p` on `image` (`None`: the
+/// point's settings are refused, so it has no scenario).
+fn firmware_instructions(image: &CostImage, p: &ForcePoint) -> Result<Option<f64>, CosimError> {
+    let Ok(config) = p.settings.validate() else {
+        return Ok(None);
+    };
+    let cost = image.measure(std::slice::from_ref(&config))?;
+    Ok(cost.first().map(|c| c.per_period))
+}
+
 /// Searches `spec`'s space for the cheapest point meeting its tolerances, calling
 /// `progress` after each evaluation.
 pub fn optimize(
@@ -1072,20 +1137,45 @@ pub fn optimize(
         evaluations: Vec::new(),
         cache: HashMap::new(),
         progress,
+        firmware: match spec.cost_kind() {
+            CostKind::FirmwareInstructions => Some(CostImage::build().map_err(|e| {
+                err(
+                    "cost",
+                    format!("`firmware_instructions` executes the Nucleo image: {e}"),
+                )
+            })?),
+            _ => None,
+        },
+        firmware_failure: None,
     };
     let grid_points = families.iter().map(Family::size).sum();
-    let mut order: Vec<(f64, usize)> = families
-        .iter()
-        .enumerate()
-        .map(|(i, fam)| match spec.path {
-            TunedPath::Measure => (s.lower_bound(fam), i),
-            TunedPath::Force => (0.0, i),
-        })
-        .collect();
+    let mut stopped = None;
+    let mut order: Vec<(f64, usize)> = Vec::new();
+    for (i, fam) in families.iter().enumerate() {
+        let bound = match (spec.path, spec.cost_kind()) {
+            (TunedPath::Measure, _) => s.lower_bound(fam),
+            // The firmware's cost is the controller's more than its gains': each family's
+            // start point bounds what its other gains can cost.
+            (TunedPath::Force, CostKind::FirmwareInstructions) => {
+                match s.eval(i, fam, &s.start_point(fam)) {
+                    Ok(Some(e)) => s.evaluations[e].cost * (1.0 - GAINS_COST_SPREAD),
+                    Ok(None) => f64::NEG_INFINITY,
+                    Err(Stopped(why)) => {
+                        stopped = Some(why);
+                        break;
+                    }
+                }
+            }
+            (TunedPath::Force, _) => 0.0,
+        };
+        order.push((bound, i));
+    }
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut best: Option<usize> = None;
-    let mut stopped = None;
     for (bound, f) in order {
+        if stopped.is_some() {
+            break;
+        }
         if best.is_some_and(|b| bound > s.evaluations[b].cost) {
             continue;
         }
@@ -1106,6 +1196,12 @@ pub fn optimize(
                 break;
             }
         }
+    }
+    if let Some(why) = s.firmware_failure.take() {
+        return Err(err(
+            "cost",
+            format!("`firmware_instructions`: the Nucleo image could not measure {why}"),
+        ));
     }
     // After a stop, the best feasible point seen is the answer.
     if stopped.is_some() {
@@ -1201,9 +1297,18 @@ fn answer_settings(s: &Search<'_>, families: &[Family], b: usize) -> anyhow::Res
             let p = s
                 .force_point(fam, &x)
                 .ok_or_else(|| anyhow::anyhow!("the answer makes no force point"))?;
+            let firmware = e
+                .metrics
+                .firmware_instructions
+                .map_or_else(String::new, |i| {
+                    format!(", {i:.1} firmware instructions per control period")
+                });
             let comment = format!(
-                "tooltouch tune optimize, force point: {} at kp {} % / ki {} % of the design, IAE {:.3} N·s",
-                e.family, p.kp_percent, p.ki_percent, e.cost
+                "tooltouch tune optimize, force point: {} at kp {} % / ki {} % of the design, IAE {:.3} N·s{firmware}",
+                e.family,
+                p.kp_percent,
+                p.ki_percent,
+                e.metrics.iae_model.unwrap_or(e.cost)
             );
             point_settings::force_toml(&p, &comment)
         }
