@@ -25,12 +25,30 @@
 //! timestamped records whose kinds are registered in [`wire::kind`], one file per payload
 //! with its encoder and decoder. Imports point down only (wire → paths → leaves), so the
 //! module graph has no cycle.
+//!
+//! ## Cargo features
+//!
+//! None is on by default, and the firmware images enable none of them (its host tests use
+//! `testing`).
+//!
+//! - `serde`: `Serialize`/`Deserialize` for the settings types (the host's TOML files).
+//! - `testing`: the test kit `tooltouch_model::testing` (proptest strategies, seeded draws; needs `std`).
+//! - `internals`: `tooltouch_model::internals`, read-only snapshots of the kernels' internal state
+//!   registers — the glitch filters' counters, the sampling chain's filters, sums and
+//!   averages, the estimator's no-load sums and intermediate powers and torques, the
+//!   controllers' accumulators, the wear monitor's filter and counters — each with a stable
+//!   name and its format (word, fractional bits, clamp), for `tooltouch ranges`. A leaf like
+//!   [`units`]: the kernels implement its trait in `#[cfg(feature = "internals")]` blocks
+//!   that only read their fields, so with the feature off nothing of it is compiled and with
+//!   it on no kernel computes anything differently. `no_std`.
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
 pub mod fnv;
 pub mod force;
+#[cfg(feature = "internals")]
+pub mod internals;
 pub mod measure;
 pub mod units;
 pub mod validation;

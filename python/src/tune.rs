@@ -50,10 +50,11 @@ pub fn tune_optimize<'py>(py: Python<'py>, spec_toml: &str) -> PyResult<Bound<'p
 }
 
 /// The observed ranges of every register of the measurement path over the tuning
-/// scenarios (seeds `1..=scenarios`) and of the force path over the control scenario, as
-/// `tooltouch ranges` writes them in `ranges.json`: a dict with `registers`, each a dict
-/// (`path`, `name`, `format`, `bits`, `signed`, `overflow`, `limits`, `min`, `max`,
-/// `saturations`, `wraps`, `headroom_bits`, `samples`).
+/// scenarios (seeds `1..=scenarios`) and of the force path over the control scenario — the
+/// kernels' outputs and their internal registers — as `tooltouch ranges` writes them in
+/// `ranges.json` (`tooltouch-ranges-2`): a dict with `registers`, each a dict (`path`,
+/// `kind` — `output` or `internal` —, `name`, `format`, `bits`, `signed`, `overflow`,
+/// `limits`, `min`, `max`, `saturations`, `wraps`, `headroom_bits`, `samples`).
 #[pyfunction]
 #[pyo3(signature = (settings=None, force=None, scenarios=8))]
 pub fn ranges<'py>(

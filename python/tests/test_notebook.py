@@ -31,8 +31,19 @@ def test_the_tuning_bindings_agree_with_each_other():
     import tooltouch
 
     r = tooltouch.ranges(scenarios=1)
-    names = {x["name"] for x in r["registers"]}
-    assert {"charge", "position", "override_pct", "force_estimate"} <= names
+    assert r["format"] == "tooltouch-ranges-2"
+    kinds = {x["name"]: x["kind"] for x in r["registers"]}
+    for name in ["charge", "position", "override_pct", "force_estimate"]:
+        assert kinds[name] == "output", name
+    # The kernels' internal registers beside them: the sampling sums, the no-load sums,
+    # the PI integrator inside its clamp, the glitch filters' counters.
+    for name in ["sampler.sums[power]", "estimator.no_load.sww", "pi.integral", "glitch.stable[fes]"]:
+        assert kinds[name] == "internal", name
+    pi = next(x for x in r["registers"] if x["name"] == "pi.integral")
+    assert pi["limits"] == [0.0, 255.0] and pi["format"] == "I32F32 clamp 0..255"
+    assert 0.0 < pi["min"] <= pi["max"] < 255.0 and pi["saturations"] == 0
+    n = next(x for x in r["registers"] if x["name"] == "estimator.no_load.n")
+    assert n["max"] >= 10 and n["path"] == "force"
     try:
         tooltouch.tune_optimize('path = "measure"\n[constraints]\ndiameter_error_um = "a"\n')
     except ValueError as e:

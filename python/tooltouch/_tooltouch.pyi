@@ -549,8 +549,12 @@ def tune_optimize(spec_toml: str) -> Dict[str, Any]:
 def ranges(
     settings: Optional[Settings] = None, force: Optional[ForceSettings] = None, scenarios: int = 8
 ) -> Dict[str, Any]:
-    """``tooltouch ranges``: ``registers``, each ``path``, ``name``, ``format`` (``s24``,
-    ``u16``, ``I32F32`` …), ``bits``, ``signed``, ``overflow`` (``saturates`` / ``wraps``),
-    ``limits``, observed ``min``/``max``, ``saturations`` (clocks or events at a limit),
-    ``wraps``, ``headroom_bits``, ``samples``; over the tuning scenarios (seeds
-    ``1..=scenarios``) and the force path's control scenario."""
+    """``tooltouch ranges``: ``format`` (``tooltouch-ranges-2``), ``scenarios`` and
+    ``registers``, each ``path``, ``kind`` (``output``, or ``internal``: a register inside a
+    kernel, e.g. ``sampler.sums[power]``, ``estimator.no_load.sww``, ``pi.integral``),
+    ``name``, ``format`` (``s24``, ``u16``, ``I32F32``, ``I56F8``, ``I32F32 clamp 0..255``
+    …), ``bits`` (integer bits), ``signed``, ``overflow`` (``saturates`` / ``wraps``),
+    ``limits`` (two numbers: the format's or the clamp's), observed ``min``/``max``,
+    ``saturations`` (clocks or events at a limit), ``wraps``, ``headroom_bits``,
+    ``samples``; over the tuning scenarios (seeds ``1..=scenarios``) and the force path's
+    control scenario."""

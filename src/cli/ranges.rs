@@ -1,5 +1,6 @@
-//! `tooltouch ranges`: every fixed-point register of the measurement and force paths over
-//! the tuning scenarios — observed min/max, saturation and wrap counts, headroom in bits
+//! `tooltouch ranges`: every fixed-point register of the measurement and force paths, the
+//! kernels' outputs and their internal registers, over the tuning scenarios — observed
+//! min/max, saturation and wrap counts, headroom in bits
 //! (docs/tune.md#ranges-and-saturation-tooltouch-ranges) — as a table, `ranges.json`, and a
 //! warning naming each register that saturated or wrapped.
 
@@ -68,8 +69,12 @@ pub fn run(a: Args) -> Result<ExitCode> {
     print_table(&r);
     for reg in r.saturated() {
         eprintln!(
-            "warning: {} register `{}` ({}) {}",
+            "warning: {} {}register `{}` ({}) {}",
             reg.path,
+            match reg.kind {
+                ranges::Kind::Output => "",
+                ranges::Kind::Internal => "internal ",
+            },
             reg.name,
             reg.format,
             if reg.wraps > 0 {
@@ -88,8 +93,9 @@ pub fn run(a: Args) -> Result<ExitCode> {
 
 fn print_table(r: &ranges::Ranges) {
     outln!(
-        "{:<7} {:<22} {:<20} {:>14} {:>14} {:>11} {:>6} {:>8}",
+        "{:<7} {:<8} {:<26} {:<22} {:>14} {:>14} {:>11} {:>6} {:>8}",
         "path",
+        "kind",
         "register",
         "format",
         "min",
@@ -100,8 +106,12 @@ fn print_table(r: &ranges::Ranges) {
     );
     for x in &r.registers {
         outln!(
-            "{:<7} {:<22} {:<20} {:>14} {:>14} {:>11} {:>6} {:>8}",
+            "{:<7} {:<8} {:<26} {:<22} {:>14} {:>14} {:>11} {:>6} {:>8}",
             x.path,
+            match x.kind {
+                ranges::Kind::Output => "output",
+                ranges::Kind::Internal => "internal",
+            },
             x.name,
             x.format,
             trim(x.min),

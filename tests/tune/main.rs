@@ -1,4 +1,5 @@
-//! Integration tests of tuning sweeps: the cost model against yosys, sharding and merge, the float reference.
+//! Integration tests of tuning sweeps: the cost model against yosys, sharding and merge, the
+//! float reference, the optimizer, the range instrumentation (`ranges`).
 //!
 //! One test binary per area (`cargo test --release --test tune`); one module per topic
 //! (`cargo test --release --test tune <topic>::`).
@@ -7,4 +8,5 @@ mod cost_model;
 mod firmware_cost;
 mod merge;
 mod optimize;
+mod ranges;
 mod reference;

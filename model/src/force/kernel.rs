@@ -184,5 +184,39 @@ impl ForceKernel {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for ForceKernel {
+    /// The sampler's, then the last period's estimate (I32F32: `estimate.omega`,
+    /// `.p_o`, `.v_line`, `.i_line`, `.amps_sq` — the period's signals but the dynamometer
+    /// force, an output —, `.p_i`, `.p_g`, `.p_used`, `.d_omega`, `.t_e`, `.t_t`, `.t_c` —
+    /// F̂_c is the `force_estimate` output), then the estimator's, the controller's and the
+    /// wear monitor's.
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        self.sampler.internals(f);
+        let e = &self.estimate;
+        let sig = &e.signals;
+        for (name, v) in [
+            ("estimate.omega", sig.omega),
+            ("estimate.p_o", sig.p_o),
+            ("estimate.v_line", sig.v_line),
+            ("estimate.i_line", sig.i_line),
+            ("estimate.amps_sq", sig.amps_sq),
+            ("estimate.p_i", e.p_i),
+            ("estimate.p_g", e.p_g),
+            ("estimate.p_used", e.p_used),
+            ("estimate.d_omega", e.d_omega),
+            ("estimate.t_e", e.t_e),
+            ("estimate.t_t", e.t_t),
+            ("estimate.t_c", e.t_c),
+        ] {
+            f(Register::fx(name, Format::I32F32, v));
+        }
+        self.estimator.internals(f);
+        self.controller.internals(f);
+        self.wear.internals(f);
+    }
+}
+
 #[cfg(test)]
 mod worked_examples;

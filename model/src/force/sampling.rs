@@ -155,6 +155,55 @@ impl Sampler {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Sampler {
+    /// Per channel (`speed`, `power`, `force`, `volts_sq`, `amps_sq`): the low-pass state
+    /// `sampler.filtered[ch]`, the period's running sum `sampler.sums[ch]` and the last
+    /// period's average `sampler.average[ch]` (`i64` with [`FILTER_FRAC_BITS`] fractional
+    /// bits, I56F8, saturating); then the period's sample count `sampler.count` (`u16`).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        const FILTERED: [&str; CHANNELS] = [
+            "sampler.filtered[speed]",
+            "sampler.filtered[power]",
+            "sampler.filtered[force]",
+            "sampler.filtered[volts_sq]",
+            "sampler.filtered[amps_sq]",
+        ];
+        const SUMS: [&str; CHANNELS] = [
+            "sampler.sums[speed]",
+            "sampler.sums[power]",
+            "sampler.sums[force]",
+            "sampler.sums[volts_sq]",
+            "sampler.sums[amps_sq]",
+        ];
+        const AVERAGE: [&str; CHANNELS] = [
+            "sampler.average[speed]",
+            "sampler.average[power]",
+            "sampler.average[force]",
+            "sampler.average[volts_sq]",
+            "sampler.average[amps_sq]",
+        ];
+        let q8 = Format::fixed(64, FILTER_FRAC_BITS as u8);
+        let l = &self.last;
+        let average = [l.speed, l.power, l.force, l.volts_sq, l.amps_sq];
+        for (names, values) in [
+            (&FILTERED, &self.filtered),
+            (&SUMS, &self.sums),
+            (&AVERAGE, &average),
+        ] {
+            for (name, &v) in names.iter().zip(values.iter()) {
+                f(Register::new(name, q8, v.into()));
+            }
+        }
+        f(Register::new(
+            "sampler.count",
+            Format::unsigned(16),
+            self.count.into(),
+        ));
+    }
+}
+
 /// ADC scales of the sampling chain (docs/domain.md §3), I32F32 units per LSB.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct AdcScales {

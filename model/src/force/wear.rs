@@ -268,6 +268,27 @@ impl WearMonitor {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for WearMonitor {
+    /// The low-passed power `wear.filtered` (I32F32; none before the first period), the
+    /// selected set's threshold `wear.allowed` and the held one `wear.held` (I32F32), the
+    /// settling hold's periods left `wear.hold_left` and the debounce count
+    /// `wear.over_count` (`u8`, saturating).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        f(Register {
+            name: "wear.filtered",
+            format: Format::I32F32,
+            raw: self.filtered.map(|p| p.to_bits().into()),
+        });
+        f(Register::fx("wear.allowed", Format::I32F32, self.allowed));
+        f(Register::fx("wear.held", Format::I32F32, self.held));
+        let u8 = Format::unsigned(8);
+        f(Register::new("wear.hold_left", u8, self.hold_left.into()));
+        f(Register::new("wear.over_count", u8, self.over_count.into()));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -221,6 +221,27 @@ impl FrontEnd {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for FrontEnd {
+    /// The glitch filters' counters `glitch.stable[pin]` (`u8`, `0..=glitch_cycles`), then
+    /// the kernel's ([`Measurement`]'s).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        const NAMES: [&str; pin::COUNT] = [
+            "glitch.stable[arm]",
+            "glitch.stable[contact]",
+            "glitch.stable[index]",
+            "glitch.stable[fes]",
+            "glitch.stable[scale_a]",
+            "glitch.stable[scale_b]",
+        ];
+        for (name, &stable) in NAMES.iter().zip(self.stable.iter()) {
+            f(Register::new(name, Format::unsigned(8), stable.into()));
+        }
+        crate::internals::Internals::internals(&self.measurement, f);
+    }
+}
+
 #[cfg(test)]
 mod worked_examples;
 

@@ -227,6 +227,15 @@ impl Measurement {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Measurement {
+    /// The pulse counter's (the density detector's charge, the positions and the counts
+    /// are outputs; the rest are single bits).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        crate::internals::Internals::internals(&self.counter, f);
+    }
+}
+
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

@@ -139,6 +139,19 @@ impl PulseCounter {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for PulseCounter {
+    /// `counter.revs_in_window` (`u8`); its counts are outputs.
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        f(Register::new(
+            "counter.revs_in_window",
+            Format::unsigned(8),
+            self.revs_in_window.into(),
+        ));
+    }
+}
+
 #[cfg(test)]
 mod worked_examples;
 

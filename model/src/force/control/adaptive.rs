@@ -161,6 +161,30 @@ impl ForceController for Adaptive {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Adaptive {
+    /// The override state `adaptive.feed` (I32F32 clamped to `0..=255`), the process-gain
+    /// estimate `adaptive.gain_estimate` (clamped to `gain_min..=gain_max`) and the
+    /// controller gain `adaptive.controller_gain` (I32F32).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        let bits = |v: Fx| i128::from(v.to_bits());
+        let feed = Format::I32F32.clamped(0, bits(OVERRIDE_MAX_FX));
+        f(Register::fx("adaptive.feed", feed, self.feed));
+        let gain = Format::I32F32.clamped(bits(self.s.gain_min), bits(self.s.gain_max));
+        f(Register::fx(
+            "adaptive.gain_estimate",
+            gain,
+            self.gain_estimate,
+        ));
+        f(Register::fx(
+            "adaptive.controller_gain",
+            Format::I32F32,
+            self.controller_gain,
+        ));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

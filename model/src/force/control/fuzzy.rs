@@ -233,6 +233,26 @@ impl ForceController for Fuzzy {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Fuzzy {
+    /// The override state `fuzzy.u` (I32F32 clamped to `0..=255`) and the previous
+    /// period's error `fuzzy.e_prev` (I32F32; none before the first period after a reset).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        let max = super::interface::OVERRIDE_MAX_FX.to_bits().into();
+        f(Register::fx(
+            "fuzzy.u",
+            Format::I32F32.clamped(0, max),
+            self.u,
+        ));
+        f(Register {
+            name: "fuzzy.e_prev",
+            format: Format::I32F32,
+            raw: self.e_prev.map(|e| e.to_bits().into()),
+        });
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

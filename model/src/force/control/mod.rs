@@ -95,5 +95,17 @@ impl ForceController for Controller {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Controller {
+    /// The selected kernel's ([`Pi`], [`Adaptive`] or [`Fuzzy`]).
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        match self {
+            Controller::Pi(c) => c.internals(f),
+            Controller::Adaptive(c) => c.internals(f),
+            Controller::Fuzzy(c) => c.internals(f),
+        }
+    }
+}
+
 #[cfg(test)]
 mod worked_examples;

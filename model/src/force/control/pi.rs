@@ -118,6 +118,17 @@ impl ForceController for Pi {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Pi {
+    /// `pi.integral`: I32F32, clamped to `integrator_min..=integrator_max`.
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        let clamp =
+            Format::I32F32.clamped(self.i_min.to_bits().into(), self.i_max.to_bits().into());
+        f(Register::fx("pi.integral", clamp, self.integral));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

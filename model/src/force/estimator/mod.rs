@@ -331,6 +331,47 @@ impl Estimator {
     }
 }
 
+#[cfg(feature = "internals")]
+impl crate::internals::Internals for Estimator {
+    /// The no-load identification's least-squares sums `estimator.no_load.n` (`u32`),
+    /// `.sw`, `.sy` (Σω, Σy: `i128` with 16 fractional bits, I112F16) and `.sww`, `.swy`
+    /// (Σω², Σωy: 32 fractional bits, I96F32), all saturating; the viscous friction B in use
+    /// `estimator.viscous` (I32F32 clamped to `0..=J/(2h)`), its `1/b` of F6
+    /// `estimator.inv_b`, the previous period's speed `estimator.omega_prev` (I32F32) and
+    /// F9's hold counter `estimator.hold` (`u8`). T_fco is the `coulomb` output.
+    fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
+        use crate::internals::{Format, Register};
+        let s = &self.sums;
+        f(Register::new(
+            "estimator.no_load.n",
+            Format::unsigned(32),
+            s.n.into(),
+        ));
+        let (q16, q32) = (Format::fixed(128, 16), Format::fixed(128, 32));
+        f(Register::new("estimator.no_load.sw", q16, s.sw));
+        f(Register::new("estimator.no_load.sww", q32, s.sww));
+        f(Register::new("estimator.no_load.sy", q16, s.sy));
+        f(Register::new("estimator.no_load.swy", q32, s.swy));
+        let b_max = viscous_max(self.s.inertia, self.h);
+        f(Register::fx(
+            "estimator.viscous",
+            Format::I32F32.clamped(0, b_max.to_bits().into()),
+            self.viscous,
+        ));
+        f(Register::fx("estimator.inv_b", Format::I32F32, self.inv_b));
+        f(Register {
+            name: "estimator.omega_prev",
+            format: Format::I32F32,
+            raw: self.omega_prev.map(|w| w.to_bits().into()),
+        });
+        f(Register::new(
+            "estimator.hold",
+            Format::unsigned(8),
+            self.hold.into(),
+        ));
+    }
+}
+
 #[cfg(test)]
 mod worked_examples;
 
