@@ -11,7 +11,7 @@
 //! drops the first from a case, and a stream holding either is reported as lost events.
 
 use super::error::CosimError;
-use super::qemu::{self, MachineRun};
+use super::qemu::{self, Artifact, MachineRun};
 use super::{check_calibrated_batch, encode_batch, Case, Observe, Report};
 use std::path::{Path, PathBuf};
 use tooltouch_model::force::events::ForceEvent;
@@ -58,30 +58,17 @@ pub fn build_configured_emulated(config: &FirmwareConfig) -> Result<PathBuf, Cos
 
 fn build_emulated_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
     qemu::check_tools_for(TARGET)?;
-    let dir = qemu::firmware_dir();
-    let images = dir.join("target").join("images");
-    let io = |what: &str, path: &Path, e: std::io::Error| {
-        CosimError::Io(format!("{what} {}: {e}", path.display()))
+    let name = match config {
+        Some(c) => format!("nucleo-emulated-{}", c.image_name()),
+        None => "nucleo-emulated".to_string(),
     };
-    std::fs::create_dir_all(&images).map_err(|e| io("creating", &images, e))?;
-    let lock_path = images.join("build.lock");
-    let lock = std::fs::File::create(&lock_path).map_err(|e| io("creating", &lock_path, e))?;
-    lock.lock().map_err(|e| io("locking", &lock_path, e))?;
-    let (name, baked) = match config {
-        Some(c) => {
-            let name = format!("nucleo-emulated-{}", c.image_name());
-            let path = images.join(format!("{name}.bin"));
-            std::fs::write(&path, c.baked_bytes()).map_err(|e| io("writing", &path, e))?;
-            (name, Some(path))
-        }
-        None => ("nucleo-emulated".to_string(), None),
-    };
-    let built = qemu::cargo_build_bin(&dir, &EMULATED_BUILD, "nucleo", baked.as_deref())?;
-    let image = images.join(&name);
-    let partial = images.join(format!("{name}.partial"));
-    std::fs::copy(&built, &partial).map_err(|e| io("copying the image to", &partial, e))?;
-    std::fs::rename(&partial, &image).map_err(|e| io("renaming", &partial, e))?;
-    Ok(image)
+    let baked = config.map(FirmwareConfig::baked_bytes);
+    qemu::build_into_images(
+        &EMULATED_BUILD,
+        Artifact::Bin("nucleo"),
+        &name,
+        baked.as_deref(),
+    )
 }
 
 /// `case` as the Nucleo can receive it: without the cutting-conditions commands (no pin

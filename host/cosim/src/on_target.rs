@@ -9,10 +9,9 @@
 
 use super::error::CosimError;
 use super::nucleo::{self, EMULATED_BUILD, MACHINE_ARGS, TARGET};
-use super::qemu::{self, DEFMT_FILE, QEMU};
+use super::qemu::{self, Artifact};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The test target's name (firmware/Cargo.toml `[[test]]`).
 pub const TEST: &str = "on_target";
@@ -28,52 +27,12 @@ pub const WATCHDOG: Duration = Duration::from_secs(120);
 /// images' build lock.
 pub fn build_emulated() -> Result<PathBuf, CosimError> {
     qemu::check_tools_for(TARGET)?;
-    let dir = qemu::firmware_dir();
-    let images = dir.join("target").join("images");
-    let io = |what: &str, path: &Path, e: std::io::Error| {
-        CosimError::Io(format!("{what} {}: {e}", path.display()))
-    };
-    std::fs::create_dir_all(&images).map_err(|e| io("creating", &images, e))?;
-    let lock_path = images.join("build.lock");
-    let lock = std::fs::File::create(&lock_path).map_err(|e| io("creating", &lock_path, e))?;
-    lock.lock().map_err(|e| io("locking", &lock_path, e))?;
-    let mut cargo = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cargo
-        .args(["build", "--release"])
-        .args(EMULATED_BUILD)
-        .args(["--test", TEST, "--message-format=json-render-diagnostics"])
-        .current_dir(&dir)
-        // The root package's test environment must not leak into the firmware build.
-        .env_remove("CARGO_TARGET_DIR")
-        .env_remove("RUSTFLAGS")
-        .env_remove("CARGO_ENCODED_RUSTFLAGS")
-        .env_remove("CARGO_BUILD_TARGET")
-        .env_remove("TOOLTOUCH_FIRMWARE_CONFIG")
-        .stderr(Stdio::inherit());
-    let out = cargo
-        .output()
-        .map_err(|e| CosimError::Build(format!("cannot start cargo in {}: {e}", dir.display())))?;
-    if !out.status.success() {
-        return Err(CosimError::Build(format!(
-            "`cargo build --release {} --test {TEST}` in {} failed ({})",
-            EMULATED_BUILD.join(" "),
-            dir.display(),
-            out.status
-        )));
-    }
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let built = stdout
-        .lines()
-        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
-        .filter(|v| v["reason"] == "compiler-artifact" && v["target"]["name"] == TEST)
-        .filter_map(|v| v["executable"].as_str().map(PathBuf::from))
-        .next_back()
-        .ok_or_else(|| CosimError::Build(format!("cargo reported no `{TEST}` executable")))?;
-    let image = images.join("on-target-emulated");
-    let partial = images.join("on-target-emulated.partial");
-    std::fs::copy(&built, &partial).map_err(|e| io("copying the image to", &partial, e))?;
-    std::fs::rename(&partial, &image).map_err(|e| io("renaming", &partial, e))?;
-    Ok(image)
+    qemu::build_into_images(
+        &EMULATED_BUILD,
+        Artifact::Test(TEST),
+        "on-target-emulated",
+        None,
+    )
 }
 
 /// One on-target test as its log shows it.
@@ -118,47 +77,12 @@ pub struct OnTargetRun {
 /// Boots the tests' `image` on netduinoplus2 and decodes its log; a test that failed is
 /// no error here (the run's status and log say so), a QEMU that cannot start or hangs is.
 pub fn run(image: &Path) -> Result<OnTargetRun, CosimError> {
-    static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("tooltouch-on-target-{}-{n}", std::process::id()));
-    let io = |what: &str, path: &Path, e: std::io::Error| {
-        CosimError::Io(format!("{what} {}: {e}", path.display()))
-    };
-    std::fs::create_dir_all(&dir).map_err(|e| io("creating", &dir, e))?;
-    let start = Instant::now();
-    let result = (|| {
-        let mut child = Command::new(QEMU)
-            .args(MACHINE_ARGS)
-            .arg("-kernel")
-            .arg(image)
-            .current_dir(&dir)
-            .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .map_err(|e| CosimError::ToolMissing(format!("cannot start `{QEMU}`: {e}")))?;
-        let status = loop {
-            match child.try_wait() {
-                Ok(Some(status)) => break status,
-                Ok(None) if start.elapsed() > WATCHDOG => {
-                    let _ = child.kill();
-                    let _ = child.wait();
-                    return Err(CosimError::Qemu(format!(
-                        "the on-target tests ran longer than {} s under QEMU and were killed",
-                        WATCHDOG.as_secs()
-                    )));
-                }
-                Ok(None) => std::thread::sleep(Duration::from_millis(5)),
-                Err(e) => return Err(CosimError::Qemu(format!("waiting for QEMU: {e}"))),
-            }
-        };
-        let frames = std::fs::read(dir.join(DEFMT_FILE)).unwrap_or_default();
-        Ok((status.code(), frames))
-    })();
-    let elapsed = start.elapsed();
-    let _ = std::fs::remove_dir_all(&dir);
-    let (status, frames) = result?;
-    let elf = std::fs::read(image).map_err(|e| io("reading", image, e))?;
+    let boot = qemu::boot(&MACHINE_ARGS, image, &[], WATCHDOG, &|s| {
+        format!("the on-target tests ran longer than {s} s under QEMU and were killed")
+    })?;
+    let (status, frames, elapsed) = (boot.status.code(), boot.defmt, boot.elapsed);
+    let elf = std::fs::read(image)
+        .map_err(|e| CosimError::Io(format!("reading {}: {e}", image.display())))?;
     let log = nucleo::decode_defmt(&elf, &frames)?;
     let all_passed = log.last().is_some_and(|l| l == ALL_PASSED);
     let (init, tests) = split(&log[..log.len() - usize::from(all_passed)])?;

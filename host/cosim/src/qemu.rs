@@ -136,6 +136,45 @@ fn build_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
     // The defaults are what a build without a configuration file bakes in: build that
     // way, so the default image is not rebuilt for an unchanged configuration.
     let config = config.filter(|c| **c != FirmwareConfig::default());
+    let name = format!("qemu-{}", config.copied().unwrap_or_default().image_name());
+    let baked = config.map(FirmwareConfig::baked_bytes);
+    build_into_images(&[], Artifact::Bin("qemu"), &name, baked.as_deref())
+}
+
+/// What cargo builds in firmware/: a binary (`--bin`) or a test target (`--test`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Artifact<'a> {
+    /// `--bin <name>`.
+    Bin(&'a str),
+    /// `--test <name>`.
+    Test(&'a str),
+}
+
+impl Artifact<'_> {
+    fn flag(self) -> &'static str {
+        match self {
+            Artifact::Bin(_) => "--bin",
+            Artifact::Test(_) => "--test",
+        }
+    }
+    fn name(&self) -> &str {
+        match self {
+            Artifact::Bin(n) | Artifact::Test(n) => n,
+        }
+    }
+}
+
+/// Builds `artifact` (release, from inside firmware/, `selection` before it) with the
+/// baked configuration `baked` (its bytes; `None`: the defaults) and copies the executable
+/// to `firmware/target/images/<image>` — written to a temporary name and renamed, under a
+/// file lock held for the build and the copy, so that a build with another configuration
+/// never changes an image another run is booting.
+pub(crate) fn build_into_images(
+    selection: &[&str],
+    artifact: Artifact<'_>,
+    image: &str,
+    baked: Option<&[u8]>,
+) -> Result<PathBuf, CosimError> {
     let dir = firmware_dir();
     let images = dir.join("target").join("images");
     let io = |what: &str, path: &Path, e: std::io::Error| {
@@ -145,42 +184,38 @@ fn build_image(config: Option<&FirmwareConfig>) -> Result<PathBuf, CosimError> {
     let lock_path = images.join("build.lock");
     let lock = std::fs::File::create(&lock_path).map_err(|e| io("creating", &lock_path, e))?;
     lock.lock().map_err(|e| io("locking", &lock_path, e))?;
-    let name = config.copied().unwrap_or_default().image_name();
-    let baked = match config {
-        Some(c) => {
-            let path = images.join(format!("config-{name}.bin"));
-            std::fs::write(&path, c.baked_bytes()).map_err(|e| io("writing", &path, e))?;
+    let baked = match baked {
+        Some(bytes) => {
+            let path = images.join(format!("{image}.config.bin"));
+            std::fs::write(&path, bytes).map_err(|e| io("writing", &path, e))?;
             Some(path)
         }
         None => None,
     };
-    let built = cargo_build_qemu(&dir, baked.as_deref())?;
-    let image = images.join(format!("qemu-{name}"));
-    let partial = images.join(format!("qemu-{name}.partial"));
+    let built = cargo_build(&dir, selection, artifact, baked.as_deref())?;
+    let path = images.join(image);
+    let partial = images.join(format!("{image}.partial"));
     std::fs::copy(&built, &partial).map_err(|e| io("copying the image to", &partial, e))?;
-    std::fs::rename(&partial, &image).map_err(|e| io("renaming", &partial, e))?;
-    Ok(image)
+    std::fs::rename(&partial, &path).map_err(|e| io("renaming", &partial, e))?;
+    Ok(path)
 }
 
-/// `cargo build --release --bin qemu` in `dir` with `TOOLTOUCH_FIRMWARE_CONFIG` set to
-/// `baked` (removed for `None`: the defaults); returns the executable cargo reports.
-fn cargo_build_qemu(dir: &Path, baked: Option<&Path>) -> Result<PathBuf, CosimError> {
-    cargo_build_bin(dir, &[], "qemu", baked)
-}
-
-/// `cargo build --release <selection> --bin <bin>` in `dir` with `TOOLTOUCH_FIRMWARE_CONFIG`
-/// set to `baked` (removed for `None`: the defaults); returns the executable cargo reports.
-pub(crate) fn cargo_build_bin(
+/// `cargo build --release <selection> --bin|--test <name>` in `dir` with
+/// `TOOLTOUCH_FIRMWARE_CONFIG` set to `baked` (removed for `None`: the defaults); returns
+/// the executable cargo reports.
+fn cargo_build(
     dir: &Path,
     selection: &[&str],
-    bin: &str,
+    artifact: Artifact<'_>,
     baked: Option<&Path>,
 ) -> Result<PathBuf, CosimError> {
+    let bin = artifact.name();
+    let kind = artifact.flag();
     let mut cargo = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
     cargo
         .args(["build", "--release"])
         .args(selection)
-        .args(["--bin", bin, "--message-format=json-render-diagnostics"])
+        .args([kind, bin, "--message-format=json-render-diagnostics"])
         .current_dir(dir)
         // The root package's test environment must not leak into the firmware build.
         .env_remove("CARGO_TARGET_DIR")
@@ -197,7 +232,7 @@ pub(crate) fn cargo_build_bin(
         .map_err(|e| CosimError::Build(format!("cannot start cargo in {}: {e}", dir.display())))?;
     if !out.status.success() {
         return Err(CosimError::Build(format!(
-            "`cargo build --release {} --bin {bin}` in {} failed ({})",
+            "`cargo build --release {} {kind} {bin}` in {} failed ({})",
             selection.join(" "),
             dir.display(),
             out.status
@@ -234,8 +269,30 @@ pub struct MachineRun {
 /// The file the emulated Nucleo writes its defmt frames to (firmware/src/semihosting.rs).
 pub const DEFMT_FILE: &str = "tooltouch-defmt.bin";
 
-/// Boots `image` in QEMU with the machine arguments `args` and `events` as its input file.
-pub fn run_machine(args: &[&str], image: &Path, events: &[u8]) -> Result<MachineRun, CosimError> {
+/// One boot of an image: QEMU's exit status and standard error, and the files the image
+/// wrote over semihosting.
+pub(crate) struct Boot {
+    /// QEMU's exit status (the image's semihosting exit).
+    pub status: std::process::ExitStatus,
+    /// QEMU's standard error.
+    pub stderr: String,
+    /// The output trace file's bytes (empty if none).
+    pub trace: Vec<u8>,
+    /// The defmt frames (empty if none).
+    pub defmt: Vec<u8>,
+    /// QEMU's wall time.
+    pub elapsed: Duration,
+}
+
+/// Boots `image` in QEMU with the machine arguments `args` and `events` as its input file,
+/// in a fresh folder; kills it after `watchdog` and fails with `hung(seconds)`.
+pub(crate) fn boot(
+    args: &[&str],
+    image: &Path,
+    events: &[u8],
+    watchdog: Duration,
+    hung: &dyn Fn(u64) -> String,
+) -> Result<Boot, CosimError> {
     let dir = TempDir::new()?;
     let input = dir.path().join(EVENTS_FILE);
     std::fs::write(&input, events)
@@ -254,28 +311,42 @@ pub fn run_machine(args: &[&str], image: &Path, events: &[u8]) -> Result<Machine
     let status = loop {
         match child.try_wait() {
             Ok(Some(status)) => break status,
-            Ok(None) if start.elapsed() > WATCHDOG => {
+            Ok(None) if start.elapsed() > watchdog => {
                 let _ = child.kill();
                 let _ = child.wait();
-                return Err(CosimError::Qemu(format!(
-                    "QEMU ran longer than {} s and was killed (firmware hung?)",
-                    WATCHDOG.as_secs()
-                )));
+                return Err(CosimError::Qemu(hung(watchdog.as_secs())));
             }
             Ok(None) => std::thread::sleep(Duration::from_millis(5)),
             Err(e) => return Err(CosimError::Qemu(format!("waiting for QEMU: {e}"))),
         }
     };
     let elapsed = start.elapsed();
-    let output_path = dir.path().join(OUTPUTS_FILE);
-    let trace = std::fs::read(&output_path).unwrap_or_default();
-    let defmt = std::fs::read(dir.path().join(DEFMT_FILE)).unwrap_or_default();
+    let mut stderr = String::new();
+    if let Some(mut e) = child.stderr.take() {
+        use std::io::Read;
+        let _ = e.read_to_string(&mut stderr);
+    }
+    Ok(Boot {
+        status,
+        stderr,
+        trace: std::fs::read(dir.path().join(OUTPUTS_FILE)).unwrap_or_default(),
+        defmt: std::fs::read(dir.path().join(DEFMT_FILE)).unwrap_or_default(),
+        elapsed,
+    })
+}
+
+/// Boots `image` in QEMU with the machine arguments `args` and `events` as its input file.
+pub fn run_machine(args: &[&str], image: &Path, events: &[u8]) -> Result<MachineRun, CosimError> {
+    let Boot {
+        status,
+        stderr,
+        trace,
+        defmt,
+        elapsed,
+    } = boot(args, image, events, WATCHDOG, &|s| {
+        format!("QEMU ran longer than {s} s and was killed (firmware hung?)")
+    })?;
     if !status.success() {
-        let mut stderr = String::new();
-        if let Some(mut e) = child.stderr.take() {
-            use std::io::Read;
-            let _ = e.read_to_string(&mut stderr);
-        }
         // The firmware exits with failure after writing an error record: report that.
         if let Err(CosimError::Firmware(why)) = super::trace::parse(&trace) {
             return Err(CosimError::Firmware(why));
