@@ -20,7 +20,7 @@
 //! `PRESET_PULSES` test event) is an error. [`Schedule::new`] checks the whole stream before
 //! the first step, so a bad stream is refused before any pin moves.
 //!
-//! Board-independent and allocation-free: the host tests (tests/player.rs) check it, the
+//! Board-independent and allocation-free: the host tests (tests/handlers/player.rs) check it, the
 //! `player` image plays it.
 
 use tooltouch_model::wire::measure_event::decode_event;

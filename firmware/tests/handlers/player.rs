@@ -11,7 +11,7 @@ use tooltouch_firmware::player::{
 };
 
 /// The demo stream the player image embeds by default.
-const DEMO: &[u8] = include_bytes!("../tooltouch-events.bin");
+const DEMO: &[u8] = include_bytes!("../../tooltouch-events.bin");
 
 /// An event stream of `records` (kind, time, payload) at `tick_hz`, ended by `END` at the
 /// last time.
