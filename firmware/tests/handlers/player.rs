@@ -281,3 +281,50 @@ fn pin_map_words() {
     assert_eq!(NUCLEO_PINS.mask(), 0b11_0000_1111);
     assert_eq!(NUCLEO_PINS.all_low(), 0b11_0000_1111 << 16);
 }
+
+proptest::proptest! {
+    #![proptest_config(crate::proptest_config())]
+
+    /// Random streams at rates below, at and above the timer's: either the schedule passes
+    /// every check above, or two pulses of one kind really are less than 2 ticks apart.
+    #[test]
+    fn random_streams_play_or_are_refused_for_close_pulses(
+        rate in proptest::sample::select(vec![1_000_000u32, 50_000_000, 84_000_000, 200_000_000]),
+        raw in proptest::collection::vec((0u64..400, 0u8..5, proptest::bool::ANY, proptest::bool::ANY), 1..200),
+    ) {
+        let mut t = 0;
+        let payloads: Vec<(u8, u64, Vec<u8>)> = raw
+            .iter()
+            .map(|&(dt, k, x, y)| {
+                t += dt;
+                match k {
+                    0 => (kind::ARM, t, vec![u8::from(x)]),
+                    1 => (kind::CONTACT, t, vec![u8::from(x)]),
+                    2 => (kind::INDEX, t, vec![]),
+                    3 => (kind::FES, t, vec![]),
+                    _ => (kind::SCALE, t, vec![u8::from(x) | u8::from(y) << 1]),
+                }
+            })
+            .collect();
+        let records: Vec<(u8, u64, &[u8])> =
+            payloads.iter().map(|(k, t, p)| (*k, *t, &p[..])).collect();
+        let bytes = stream(rate, &records);
+        match Schedule::new(&bytes, NUCLEO_TIMER_HZ, NUCLEO_PINS) {
+            Ok((_, summary, steps)) => {
+                let steps: Vec<Step> = steps.collect();
+                check(&bytes, &summary, &steps);
+            }
+            Err(PlayerError::PulsesTooClose(at)) => {
+                // Some pulse kind has two rises less than 2 ticks apart, the later at `at`.
+                let ticks = |t: u64| (t * u64::from(NUCLEO_TIMER_HZ) + u64::from(rate) / 2) / u64::from(rate);
+                let close = [kind::INDEX, kind::FES].iter().any(|&k| {
+                    let rises: Vec<u64> =
+                        records.iter().filter(|r| r.0 == k).map(|r| ticks(r.1)).collect();
+                    rises.windows(2).any(|w| w[1] - w[0] < 2 && w[1] == at)
+                });
+                proptest::prop_assert!(close, "refused at {at} without close pulses");
+            }
+            Err(e) => proptest::prop_assert!(false, "{e:?}"),
+        }
+    }
+}
