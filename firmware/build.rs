@@ -23,6 +23,43 @@ use tooltouch_model::wire::force_config::decode_force_settings;
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::MeasureConfig;
 
+/// The variable that names the event stream the Nucleo's `player` image embeds.
+const PLAYER_STREAM_VAR: &str = "TOOLTOUCH_PLAYER_STREAM";
+
+/// The player's stream: `$TOOLTOUCH_PLAYER_STREAM` or the demo stream, passed to the image
+/// as the absolute path `TOOLTOUCH_PLAYER_STREAM_FILE` (`include_bytes!`). Its size is
+/// checked here: the image must fit in the 512 KiB flash with room for the code.
+fn player_stream() {
+    println!("cargo:rerun-if-env-changed={PLAYER_STREAM_VAR}");
+    let path = match std::env::var_os(PLAYER_STREAM_VAR) {
+        Some(p) if !p.is_empty() => PathBuf::from(p),
+        _ => PathBuf::from("tooltouch-events.bin"),
+    };
+    let path = std::path::absolute(&path)
+        .unwrap_or_else(|e| stream_fail(&format!("{PLAYER_STREAM_VAR}={}: {e}", path.display())));
+    println!("cargo:rerun-if-changed={}", path.display());
+    const MAX_STREAM: u64 = 448 * 1024;
+    match std::fs::metadata(&path) {
+        Ok(m) if m.len() > MAX_STREAM => stream_fail(&format!(
+            "{PLAYER_STREAM_VAR}={}: {} bytes, more than the {MAX_STREAM} the player's flash holds",
+            path.display(),
+            m.len()
+        )),
+        Ok(_) => {}
+        Err(e) => stream_fail(&format!("{PLAYER_STREAM_VAR}={}: {e}", path.display())),
+    }
+    println!(
+        "cargo:rustc-env=TOOLTOUCH_PLAYER_STREAM_FILE={}",
+        path.display()
+    );
+}
+
+/// Ends the build with an error about the player's stream.
+fn stream_fail(message: &str) -> ! {
+    eprintln!("error: the player's event stream: {message}");
+    std::process::exit(1);
+}
+
 /// The variable that names the configuration file.
 const CONFIG_VAR: &str = "TOOLTOUCH_FIRMWARE_CONFIG";
 /// The configuration file's first bytes (the file layout is in src/baked.rs).
@@ -36,6 +73,7 @@ fn main() {
     if std::env::var_os("CARGO_FEATURE_NUCLEO").is_some() {
         std::fs::copy("memory-nucleo.x", out.join("memory.x")).expect("copying memory-nucleo.x");
         println!("cargo:rustc-link-search={}", out.display());
+        player_stream();
     }
     let (measure, force, calibration, source) = match std::env::var_os(CONFIG_VAR) {
         Some(path) if !path.is_empty() => {

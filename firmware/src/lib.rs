@@ -2,7 +2,8 @@
 //!
 //! The library is the board-independent part: the interrupt handlers' bodies
 //! ([`handlers`]), the configuration baked into the image ([`baked`]), the co-simulation driver that replays a binary event stream
-//! ([`cosim`]), the measurement tasks' IRQ numbers per board ([`interrupts`]) and the
+//! ([`cosim`]), the measurement tasks' IRQ numbers per board ([`interrupts`]), the lathe player's
+//! schedule for the two-board bench ([`player`]) and the
 //! stack watermark (`stack`, on the boards). The two RTIC applications, one folder per
 //! board in `src/bin/` (QEMU's lm3s6965evb and a Nucleo-F446RE: the board's setup and
 //! pins in modules beside the app), only bind these handlers to their interrupts and
@@ -29,6 +30,7 @@ pub mod nucleo;
 mod panic;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
 pub mod pend;
+pub mod player;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
 pub mod semihosting;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]

@@ -158,7 +158,7 @@ pub fn check_all() -> Result<()> {
             "qemu" => "qemu,panic-check",
             _ => "nucleo,panic-check",
         };
-        let args = [
+        let mut args = vec![
             "build",
             "--release",
             "--target",
@@ -169,6 +169,11 @@ pub fn check_all() -> Result<()> {
             "--bin",
             board.name,
         ];
+        // The bench's lathe player (src/bin/player) shares the Nucleo's features: checked
+        // in the same build, so it costs one more link.
+        if board.name == "nucleo" {
+            args.extend_from_slice(&["--bin", "player"]);
+        }
         crate::process::run(&dir, "cargo", &args).with_context(|| {
             format!(
                 "the no-panic check of board `{}` failed: a panic path is linked into the \
@@ -212,7 +217,7 @@ pub fn check_all() -> Result<()> {
     // The on-target tests (tests/on_target.rs, defmt-test): linted for the board and for
     // the emulated build tests/firmware boots under netduinoplus2, and the board's image
     // linked (defmt-rtt, panic-probe, the Nucleo's memory map) so that `cargo nucleo-test`
-    // builds on a bench as it does here.
+    // builds on a bench as it does here; the lathe player's shipped image with it.
     for features in ["nucleo", "emulated"] {
         crate::process::run(
             &dir,
@@ -246,9 +251,11 @@ pub fn check_all() -> Result<()> {
             "nucleo",
             "--test",
             "on_target",
+            "--bin",
+            "player",
         ],
     )
-    .context("the on-target tests' board image failed to build")?;
+    .context("the on-target tests' board image or the lathe player's image failed to build")?;
     // …and its handlers, driver and defmt logger link no panic path either.
     crate::process::run(
         &dir,

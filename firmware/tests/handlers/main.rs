@@ -12,6 +12,10 @@
 //! Run from inside firmware/ on the host: `cargo test --target <host triple>
 //! --no-default-features` (`cargo xtask test` does).
 
+//! The lathe player's schedule (`tooltouch_firmware::player`) is tested here too
+//! ([`player`]), in the same test binary.
+
+mod player;
 mod sim;
 mod streams;
 

@@ -16,6 +16,7 @@
 //! with [`tooltouch_model::Measurement::apply`], reporting the first difference with the
 //! case, event index, time, signal and both values.
 
+pub mod bench;
 pub mod error;
 pub mod force_scenario;
 pub mod formal;

@@ -1,0 +1,331 @@
+//! The two-board bench's host side: the controller Nucleo's defmt log collected over
+//! probe-rs while the lathe player (firmware/src/bin/player) replays a stream on its pins,
+//! and its decision lines checked against the golden model's for the same stream
+//! (docs/firmware.md, "The bench").
+//!
+//! probe-rs runs as an external program: `probe-rs attach --chip STM32F446RETx
+//! --log-format {s} <controller ELF>` attaches without resetting the running controller
+//! and prints each defmt message decoded with the ELF's own table (`{s}`: the message
+//! only, the same text [`crate::nucleo::decode_defmt`] gives for the emulated image). The
+//! controller's idle logs every change of "register now"; [`decision_lines`] keeps those
+//! lines (up to their `;`, since the count of ADC samples dropped depends on the board's
+//! timing) and [`expected_lines`] makes the same lines from the golden model.
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+use tooltouch_model::wire::measure_config::decode_config;
+use tooltouch_model::wire::measure_event::decode_event;
+use tooltouch_model::wire::{kind, Records, StreamKind};
+use tooltouch_model::{MeasureEvent, Measurement};
+
+/// The controller's chip, as probe-rs names it.
+pub const CHIP: &str = "STM32F446RETx";
+
+/// How to install probe-rs (it is not in `cargo xtask setup`: the bench needs the boards).
+pub const INSTALL_PROBE_RS: &str =
+    "install probe-rs with `cargo install probe-rs-tools --locked` (https://probe.rs)";
+
+/// Why a bench run could not be collected or checked.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// probe-rs is not installed.
+    #[error("`{0}` was not found: {INSTALL_PROBE_RS}")]
+    ProbeRsMissing(String),
+    /// probe-rs could not be started or read.
+    #[error("probe-rs: {0}")]
+    ProbeRs(String),
+    /// The stream is not a playable event stream.
+    #[error("{0}")]
+    Stream(String),
+}
+
+/// The decision lines the controller logs for `stream` (one event stream with its
+/// measurement configuration), from the golden model: at each change of "register now",
+/// `register now: position … counts, first contact at …, … revolutions, … FES pulses` or
+/// `measurement cycle armed`.
+pub fn expected_lines(stream: &[u8]) -> Result<Vec<String>, BenchError> {
+    let bad = |why: String| BenchError::Stream(why);
+    let (header, records) = Records::new(stream).map_err(|e| bad(e.to_string()))?;
+    if header.stream != StreamKind::Events {
+        return Err(bad("not an event stream".into()));
+    }
+    let mut model = None::<Measurement>;
+    let mut lines = Vec::new();
+    let mut on = false;
+    for (i, record) in records.enumerate() {
+        let record = record.map_err(|e| bad(e.to_string()))?;
+        if record.kind == kind::MEASURE_CONFIG {
+            let config = decode_config(record.payload()).map_err(|e| bad(e.to_string()))?;
+            model = Some(Measurement::new(&config));
+            continue;
+        }
+        let event = match decode_event(&record, 0) {
+            Ok(Some(MeasureEvent::PresetPulses(_))) => {
+                return Err(bad(format!(
+                    "record {i}: the PRESET_PULSES test event has no pin to play"
+                )))
+            }
+            Ok(Some(e)) => e,
+            Ok(None) => continue,
+            Err(e) => return Err(bad(e.to_string())),
+        };
+        let Some(m) = model.as_mut() else {
+            return Err(bad(format!(
+                "record {i}: a measurement event before the MEASURE_CONFIG record"
+            )));
+        };
+        m.apply(event);
+        let o = m.outputs();
+        if o.register_now != on {
+            on = o.register_now;
+            lines.push(if on {
+                format!(
+                    "register now: position {} counts, first contact at {}, {} revolutions, \
+                     {} FES pulses",
+                    o.decision_position, o.first_contact_position, o.revolutions, o.pulses
+                )
+            } else {
+                "measurement cycle armed".to_string()
+            });
+        }
+    }
+    Ok(lines)
+}
+
+/// The decision lines of a controller's `log`, each up to its `;`.
+pub fn decision_lines(log: &[String]) -> Vec<String> {
+    log.iter()
+        .filter(|l| l.starts_with("register now: ") || l.starts_with("measurement cycle armed"))
+        .map(|l| l.split(';').next().unwrap_or(l).trim_end().to_string())
+        .collect()
+}
+
+/// The first difference of `got` from `want`, or `None` when they are equal.
+pub fn first_difference(want: &[String], got: &[String]) -> Option<String> {
+    for (i, (w, g)) in want.iter().zip(got).enumerate() {
+        if w != g {
+            return Some(format!(
+                "decision line {i}: expected `{w}`, the controller logged `{g}`"
+            ));
+        }
+    }
+    match want.len().cmp(&got.len()) {
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Greater => Some(format!(
+            "the controller logged {} decision lines, the golden model expects {}; the first \
+             missing: `{}`",
+            got.len(),
+            want.len(),
+            want[got.len()]
+        )),
+        std::cmp::Ordering::Less => Some(format!(
+            "the controller logged {} decision lines, the golden model expects {}; the first \
+             extra: `{}`",
+            got.len(),
+            want.len(),
+            got[want.len()]
+        )),
+    }
+}
+
+/// Attaches `probe_rs` (the program: `probe-rs`, or a path) to the running controller
+/// whose image is `elf` (`probe`: its `--probe` selector when two are plugged in) and
+/// collects its log lines until `want` decision lines arrived, probe-rs ended, or
+/// `timeout` passed; probe-rs is then stopped.
+pub fn collect(
+    probe_rs: &str,
+    elf: &Path,
+    probe: Option<&str>,
+    want: usize,
+    timeout: Duration,
+) -> Result<Vec<String>, BenchError> {
+    let mut cmd = Command::new(probe_rs);
+    cmd.args(["attach", "--chip", CHIP, "--log-format", "{s}"]);
+    if let Some(p) = probe {
+        cmd.args(["--probe", p]);
+    }
+    cmd.arg(elf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit());
+    let mut child = match cmd.spawn() {
+        Ok(c) => c,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(BenchError::ProbeRsMissing(probe_rs.to_string()))
+        }
+        Err(e) => {
+            return Err(BenchError::ProbeRs(format!(
+                "cannot start `{probe_rs}`: {e}"
+            )))
+        }
+    };
+    let Some(stdout) = child.stdout.take() else {
+        let _ = child.kill();
+        return Err(BenchError::ProbeRs("no standard output".into()));
+    };
+    let (tx, rx) = mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(stdout).lines() {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let deadline = Instant::now() + timeout;
+    let mut log = Vec::new();
+    let mut decisions = 0;
+    while decisions < want {
+        let left = deadline.saturating_duration_since(Instant::now());
+        match rx.recv_timeout(left) {
+            Ok(line) => {
+                if !decision_lines(std::slice::from_ref(&line)).is_empty() {
+                    decisions += 1;
+                }
+                log.push(line);
+            }
+            Err(_) => break,
+        }
+    }
+    let _ = child.kill();
+    let status = child
+        .wait()
+        .map_err(|e| BenchError::ProbeRs(format!("waiting for `{probe_rs}`: {e}")))?;
+    // Lines already read before the stop (the reader ends with probe-rs's output).
+    drop(reader);
+    log.extend(rx.try_iter());
+    if log.is_empty() && status.code().is_some_and(|c| c != 0) {
+        return Err(BenchError::ProbeRs(format!(
+            "`{probe_rs} attach` failed ({status}) before printing a line: is the controller \
+             plugged in and running its image?"
+        )));
+    }
+    Ok(log)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    /// A fresh folder of this test's own under the system's temporary folder.
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("tooltouch-bench-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn demo() -> Vec<u8> {
+        std::fs::read(crate::qemu::firmware_dir().join("tooltouch-events.bin")).unwrap()
+    }
+
+    /// A fake `probe-rs` that checks its arguments and prints `log` (a recorded session).
+    fn fake_probe_rs(dir: &Path, log: &[String]) -> String {
+        let log_file = dir.join("recorded.log");
+        std::fs::write(&log_file, log.join("\n") + "\n").unwrap();
+        let script = dir.join("probe-rs");
+        std::fs::write(
+            &script,
+            format!(
+                "#!/bin/sh\n[ \"$1 $2 $3 $4 $5\" = 'attach --chip {CHIP} --log-format {{s}}' ] \
+                 || {{ echo \"bad arguments: $*\" >&2; exit 3; }}\ncat '{}'\nexec sleep 30\n",
+                log_file.display()
+            ),
+        )
+        .unwrap();
+        std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+        script.display().to_string()
+    }
+
+    #[test]
+    fn the_demo_stream_decides_and_its_lines_are_the_golden_models() {
+        let want = expected_lines(&demo()).unwrap();
+        // One measurement cycle that decides (the first arm finds "register now" already
+        // low, so logs nothing), as the emulated Nucleo's log has it.
+        assert_eq!(want.len(), 1, "{want:?}");
+        assert!(want[0].starts_with("register now: position "), "{want:?}");
+        assert!(want[0].ends_with(" FES pulses"), "{want:?}");
+    }
+
+    #[test]
+    fn a_recorded_session_is_collected_and_checked() {
+        let want = expected_lines(&demo()).unwrap();
+        let dir = scratch("recorded");
+        let mut log = vec![
+            "tooltouch firmware on Nucleo-F446RE, SYSCLK 168000000 Hz".to_string(),
+            "configuration measure_hash=0 force_hash=0".to_string(),
+        ];
+        log.extend(want.iter().map(|l| format!("{l}; 3 ADC samples dropped")));
+        let fake = fake_probe_rs(&dir, &log);
+        let elf = dir.join("nucleo.elf");
+        let t = Instant::now();
+        let got = collect(&fake, &elf, None, want.len(), Duration::from_secs(20)).unwrap();
+        // Stopped as soon as every decision arrived (the fake sleeps 30 s after).
+        assert!(t.elapsed() < Duration::from_secs(15), "{:?}", t.elapsed());
+        assert_eq!(got, log);
+        assert_eq!(first_difference(&want, &decision_lines(&got)), None);
+        // A controller that decided elsewhere, or missed a decision.
+        let mut wrong = decision_lines(&got);
+        wrong[0] = wrong[0].replace("register now: position ", "register now: position 1");
+        let d = first_difference(&want, &wrong).unwrap();
+        assert!(
+            d.starts_with("decision line 0: expected `register now"),
+            "{d}"
+        );
+        let mut extra = want.clone();
+        extra.push("measurement cycle armed".into());
+        let d = first_difference(&want, &extra).unwrap();
+        assert!(
+            d.contains("the first extra: `measurement cycle armed`"),
+            "{d}"
+        );
+        let d = first_difference(&want, &decision_lines(&got[..got.len() - 1])).unwrap();
+        assert!(d.contains("the first missing"), "{d}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_quiet_controller_ends_at_the_timeout() {
+        let dir = scratch("quiet");
+        let fake = fake_probe_rs(&dir, &["booting".to_string()]);
+        let t = Instant::now();
+        let got = collect(
+            &fake,
+            Path::new("x.elf"),
+            None,
+            5,
+            Duration::from_millis(500),
+        )
+        .unwrap();
+        assert!(t.elapsed() < Duration::from_secs(10));
+        assert_eq!(got, ["booting"]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_missing_probe_rs_names_how_to_install_it() {
+        let e = collect(
+            "/nonexistent/probe-rs",
+            Path::new("x.elf"),
+            None,
+            1,
+            Duration::from_secs(1),
+        )
+        .unwrap_err();
+        let text = e.to_string();
+        assert!(matches!(e, BenchError::ProbeRsMissing(_)));
+        assert!(text.contains("cargo install probe-rs-tools"), "{text}");
+    }
+
+    #[test]
+    fn unplayable_streams_are_refused() {
+        let d = demo();
+        assert!(expected_lines(&d[..10]).is_err());
+        assert!(expected_lines(&d[1..]).is_err());
+    }
+}
