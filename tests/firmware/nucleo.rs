@@ -259,4 +259,9 @@ fn tooltouch_check_accepts_the_nucleo_trace_of_the_demo_stream() {
         log.iter().any(|l| l.starts_with("register now: position")),
         "the demo measurement decides: {log:#?}"
     );
+    // The bench's host command expects from a board what the image logs here.
+    let want = cosim::bench::expected_lines(&events, None).unwrap_or_else(|e| panic!("{e}"));
+    let got = cosim::bench::decision_lines(&log);
+    assert_eq!(cosim::bench::first_difference(&want, &got), None);
+    assert_eq!(want, got);
 }

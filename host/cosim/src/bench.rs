@@ -16,6 +16,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
+use tooltouch_model::measure::calibration::{corrected_position, CalibrationRecord};
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::wire::measure_event::decode_event;
 use tooltouch_model::wire::{kind, Records, StreamKind};
@@ -44,21 +45,29 @@ pub enum BenchError {
 
 /// The decision lines the controller logs for `stream` (one event stream with its
 /// measurement configuration), from the golden model: at each change of "register now",
-/// `register now: position … counts, first contact at …, … revolutions, … FES pulses` or
-/// `measurement cycle armed`.
-pub fn expected_lines(stream: &[u8]) -> Result<Vec<String>, BenchError> {
+/// `register now: position … counts, calibrated … counts (offset …), first contact at …, …
+/// revolutions, … FES pulses` or `measurement cycle armed`. `calibration` is the one baked
+/// into the controller's image (`None`: none; its offset applies to a stream in its
+/// configuration, as the image applies it).
+pub fn expected_lines(
+    stream: &[u8],
+    calibration: Option<&CalibrationRecord>,
+) -> Result<Vec<String>, BenchError> {
     let bad = |why: String| BenchError::Stream(why);
     let (header, records) = Records::new(stream).map_err(|e| bad(e.to_string()))?;
     if header.stream != StreamKind::Events {
         return Err(bad("not an event stream".into()));
     }
     let mut model = None::<Measurement>;
+    let (mut offset, mut scale_bits) = (0, 32);
     let mut lines = Vec::new();
     let mut on = false;
     for (i, record) in records.enumerate() {
         let record = record.map_err(|e| bad(e.to_string()))?;
         if record.kind == kind::MEASURE_CONFIG {
             let config = decode_config(record.payload()).map_err(|e| bad(e.to_string()))?;
+            offset = calibration.map_or(0, |c| c.offset_for(&config));
+            scale_bits = config.settings().scale_bits;
             model = Some(Measurement::new(&config));
             continue;
         }
@@ -83,9 +92,13 @@ pub fn expected_lines(stream: &[u8]) -> Result<Vec<String>, BenchError> {
             on = o.register_now;
             lines.push(if on {
                 format!(
-                    "register now: position {} counts, first contact at {}, {} revolutions, \
-                     {} FES pulses",
-                    o.decision_position, o.first_contact_position, o.revolutions, o.pulses
+                    "register now: position {} counts, calibrated {} counts (offset {offset}), \
+                     first contact at {}, {} revolutions, {} FES pulses",
+                    o.decision_position,
+                    corrected_position(o.decision_position, offset, scale_bits),
+                    o.first_contact_position,
+                    o.revolutions,
+                    o.pulses
                 )
             } else {
                 "measurement cycle armed".to_string()
@@ -244,7 +257,7 @@ mod tests {
 
     #[test]
     fn the_demo_stream_decides_and_its_lines_are_the_golden_models() {
-        let want = expected_lines(&demo()).unwrap();
+        let want = expected_lines(&demo(), None).unwrap();
         // One measurement cycle that decides (the first arm finds "register now" already
         // low, so logs nothing), as the emulated Nucleo's log has it.
         assert_eq!(want.len(), 1, "{want:?}");
@@ -254,7 +267,7 @@ mod tests {
 
     #[test]
     fn a_recorded_session_is_collected_and_checked() {
-        let want = expected_lines(&demo()).unwrap();
+        let want = expected_lines(&demo(), None).unwrap();
         let dir = scratch("recorded");
         let mut log = vec![
             "tooltouch firmware on Nucleo-F446RE, SYSCLK 168000000 Hz".to_string(),
