@@ -266,6 +266,46 @@ mod tests {
     }
 
     #[test]
+    fn a_baked_calibration_corrects_the_expected_position_of_its_own_configuration_only() {
+        let raw = expected_lines(&demo(), None).unwrap();
+        let (header, _) = Records::new(&demo()).unwrap();
+        let record = |measure_hash| CalibrationRecord {
+            measure_hash,
+            offset_counts: -13,
+            feed_nm_per_rev: 1000,
+            speed_milli_rpm: 800_000,
+        };
+        let mine = expected_lines(&demo(), Some(&record(header.measure_hash))).unwrap();
+        let position = |l: &str| -> i32 {
+            l.split("position ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        let calibrated = |l: &str| -> i32 {
+            l.split("calibrated ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap()
+        };
+        assert_eq!(calibrated(&mine[0]), position(&mine[0]) + 13, "{mine:?}");
+        assert!(mine[0].contains("(offset -13)"), "{mine:?}");
+        assert!(raw[0].contains("(offset 0)"), "{raw:?}");
+        assert_eq!(calibrated(&raw[0]), position(&raw[0]));
+        // Made with another configuration: the image applies no offset to this stream.
+        let other = expected_lines(&demo(), Some(&record(header.measure_hash ^ 1))).unwrap();
+        assert_eq!(other, raw);
+    }
+
+    #[test]
     fn a_recorded_session_is_collected_and_checked() {
         let want = expected_lines(&demo(), None).unwrap();
         let dir = scratch("recorded");
@@ -338,7 +378,7 @@ mod tests {
     #[test]
     fn unplayable_streams_are_refused() {
         let d = demo();
-        assert!(expected_lines(&d[..10]).is_err());
-        assert!(expected_lines(&d[1..]).is_err());
+        assert!(expected_lines(&d[..10], None).is_err());
+        assert!(expected_lines(&d[1..], None).is_err());
     }
 }
