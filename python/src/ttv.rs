@@ -7,7 +7,7 @@
 use crate::force::{ForceEvent, ForceOutputs, ForceSettings};
 use crate::model::{Event, Outputs};
 use crate::settings::Settings;
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyOverflowError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use std::fs::File;
@@ -258,6 +258,7 @@ impl TtvReader {
                 Some((total, at, data).into_pyobject(py)?.into_any().unbind())
             }
             kind::FIRMWARE_OBSERVE
+            | kind::FIRMWARE_DECISION
             | kind::FIRMWARE_FORCE_PROFILE
             | kind::FIRMWARE_ERROR
             | kind::FIRMWARE_PROFILE
@@ -493,9 +494,9 @@ impl TtvWriter {
         Ok(())
     }
 
-    /// Writes a firmware record of kind `name` (`firmware_observe`, `firmware_profile`,
-    /// `firmware_force_profile`, `firmware_status`, `firmware_error`) from the dict the
-    /// reader gives for it (see `firmware_fields`).
+    /// Writes a firmware record of kind `name` (`firmware_observe`, `firmware_decision`,
+    /// `firmware_profile`, `firmware_force_profile`, `firmware_status`, `firmware_error`)
+    /// from the dict the reader gives for it (see `firmware_fields`).
     fn write_firmware(
         &mut self,
         time: u64,
@@ -544,11 +545,19 @@ const STATUS_U32: [&str; 6] = [
     "calibration_ticks",
 ];
 const STATUS_U64: [&str; 2] = ["measure_hash", "force_hash"];
+/// The fields of a `firmware_decision` payload, each an i32 (little-endian) in turn.
+const DECISION_I32: [&str; 2] = ["corrected_position", "offset"];
 
 fn u32_at(p: &[u8], i: usize) -> Option<u32> {
     p.get(i..i + 4)
         .and_then(|b| b.try_into().ok())
         .map(u32::from_le_bytes)
+}
+
+fn i32_at(p: &[u8], i: usize) -> Option<i32> {
+    p.get(i..i + 4)
+        .and_then(|b| b.try_into().ok())
+        .map(i32::from_le_bytes)
 }
 
 fn u64_at(p: &[u8], i: usize) -> Option<u64> {
@@ -559,6 +568,8 @@ fn u64_at(p: &[u8], i: usize) -> Option<u64> {
 
 /// A firmware record's payload as a dict (layouts: `tooltouch_model::wire::kind`):
 /// - `firmware_observe`: `observe_fes` (bool);
+/// - `firmware_decision`: `corrected_position`, `offset` (i32), the decision the firmware
+///   reported (the fields the payload holds);
 /// - `firmware_profile`: `arm` … `scale`, each `(interrupts, systick_ticks)`;
 /// - `firmware_force_profile`: `sample`, `tick`, `command`, each `(events, systick_ticks)`;
 /// - `firmware_status`: `events`, `lost`, `overflowed`, `stack_bytes`,
@@ -570,6 +581,13 @@ fn firmware_dict<'py>(py: Python<'py>, k: u8, p: &[u8]) -> PyResult<Bound<'py, P
     let d = PyDict::new(py);
     match k {
         kind::FIRMWARE_OBSERVE => d.set_item("observe_fes", p.first().is_none_or(|&b| b != 0))?,
+        kind::FIRMWARE_DECISION => {
+            for (i, name) in DECISION_I32.iter().enumerate() {
+                if let Some(v) = i32_at(p, 4 * i) {
+                    d.set_item(*name, v)?;
+                }
+            }
+        }
         kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE => {
             let slots: &[&str] = if k == kind::FIRMWARE_PROFILE {
                 &PROFILE_SLOTS
@@ -610,7 +628,8 @@ fn firmware_dict<'py>(py: Python<'py>, k: u8, p: &[u8]) -> PyResult<Bound<'py, P
 }
 
 /// The kind and payload of a firmware record from its dict ([`firmware_dict`]'s keys;
-/// the status and profile fields up to the first one missing).
+/// the status and profile fields up to the first one missing; both decision fields are
+/// required).
 fn firmware_payload(name: &str, d: &Bound<'_, PyDict>) -> PyResult<(u8, Vec<u8>)> {
     let get = |key: &str| -> PyResult<Option<Bound<'_, PyAny>>> { d.get_item(key) };
     let mut p = Vec::new();
@@ -621,6 +640,24 @@ fn firmware_payload(name: &str, d: &Bound<'_, PyDict>) -> PyResult<(u8, Vec<u8>)
                 .extract()?;
             p.push(u8::from(on));
             kind::FIRMWARE_OBSERVE
+        }
+        "firmware_decision" => {
+            for key in DECISION_I32 {
+                let v = get(key)?.ok_or_else(|| {
+                    PyValueError::new_err(format!("firmware_decision needs {key}"))
+                })?;
+                let v = v.extract::<i32>().map_err(|e: PyErr| {
+                    if e.is_instance_of::<PyOverflowError>(d.py()) {
+                        PyValueError::new_err(format!(
+                            "firmware_decision: {key} must fit an i32 (-2**31 .. 2**31 - 1)"
+                        ))
+                    } else {
+                        e
+                    }
+                })?;
+                p.extend_from_slice(&v.to_le_bytes());
+            }
+            kind::FIRMWARE_DECISION
         }
         "firmware_profile" | "firmware_force_profile" => {
             let (k, slots): (u8, &[&str]) = if name == "firmware_profile" {
@@ -674,8 +711,8 @@ fn firmware_payload(name: &str, d: &Bound<'_, PyDict>) -> PyResult<(u8, Vec<u8>)
         }
         other => {
             return Err(PyValueError::new_err(format!(
-                "{other:?} is not a firmware record kind (firmware_observe, firmware_profile, \
-                 firmware_force_profile, firmware_status, firmware_error)"
+                "{other:?} is not a firmware record kind (firmware_observe, firmware_decision, \
+                 firmware_profile, firmware_force_profile, firmware_status, firmware_error)"
             )))
         }
     };

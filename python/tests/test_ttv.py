@@ -65,6 +65,7 @@ def test_the_writer_refuses_time_going_backwards(tmp_path):
 
 FIRMWARE_RECORDS = [
     ("firmware_observe", {"observe_fes": False}),
+    ("firmware_decision", {"corrected_position": -90, "offset": -13}),
     ("firmware_profile", {"arm": (3, 120), "contact": (5, 300), "index": (2, 80), "fes": (9, 40), "scale": (7, 210)}),
     ("firmware_force_profile", {"sample": (650, 91000), "tick": (13, 52000), "command": (3, 900)}),
     (
@@ -144,6 +145,28 @@ def test_every_record_kind_is_typed_and_written_back_byte_for_byte(tmp_path):
             else:
                 w.write_firmware(r.time, r.name, v)
     assert again.read_bytes() == typed.read_bytes()
+
+
+def test_a_firmware_decision_out_of_range_or_incomplete_is_refused(tmp_path):
+    with tooltouch.TtvWriter(tmp_path / "d.ttv", "outputs", 1000, measure_hash=0) as w:
+        with pytest.raises(ValueError, match="offset"):
+            w.write_firmware(0, "firmware_decision", {"corrected_position": 5, "offset": 2**31})
+        with pytest.raises(ValueError, match="corrected_position"):
+            w.write_firmware(0, "firmware_decision", {"corrected_position": -(2**31) - 1, "offset": 0})
+        with pytest.raises(ValueError, match="corrected_position"):
+            w.write_firmware(0, "firmware_decision", {"offset": 0})
+        with pytest.raises(ValueError, match="offset"):
+            w.write_firmware(0, "firmware_decision", {"corrected_position": 0})
+        w.write_firmware(1, "firmware_decision", {"corrected_position": 2**31 - 1, "offset": -(2**31)})
+        # A short payload reads as the fields it holds.
+        w.write_record(0x5A, 2, (-7).to_bytes(4, "little", signed=True) + b"\x01")
+        w.write_record(0x5A, 3, b"")
+    records = list(tooltouch.TtvReader(tmp_path / "d.ttv"))
+    assert [(r.time, r.name, r.value) for r in records] == [
+        (1, "firmware_decision", {"corrected_position": 2**31 - 1, "offset": -(2**31)}),
+        (2, "firmware_decision", {"corrected_position": -7}),
+        (3, "firmware_decision", {}),
+    ]
 
 
 def test_a_force_stream_with_a_wrong_hash_is_refused(tmp_path):

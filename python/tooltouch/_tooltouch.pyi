@@ -223,6 +223,8 @@ class Record:
         record:
 
         - ``firmware_observe``: ``observe_fes`` (bool);
+        - ``firmware_decision``: ``corrected_position``, ``offset`` (i32), the decision
+          the firmware reported — those the payload holds (both required on writing);
         - ``firmware_profile``: ``arm``, ``contact``, ``index``, ``fes``, ``scale``, each
           ``(interrupts, systick_ticks)``;
         - ``firmware_force_profile``: ``sample``, ``tick``, ``command``, each
