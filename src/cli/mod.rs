@@ -44,6 +44,7 @@ macro_rules! out {
     };
 }
 
+pub mod bench;
 pub mod budget;
 pub mod calibrate;
 pub mod check;
@@ -117,6 +118,9 @@ enum Command {
     /// Run the QEMU firmware image on a stimulus and check its trace; write the
     /// configuration file a firmware build bakes in.
     Cosim(cosim::Args),
+    /// The two-board bench: the decision lines the controller board must log while the
+    /// lathe player board replays a stream, collected over probe-rs and checked.
+    Bench(bench::Args),
     /// Prove your own `tt_frontend` RTL equal to the reference derived from the golden
     /// model, for every input sequence (exit 0 proven, 1 not equal, 2 bad input, 3
     /// undecided).
@@ -186,6 +190,7 @@ pub fn main() -> ExitCode {
         Command::Ranges(args) => ranges::run(args),
         Command::Cosim(args) => cosim::run(args),
         Command::Formal(args) => formal::run(args),
+        Command::Bench(args) => bench::run(args),
     };
     match result {
         Ok(code) => code,

@@ -35,6 +35,8 @@
 //! corrupt or truncated ELF (it keeps its magic number and is booted), a firmware that
 //! crashes or differs, an image built with another configuration, and a trace that cannot
 //! be written after all (a disk that fills during the run); tests/firmware/ boots images.
+//! `bench collect` gets the same text file as its `--elf`: its accepted runs stop there,
+//! before probe-rs starts (its collection runs against a fake probe-rs in tests/cli/bench.rs).
 //!
 //! Running as root, permission bits do not stop reads or writes: the read-only folders are
 //! then made immutable (`chattr +i`, which stops root too, where the file system has it),
@@ -302,6 +304,9 @@ struct Fixtures {
     /// An optimizer spec (`tune optimize --spec`).
     optimize_spec: PathBuf,
     results: PathBuf,
+    /// A controller log holding exactly the golden decision lines of `events`
+    /// (`bench check --log`), written by `bench expect`.
+    bench_log: PathBuf,
     /// `cosim firmware --image` of every row that does not test `--image` itself: a text
     /// file, so a run that gets past its inputs stops with "not an ELF image" instead of
     /// booting QEMU (or building the firmware, which it does without `--image`).
@@ -367,8 +372,23 @@ fn fixtures(dir: &Path) -> Fixtures {
          diameter_error_um = 100.0\n",
     )
     .unwrap();
+    let bench_log = dir.join("controller.log");
+    must(
+        &[
+            "bench",
+            "expect",
+            "--stream",
+            m.join("events.ttv").to_str().unwrap(),
+            "--config",
+            settings.to_str().unwrap(),
+            "--out",
+            bench_log.to_str().unwrap(),
+        ],
+        dir,
+    );
     Fixtures {
         optimize_spec,
+        bench_log,
         dir: dir.to_path_buf(),
         settings,
         events: m.join("events.ttv"),
@@ -428,6 +448,23 @@ fn base_args(sub: &str, f: &Fixtures, out: &Path) -> Vec<(String, Option<String>
         ],
         "cosim config" => vec![("--config", p(&f.settings)), ("--out", o)],
         "formal" => vec![("--dut", p(&f.settings)), ("--out", o)],
+        "bench expect" => vec![
+            ("--stream", p(&f.events)),
+            ("--config", p(&f.settings)),
+            ("--out", o),
+        ],
+        "bench check" => vec![
+            ("--stream", p(&f.events)),
+            ("--config", p(&f.settings)),
+            ("--log", p(&f.bench_log)),
+        ],
+        // Every accepted run stops at the non-ELF guard: probe-rs is never started.
+        "bench collect" => vec![
+            ("--stream", p(&f.events)),
+            ("--config", p(&f.settings)),
+            ("--elf", p(&f.image_guard)),
+            ("--out", o),
+        ],
         "cosim firmware" => vec![
             ("--stimulus", p(&f.events)),
             ("--image", p(&f.image_guard)),
@@ -516,7 +553,7 @@ fn row_output(cmd: &clap::Command, dir: PathBuf) -> (PathBuf, Option<PathBuf>) {
 /// The guard message of `sub`'s rows ([`Case::accepted`]).
 fn guard_of(sub: &str, f: &Fixtures) -> Option<String> {
     match sub {
-        "cosim firmware" => Some(f.image_guard_reached()),
+        "cosim firmware" | "bench collect" => Some(f.image_guard_reached()),
         // Every input accepted: the run reached the design (the settings file, not Verilog).
         "formal" => Some(format!("reading --dut {} with --top", f.settings.display())),
         _ => None,
@@ -612,6 +649,8 @@ fn valid_file_for<'a>(sub: &str, long: &str, f: &'a Fixtures) -> &'a Path {
         ("tune optimize", "spec") => &f.optimize_spec,
         (_, "spec") => &f.spec,
         ("vectors" | "cosim firmware" | "coverage", "stimulus") | ("hdl", "vectors") => &f.events,
+        ("bench expect" | "bench check" | "bench collect", "stream") => &f.events,
+        ("bench check", "log") => &f.bench_log,
         ("check", _) => &f.expected,
         ("tune merge" | "tune point", _) => &f.results,
         _ => &f.settings,
@@ -653,7 +692,9 @@ fn file_rows(f: &Fixtures, rows: &mut Vec<Case>, skipped: &mut Vec<String>) {
             let dir = files.join(format!("{tag}-dir"));
             std::fs::create_dir_all(&dir).unwrap();
             classes.push(("directory", dir));
-            if sub == "cosim firmware" && long == "image" {
+            if (sub == "cosim firmware" && long == "image")
+                || (sub == "bench collect" && long == "elf")
+            {
                 // A corrupt or truncated ELF keeps its magic number and would be booted:
                 // QEMU is not run here, so the image's rows are the ones refused before a
                 // boot (tests/firmware/ boots real images).
@@ -688,6 +729,13 @@ fn file_rows(f: &Fixtures, rows: &mut Vec<Case>, skipped: &mut Vec<String>) {
                 // A truncated device-under-test trace is a mismatch (1), the rest bad
                 // input (2); every message names the file.
                 let expect = if sub == "check" && class == "truncated" {
+                    Expect::AnyOf(&[1, 2])
+                } else if sub == "bench check"
+                    && long == "log"
+                    && matches!(class, "truncated" | "corrupt")
+                {
+                    // Half a log, or a mutated one that is still text, is a controller
+                    // that logged other lines (1); bytes that are not text are bad input.
                     Expect::AnyOf(&[1, 2])
                 } else if matches!(class, "truncated" | "corrupt")
                     && (long == "config" || long == "spec")

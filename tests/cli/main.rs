@@ -1,4 +1,4 @@
-//! Integration tests of the `tooltouch` command line as a user runs it: check, vectors, measure, hdl --vectors, output folders, hostile inputs.
+//! Integration tests of the `tooltouch` command line as a user runs it: check, vectors, measure, hdl --vectors, bench, output folders, hostile inputs.
 //!
 //! One test binary per area (`cargo test --release --test cli`); one module per topic
 //! (`cargo test --release --test cli <topic>::`).
@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bench;
 mod check_firmware;
 mod check_inputs;
 mod check_truncated;

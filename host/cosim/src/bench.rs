@@ -29,6 +29,10 @@ pub const CHIP: &str = "STM32F446RETx";
 pub const INSTALL_PROBE_RS: &str =
     "install probe-rs with `cargo install probe-rs-tools --locked` (https://probe.rs)";
 
+/// The largest stream the player's image embeds (firmware/build.rs refuses a larger
+/// `TOOLTOUCH_PLAYER_STREAM`: the flash left beside the player's code).
+pub const MAX_PLAYER_STREAM_BYTES: u64 = 448 * 1024;
+
 /// Why a bench run could not be collected or checked.
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
@@ -141,6 +145,20 @@ pub fn first_difference(want: &[String], got: &[String]) -> Option<String> {
             want.len(),
             got[want.len()]
         )),
+    }
+}
+
+/// Checks that `elf` (an image's bytes) holds a defmt table, as the controller's Nucleo
+/// image does: without one, probe-rs cannot decode its log.
+pub fn check_defmt_table(elf: &[u8]) -> Result<(), BenchError> {
+    match defmt_decoder::Table::parse(elf) {
+        Ok(Some(_)) => Ok(()),
+        Ok(None) => Err(BenchError::Stream(
+            "the image has no defmt table: is it the controller's Nucleo image (`cargo \
+             nucleo-build`, target/thumbv7em-none-eabihf/release/nucleo)?"
+                .into(),
+        )),
+        Err(e) => Err(BenchError::Stream(format!("the image's defmt table: {e}"))),
     }
 }
 
@@ -373,6 +391,26 @@ mod tests {
         let text = e.to_string();
         assert!(matches!(e, BenchError::ProbeRsMissing(_)));
         assert!(text.contains("cargo install probe-rs-tools"), "{text}");
+    }
+
+    #[test]
+    fn the_stream_limit_is_the_players() {
+        let build = std::fs::read_to_string(crate::qemu::firmware_dir().join("build.rs")).unwrap();
+        assert!(
+            build.contains(&format!(
+                "const MAX_STREAM: u64 = {} * 1024;",
+                MAX_PLAYER_STREAM_BYTES / 1024
+            )),
+            "firmware/build.rs's MAX_STREAM differs from MAX_PLAYER_STREAM_BYTES"
+        );
+    }
+
+    #[test]
+    fn an_image_without_a_defmt_table_is_refused() {
+        // The host test binary itself: an ELF, with no `.defmt` section.
+        let me = std::fs::read(std::env::current_exe().unwrap()).unwrap();
+        let e = check_defmt_table(&me).unwrap_err().to_string();
+        assert!(e.contains("no defmt table"), "{e}");
     }
 
     #[test]
