@@ -1,4 +1,4 @@
-//! Integration tests of the firmware under QEMU against the model: co-simulation, a baked configuration, `cargo run` by convention, the Nucleo image under netduinoplus2, the on-target tests under netduinoplus2.
+//! Integration tests of the firmware under QEMU against the model: co-simulation, a baked configuration, `cargo run` by convention, the Nucleo image under netduinoplus2, the on-target tests and the lathe player under netduinoplus2.
 //!
 //! One test binary per area (`cargo test --release --test firmware`); one module per topic
 //! (`cargo test --release --test firmware <topic>::`).
@@ -13,3 +13,4 @@ mod cosim;
 mod gates;
 mod nucleo;
 mod on_target;
+mod player;

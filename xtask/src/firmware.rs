@@ -198,7 +198,8 @@ pub fn check_all() -> Result<()> {
     clippy.extend_from_slice(&load_variant);
     clippy.extend_from_slice(&["--", "-D", "warnings"]);
     crate::process::run(&dir, "cargo", &clippy)?;
-    // The Nucleo image's emulated build (QEMU's netduinoplus2; tests/firmware boots it).
+    // The Nucleo image's and the lathe player's emulated builds (QEMU's netduinoplus2;
+    // tests/firmware boots both).
     let emulated = [
         "clippy",
         "--release",
@@ -209,6 +210,8 @@ pub fn check_all() -> Result<()> {
         "emulated",
         "--bin",
         "nucleo",
+        "--bin",
+        "player",
         "--",
         "-D",
         "warnings",
@@ -270,10 +273,12 @@ pub fn check_all() -> Result<()> {
             "emulated,panic-check",
             "--bin",
             "nucleo",
+            "--bin",
+            "player",
         ],
     )
-    .context("the no-panic check of the emulated Nucleo image failed")?;
-    println!("board nucleo, emulated: no panic path linked");
+    .context("the no-panic check of the emulated Nucleo image or player failed")?;
+    println!("board nucleo, emulated: no panic path linked (controller and player)");
     // The check builds share the release folder: build the shipped images last.
     build_all(None)?;
     crate::gates::check_sizes(&crate::process::root(), &release_images(&dir))

@@ -24,6 +24,7 @@ pub mod hal;
 pub mod hdl;
 pub mod nucleo;
 pub mod on_target;
+pub mod player;
 pub mod qemu;
 pub mod scenario;
 pub mod speed;

@@ -13,7 +13,18 @@
 //! spins until TIM2 reaches the step's tick, then writes the step's word to GPIOC_BSRR
 //! (every output is on GPIOC, so each step is one store). No interrupt is enabled, so
 //! nothing delays a write but the loop itself: the worst lateness (ticks between a step's
-//! time and the spin seeing it) is measured and logged after each run.
+//! time and the spin seeing it) is measured and logged after each run. Before each run
+//! TIM2 is set [`WRAP_AHEAD_TICKS`] before its 32-bit wrap, so that every run crosses the
+//! wrap of the 64-bit extension early.
+//!
+//! The `emulated` build runs under QEMU's `netduinoplus2` (docs/firmware.md lists the
+//! seams): that machine has no GPIO, so B1 reads pressed and BSRR writes go nowhere. It
+//! plays the stream once at boot, without B1; every BSRR write is also recorded, with the
+//! tick the loop saw, to the host file `tooltouch-outputs.bin` over semihosting; TIM2
+//! counts at QEMU's 1 GHz/(PSC+1) whatever RCC says, so PSC is 1 and the schedule is made
+//! for [`EMULATED_TIMER_HZ`] (2 instructions per tick under `-icount shift=0`, as the
+//! board has 2 CPU cycles per tick); the run ends with a semihosting exit (0 played, 3 a
+//! stream refused, 4 the recording could not be written).
 
 #![no_std]
 #![no_main]
@@ -38,14 +49,82 @@ mod null_logger {
 }
 
 use stm32f4::stm32f446 as pac;
-use tooltouch_firmware::nucleo::{clocks, configure_clocks, PLL_TIMING};
+#[cfg(not(feature = "emulated"))]
+use tooltouch_firmware::nucleo::PLL_TIMING;
+use tooltouch_firmware::nucleo::{clocks, configure_clocks};
 use tooltouch_firmware::player::{PlayerError, Schedule, NUCLEO_PINS};
 
 /// The stream to play (build.rs names the file).
 static STREAM: &[u8] = include_bytes!(env!("TOOLTOUCH_PLAYER_STREAM_FILE"));
 
 /// The B1 button, PC13 (active low).
+#[cfg(not(feature = "emulated"))]
 const BUTTON: u32 = 1 << 13;
+
+/// TIM2's count at the start of a run: this many ticks before its 32-bit wrap (1 ms at
+/// 500 MHz, 6 ms at 84 MHz).
+const WRAP_AHEAD_TICKS: u32 = 500_000;
+
+/// TIM2's rate under QEMU: its timers count at 1 GHz/(PSC+1), PSC being 1.
+#[cfg(feature = "emulated")]
+const EMULATED_TIMER_HZ: u32 = 500_000_000;
+
+/// The emulated build's record of every BSRR write, sent to the host file
+/// `tooltouch-outputs.bin` in blocks: per write 12 bytes, the tick the loop saw (u64, from
+/// the run's start) and the word (u32), little-endian.
+#[cfg(feature = "emulated")]
+mod recording {
+    use tooltouch_firmware::semihosting::{create, write_all, OUTPUTS_FILE};
+
+    /// Bytes of one recorded write.
+    const STEP_BYTES: usize = 12;
+    /// Writes held before a block goes to the host.
+    const BLOCK_STEPS: usize = 256;
+
+    /// The open file and the block being filled.
+    pub struct Recording {
+        file: semihosting::fd::OwnedFd,
+        block: [[u8; STEP_BYTES]; BLOCK_STEPS],
+        count: usize,
+        /// A write to the host failed: the recording is incomplete.
+        pub failed: bool,
+    }
+
+    impl Recording {
+        /// Creates (truncates) the host file; `None` if the host refuses.
+        pub fn create() -> Option<Recording> {
+            Some(Recording {
+                file: create(OUTPUTS_FILE)?,
+                block: [[0; STEP_BYTES]; BLOCK_STEPS],
+                count: 0,
+                failed: false,
+            })
+        }
+
+        /// Records the write of `bsrr` seen at tick `at`.
+        pub fn push(&mut self, at: u64, bsrr: u32) {
+            let (t, w) = (at.to_le_bytes(), bsrr.to_le_bytes());
+            if let Some(slot) = self.block.get_mut(self.count) {
+                *slot = [
+                    t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], w[0], w[1], w[2], w[3],
+                ];
+                self.count += 1;
+            }
+            if self.count >= BLOCK_STEPS {
+                self.flush();
+            }
+        }
+
+        /// Sends the block to the host.
+        pub fn flush(&mut self) {
+            let bytes = self.block.get(..self.count).unwrap_or(&[]).as_flattened();
+            if !bytes.is_empty() && !write_all(&self.file, bytes) {
+                self.failed = true;
+            }
+            self.count = 0;
+        }
+    }
+}
 
 /// TIM2's count extended to 64 bits; read more often than every 2^32 ticks (51 s).
 struct Clock {
@@ -90,16 +169,24 @@ fn main() -> ! {
         }
     };
     let timing = configure_clocks(&dp.RCC, &dp.PWR, &dp.FLASH);
-    let timer_hz = if timing.sysclk_hz == PLL_TIMING.sysclk_hz {
-        clocks::PLL_168_MHZ.apb1_timer_hz()
+    // TIM2's rate and prescaler. Emulated: QEMU's TIM2 ignores RCC and counts at
+    // 1 GHz/(PSC+1); the clock tree above still runs and falls back as on a board.
+    #[cfg(not(feature = "emulated"))]
+    let (timer_hz, prescaler) = if timing.sysclk_hz == PLL_TIMING.sysclk_hz {
+        (clocks::PLL_168_MHZ.apb1_timer_hz(), 0)
     } else {
-        clocks::RESET_CLOCKS.apb1_timer_hz()
+        (clocks::RESET_CLOCKS.apb1_timer_hz(), 0)
+    };
+    #[cfg(feature = "emulated")]
+    let (timer_hz, prescaler) = {
+        let _ = timing;
+        (EMULATED_TIMER_HZ, 1)
     };
     clocks::enable_peripheral_clocks(&dp.RCC);
     let gpioc = &dp.GPIOC;
     let pins = NUCLEO_PINS;
     // SAFETY (every `bits` write): BSRR takes any word; MODER / OSPEEDR get 0b01 (output)
-    // / 0b11 (very high speed) for the player's pins only, PSC / ARR any value.
+    // / 0b11 (very high speed) for the player's pins only, PSC / ARR / CNT any value.
     gpioc.bsrr().write(|w| unsafe { w.bits(pins.all_low()) });
     let mut moder = 0;
     let mut speed = 0;
@@ -117,7 +204,7 @@ fn main() -> ! {
         .ospeedr()
         .modify(|r, w| unsafe { w.bits(r.bits() | speed) });
     let tim2 = &dp.TIM2;
-    tim2.psc().write(|w| unsafe { w.bits(0) });
+    tim2.psc().write(|w| unsafe { w.bits(prescaler) });
     tim2.arr().write(|w| unsafe { w.bits(u32::MAX) });
     tim2.egr().write(|w| w.ug().set_bit());
     tim2.cr1().modify(|_, w| w.cen().set_bit());
@@ -142,19 +229,32 @@ fn main() -> ! {
         Err(e) => {
             let (what, figure) = describe(e);
             defmt::error!("player: the stream cannot be played: {} {}", what, figure);
+            #[cfg(feature = "emulated")]
+            tooltouch_firmware::semihosting::exit(3);
+            #[cfg(not(feature = "emulated"))]
             loop {
                 cortex_m::asm::wfi();
             }
         }
     };
     let mut clock = Clock { high: 0, last: 0 };
+    #[cfg(feature = "emulated")]
+    let Some(mut recording) = recording::Recording::create() else {
+        defmt::error!("player: the recording file could not be created");
+        tooltouch_firmware::semihosting::exit(4);
+    };
     loop {
-        // Wait for a press of B1 (low), then for its release.
-        while gpioc.idr().read().bits() & BUTTON != 0 {}
-        while gpioc.idr().read().bits() & BUTTON == 0 {}
+        // Wait for a press of B1 (low), then for its release (emulated: play at once).
+        #[cfg(not(feature = "emulated"))]
+        {
+            while gpioc.idr().read().bits() & BUTTON != 0 {}
+            while gpioc.idr().read().bits() & BUTTON == 0 {}
+        }
         let Ok((_, _, schedule)) = Schedule::new(STREAM, timer_hz, pins) else {
             continue;
         };
+        tim2.cnt()
+            .write(|w| unsafe { w.bits(WRAP_AHEAD_TICKS.wrapping_neg()) });
         let start = clock.now(tim2);
         let (mut steps, mut late, mut worst) = (0u32, 0u32, 0u64);
         for step in schedule {
@@ -164,6 +264,8 @@ fn main() -> ! {
                 now = clock.now(tim2);
             }
             gpioc.bsrr().write(|w| unsafe { w.bits(step.bsrr) });
+            #[cfg(feature = "emulated")]
+            recording.push(now - start, step.bsrr);
             let lateness = now - due;
             if lateness > 0 && step.at > 0 {
                 late = late.saturating_add(1);
@@ -179,5 +281,10 @@ fn main() -> ! {
             late,
             worst
         );
+        #[cfg(feature = "emulated")]
+        {
+            recording.flush();
+            tooltouch_firmware::semihosting::exit(if recording.failed { 4 } else { 0 });
+        }
     }
 }
