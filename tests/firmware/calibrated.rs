@@ -143,6 +143,17 @@ fn the_nucleo_image_reports_and_logs_the_calibrated_decision() {
             .filter(|l| l.contains(&format!("(offset {OFFSET})")))
             .count();
         assert!(logged >= 4, "{:#?}", run.log);
+        // The boot names the calibration as `tooltouch cosim config --calibration` does.
+        let boot = format!(
+            "calibration calibration_hash={:016x} offset={OFFSET} counts",
+            record.hash()
+        );
+        assert_eq!(
+            run.log.iter().filter(|l| **l == boot).count(),
+            1,
+            "`{boot}` once in {:#?}",
+            run.log
+        );
     }
 }
 

@@ -32,10 +32,11 @@ fn image() -> PathBuf {
 
 /// The boot log every run starts with: the clock setup's bounded wait for the PLL runs
 /// out (QEMU emulates no RCC), the board says so and runs on the HSI with the settings
-/// derived for it; then the configuration baked in (the defaults).
-fn boot_log() -> Vec<String> {
+/// derived for it; then the configuration baked in (the defaults) and, when one is baked,
+/// the calibration with its hash and offset (the names `tooltouch cosim config` prints).
+fn boot_log(calibration: Option<&CalibrationRecord>) -> Vec<String> {
     let config = FirmwareConfig::default();
-    vec![
+    let mut log = vec![
         "clock setup failed (PllLock): running from the 16 MHz HSI, the measurement tasks \
          take 10.5 times longer than the 168 MHz budget of docs/firmware.md"
             .to_string(),
@@ -47,7 +48,15 @@ fn boot_log() -> Vec<String> {
             config.measure.hash(),
             config.force.hash()
         ),
-    ]
+    ];
+    if let Some(c) = calibration {
+        log.push(format!(
+            "calibration calibration_hash={:016x} offset={} counts",
+            c.hash(),
+            c.offset_counts
+        ));
+    }
+    log
 }
 
 /// The log a run of `cases` must leave on an image built with `calibration`: the boot,
@@ -56,7 +65,7 @@ fn boot_log() -> Vec<String> {
 /// offset the image applies to the case's configuration; no ADC sample dropped), then the
 /// driver's end.
 pub(crate) fn expected_log(cases: &[Case], calibration: Option<&CalibrationRecord>) -> Vec<String> {
-    let mut log = boot_log();
+    let mut log = boot_log(calibration);
     for case in cases {
         let mut on = false;
         let offset = applied_offset(calibration, &case.config);
@@ -254,7 +263,7 @@ fn tooltouch_check_accepts_the_nucleo_trace_of_the_demo_stream() {
     eprintln!("{}", out.trim());
     let elf = std::fs::read(image()).unwrap();
     let log = nucleo::decode_defmt(&elf, &run.defmt).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(log[..3], boot_log()[..], "the boot log");
+    assert_eq!(log[..3], boot_log(None)[..], "the boot log");
     assert!(
         log.iter().any(|l| l.starts_with("register now: position")),
         "the demo measurement decides: {log:#?}"

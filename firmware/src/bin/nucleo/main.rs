@@ -252,6 +252,14 @@ mod app {
             baked::MEASURE_HASH,
             baked::FORCE_HASH
         );
+        // The baked calibration, as `tooltouch cosim config` names it (none: no line).
+        if let Ok(Some(c)) = baked::calibration() {
+            defmt::info!(
+                "calibration calibration_hash={=u64:016x} offset={=i32} counts",
+                c.hash(),
+                c.offset_counts
+            );
+        }
         Nucleo::set_feed_override(force.outputs().override_pct);
         // TIM2 is counting: the domain starts at its count and sets the first compare.
         let meas = MeasureDomain::start::<Nucleo>(Measurement::new(&measure));
