@@ -27,6 +27,8 @@ FAST_LATHE = """\
 [lathe]
 clock_hz = 1000000
 rpm = 6000.0
+[lathe.spindle_path]
+loads = false    # a verification lathe: the measuring path is the machining path
 [lathe.cycle]
 repeats = 1
 clearance_um = 3.0

@@ -92,10 +92,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let want_lines: Vec<String> = want.lines().map(str::to_string).collect();
     assert_eq!(want_lines.len(), 1, "{want}");
     assert!(
-        docs.contains(&format!(
-            "The demo stream gives one line, `{}`",
-            want_lines[0]
-        )),
+        docs.contains(&format!("gives one line, `{}`", want_lines[0])),
         "docs/firmware.md must quote the demo stream's line `{}`",
         want_lines[0]
     );

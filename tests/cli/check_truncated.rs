@@ -64,23 +64,23 @@ fn a_dut_vcd_that_stops_early_is_a_mismatch_naming_both_ends() {
     assert_eq!(code, Some(1), "{out}");
     assert!(
         out.contains("the DUT trace ends at cycle")
-            && out.contains("the golden trace at cycle 55130000 (time 1102600000 ns)")
+            && out.contains("the golden trace at cycle 62650000 (time 1253000000 ns)")
             && out.contains("too short"),
         "{out}"
     );
     // A DUT trace that runs on past the golden one is a mismatch too.
-    let longer = format!("{text_}#1200000000\n");
+    let longer = format!("{text_}#1300000000\n");
     std::fs::write(&dut, longer).unwrap();
     let (code, out) = check(&golden, &dut);
     assert_eq!(code, Some(1), "{out}");
     assert!(
-        out.contains("too long") && out.contains("cycle 60000000"),
+        out.contains("too long") && out.contains("cycle 65000000"),
         "{out}"
     );
     // The whole file still matches itself.
     let (code, out) = check(&golden, &golden);
     assert_eq!(code, Some(0), "{out}");
-    assert!(out.starts_with("OK: 55130001 cycles"), "{out}");
+    assert!(out.starts_with("OK: 62650001 cycles"), "{out}");
 }
 
 #[test]

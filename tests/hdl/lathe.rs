@@ -14,6 +14,8 @@ fn scenario() -> LatheScenario {
     let mut s = LatheScenario {
         clock_hz: 1_000_000,
         rpm: 6000.0,
+        // A verification lathe: the measuring path is the machining path.
+        spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
         ..LatheScenario::default()
     };
     // More measurements (a longer stimulus, for speed figures) via TOOLTOUCH_LATHE_REPEATS.

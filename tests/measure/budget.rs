@@ -189,10 +189,11 @@ fn the_budget_refuses_what_its_formulas_do_not_describe() {
     let counter = Variant::ALL[0];
     let density = Variant::ALL[3];
     refused(&LatheScenario::default(), density, "density detector");
-    // Feeding 5 µm per revolution crosses the whole 6 µm profile within one window.
+    // Feeding 12 µm per revolution crosses the whole seen surface within one window (the
+    // 6 µm profile and the default spindle path's 5.6 µm orbit).
     refused(
         &LatheScenario {
-            feed_mm_per_rev: 0.005,
+            feed_mm_per_rev: 0.012,
             ..Default::default()
         },
         counter,
@@ -223,7 +224,7 @@ fn the_budget_refuses_what_its_formulas_do_not_describe() {
 #[test]
 fn the_budget_command_says_what_it_does_not_predict_and_prints_every_term() {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .args(["budget", "--feed-mm-per-rev", "0.005"])
+        .args(["budget", "--feed-mm-per-rev", "0.012"])
         .output()
         .unwrap();
     let text = String::from_utf8_lossy(&o.stdout);

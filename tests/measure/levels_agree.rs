@@ -84,7 +84,9 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                         phase_rad: 0.0,
                     }],
                     repeating_mismatch: mismatch,
-                    spindle_path: Default::default(),
+                    // The levels' agreement, not the path: no loads, so the
+                    // clearance below clears the surface.
+                    spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
                     slow: vec![SlowHarmonic {
                         amplitude_um: slow_um,
                         period_revs: 2.3,

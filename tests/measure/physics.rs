@@ -1,9 +1,10 @@
 //! Physics of the measurement (docs/domain.md §2.1, §2.2, eq. S10) on the default lathe (D = 40 mm,
-//! 800 rpm, f_r = 0.001 mm/rev, 0.1 µm scale, 50 MHz), 10 measurements each.
+//! 800 rpm, f_r = 0.001 mm/rev, 0.1 µm scale, 50 MHz) without its spindle-path loads, 10
+//! measurements each.
 
 use tooltouch_model::measure::config::DecisionMethod;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
-use tooltouch_plant::lathe::{LatheScenario, RetractAt};
+use tooltouch_plant::lathe::{LatheScenario, RetractAt, SpindlePath};
 use tooltouch_plant::measurement_cycle::{self, CycleRun};
 
 fn config(method: DecisionMethod) -> MeasureConfig {
@@ -15,19 +16,31 @@ fn config(method: DecisionMethod) -> MeasureConfig {
     .unwrap()
 }
 
+/// The default lathe with no spindle-path loads (and the 8 µm approach clearance that
+/// needs): the methods' physics on the surface that was cut; the path's own effect is
+/// tests/measure/spindle_path.rs's.
+fn lathe() -> LatheScenario {
+    let mut s = LatheScenario {
+        spindle_path: SpindlePath::none(),
+        ..LatheScenario::default()
+    };
+    s.cycle.clearance_um = 8.0;
+    s
+}
+
 fn run(method: DecisionMethod, scenario: &LatheScenario) -> CycleRun {
     measurement_cycle::run(scenario, &config(method), &mut |_| {}).unwrap()
 }
 
 fn without_slow_errors() -> LatheScenario {
-    let mut s = LatheScenario::default();
+    let mut s = lathe();
     s.slow.iter_mut().for_each(|h| h.amplitude_um = 0.0);
     s
 }
 
 #[test]
 fn single_pulse_measures_near_the_largest_diameter() {
-    let r = run(DecisionMethod::SinglePulse, &LatheScenario::default());
+    let r = run(DecisionMethod::SinglePulse, &lathe());
     let s = &r.summary;
     assert_eq!(s.decided, 10);
     // Δ_f = e + Δφ (S4): within the slow axis errors plus half a revolution's feed of the
@@ -40,7 +53,7 @@ fn single_pulse_measures_near_the_largest_diameter() {
 
 #[test]
 fn fifty_percent_counter_measures_near_the_mean_diameter() {
-    let r = run(DecisionMethod::Counter, &LatheScenario::default());
+    let r = run(DecisionMethod::Counter, &lathe());
     let s = &r.summary;
     assert_eq!(s.decided, 10);
     // Near the mean: within the feed of the deciding revolution (2·f_r on the
@@ -54,8 +67,8 @@ fn fifty_percent_counter_measures_near_the_mean_diameter() {
 
 #[test]
 fn the_fifty_percent_scatter_comes_from_the_slow_spindle_errors() {
-    let quantum = LatheScenario::default().scale_resolution_um * 2.0;
-    let with = run(DecisionMethod::Counter, &LatheScenario::default()).summary;
+    let quantum = lathe().scale_resolution_um * 2.0;
+    let with = run(DecisionMethod::Counter, &lathe()).summary;
     let without = run(DecisionMethod::Counter, &without_slow_errors()).summary;
     let (with_um, without_um) = (
         with.diameter_mm.std * 1000.0,
@@ -75,7 +88,7 @@ fn the_fifty_percent_scatter_comes_from_the_slow_spindle_errors() {
 
 #[test]
 fn burst_density_grows_to_permanent_contact() {
-    let r = run(DecisionMethod::Counter, &LatheScenario::default());
+    let r = run(DecisionMethod::Counter, &lathe());
     for m in &r.measurements {
         let f = &m.contact_fraction;
         assert!(
@@ -93,7 +106,7 @@ fn burst_density_grows_to_permanent_contact() {
 
 #[test]
 fn retract_at_decision_stops_the_feed_after_the_cnc_reaction() {
-    let mut s = LatheScenario::default();
+    let mut s = lathe();
     s.cycle.retract_at = RetractAt::Decision;
     s.cycle.repeats = 3;
     let r = run(DecisionMethod::Counter, &s);
@@ -106,7 +119,7 @@ fn retract_at_decision_stops_the_feed_after_the_cnc_reaction() {
 
 #[test]
 fn runs_are_reproducible_and_seeded() {
-    let mut s = LatheScenario::default();
+    let mut s = lathe();
     s.cycle.repeats = 2;
     let a = run(DecisionMethod::Counter, &s);
     let b = run(DecisionMethod::Counter, &s);

@@ -784,20 +784,24 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
     let unloaded = SurfaceModel::new(s, s.repeating_mismatch, false);
     let matched = SurfaceModel::new(s, 0.0, false);
     let path = s.spindle_path.difference(s.rpm);
-    let path_detail = format!(
-        "supports b {} mm, a {} mm, play {} µm; F_p {} N machining only, belt {} N, \
-         unbalance {:.1} N machining / {:.1} N measuring: offset {:+.3} µm, \
-         1st harmonic {:.3} µm (radius)",
-        s.spindle_path.span_mm,
-        s.spindle_path.overhang_mm,
-        s.spindle_path.clearance_um,
-        s.spindle_path.cutting_force_n,
-        s.spindle_path.belt_load_n,
-        path.unbalance_machining_n,
-        path.unbalance_measuring_n,
-        path.offset_um,
-        path.first_harmonic.amplitude_um
-    );
+    let path_detail = if s.spindle_path.loads {
+        format!(
+            "supports b {} mm, a {} mm, play {} µm; F_p {} N machining only, belt {} N, \
+             unbalance {:.1} N machining / {:.1} N measuring: offset {:+.3} µm, \
+             1st harmonic {:.3} µm (radius)",
+            s.spindle_path.span_mm,
+            s.spindle_path.overhang_mm,
+            s.spindle_path.clearance_um,
+            s.spindle_path.cutting_force_n,
+            s.spindle_path.belt_load_n,
+            path.unbalance_machining_n,
+            path.unbalance_measuring_n,
+            path.offset_um,
+            path.first_harmonic.amplitude_um
+        )
+    } else {
+        "no loads (`loads = false`): the measuring path is the machining path".to_string()
+    };
     let approach = Approach::new(s);
     let res = s.scale_resolution_um;
     let quantization = 2.0 * res / 12f64.sqrt();

@@ -328,6 +328,7 @@ mod tests {
         let mut scenario = tooltouch_plant::lathe::LatheScenario {
             clock_hz: 1_000_000,
             rpm: 6000.0,
+            spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
             ..Default::default()
         };
         scenario.cycle.repeats = 1;

@@ -90,13 +90,14 @@ fn is_one(v: &u32) -> bool {
 }
 
 impl Default for CycleSettings {
-    /// 10 measurements, 8 µm clearance, 5 mm/s retract, 1 mm Z steps (nose radius
+    /// 10 measurements, 14 µm clearance (above the form, the spindle errors and the
+    /// default spindle path's offset and orbit, about 9 µm at most), 5 mm/s retract, 1 mm Z steps (nose radius
     /// 0.8 mm), 50 ms Z dwell, 0.5 ms CNC reaction, feed on to permanent contact, 200
     /// revolutions at most.
     fn default() -> Self {
         CycleSettings {
             repeats: 10,
-            clearance_um: 8.0,
+            clearance_um: 14.0,
             retract_mm_per_s: 5.0,
             z_step_mm: 1.0,
             nose_radius_mm: 0.8,
@@ -135,7 +136,8 @@ pub struct LatheScenario {
     /// measuring trajectories coincide).
     pub repeating_mismatch: f64,
     /// The spindle's supports and loads, from which its path while measuring differs from
-    /// its path while machining ([`SpindlePath`]); the default has no loads.
+    /// its path while machining ([`SpindlePath`]); the default is a plausible small CNC
+    /// lathe ([`SpindlePath::typical`]), [`SpindlePath::none`] has no loads.
     #[serde(skip_serializing_if = "SpindlePath::is_default")]
     pub spindle_path: SpindlePath,
     /// Spindle errors with a period longer than one revolution (radius, µm).

@@ -25,9 +25,10 @@
 //! loads and clearance take-up differ) and a once-per-revolution part in the part's frame
 //! (the unbalance's deflection at two speeds, and the clearance orbit where the rotating
 //! load wins). Both are radius errors, µm, added to the seen surface only (the true one is
-//! the part's). `SpindlePath::default()` has no loads: the paths coincide, as before this
-//! model; `SpindlePath::typical()` is a plausible small CNC lathe (values and sources on
-//! its fields).
+//! the part's). `SpindlePath::default()` is [`SpindlePath::typical`], a plausible small CNC
+//! lathe (values and sources on it); [`SpindlePath::none`] has no loads, so the paths
+//! coincide (the verification lathes and the papers' rigs, whose form profile is already the
+//! surface the tool saw).
 
 use super::surface::Harmonic;
 use serde::{Deserialize, Serialize};
@@ -57,22 +58,16 @@ pub struct SpindlePath {
     pub unbalance_phase_rad: f64,
     /// Spindle speed while machining, rpm, `0..=1e6` (0: the measuring speed, `rpm`).
     pub machining_rpm: f64,
+    /// Whether the loads act; `false`: the measuring path is the machining path, whatever
+    /// the other fields say (`[lathe.spindle_path] loads = false`, as the fast
+    /// verification lathes set it).
+    pub loads: bool,
 }
 
 impl Default for SpindlePath {
+    /// [`SpindlePath::typical`].
     fn default() -> Self {
-        SpindlePath {
-            span_mm: 300.0,
-            overhang_mm: 120.0,
-            front_stiffness_n_per_um: 500.0,
-            rear_stiffness_n_per_um: 200.0,
-            clearance_um: 0.0,
-            cutting_force_n: 0.0,
-            belt_load_n: 0.0,
-            unbalance_g_mm: 0.0,
-            unbalance_phase_rad: 0.0,
-            machining_rpm: 0.0,
-        }
+        SpindlePath::typical()
     }
 }
 
@@ -147,10 +142,20 @@ impl SpindlePath {
             unbalance_g_mm: 1200.0,
             unbalance_phase_rad: 0.0,
             machining_rpm: 1000.0,
+            loads: true,
         }
     }
 
-    /// True for the default (no loads): not written to a settings file.
+    /// No loads: the measuring path is the machining path (`[lathe.spindle_path] loads =
+    /// false`; the other fields are the typical lathe's and act on nothing).
+    pub fn none() -> SpindlePath {
+        SpindlePath {
+            loads: false,
+            ..SpindlePath::typical()
+        }
+    }
+
+    /// True for the default ([`SpindlePath::typical`]): not written to a settings file.
     pub fn is_default(&self) -> bool {
         *self == SpindlePath::default()
     }
@@ -188,6 +193,20 @@ impl SpindlePath {
 
     /// The difference of the paths when measuring at `measuring_rpm`.
     pub fn difference(&self, measuring_rpm: f64) -> PathDifference {
+        if !self.loads {
+            return PathDifference {
+                offset_um: 0.0,
+                first_harmonic: Harmonic {
+                    order: 1,
+                    amplitude_um: 0.0,
+                    phase_rad: 0.0,
+                },
+                machining_um: 0.0,
+                measuring_um: 0.0,
+                unbalance_machining_n: 0.0,
+                unbalance_measuring_n: 0.0,
+            };
+        }
         let machining_rpm = if self.machining_rpm > 0.0 {
             self.machining_rpm
         } else {
@@ -259,7 +278,15 @@ mod tests {
 
     #[test]
     fn no_loads_no_difference() {
-        let d = SpindlePath::default().difference(800.0);
+        let zero = SpindlePath {
+            clearance_um: 0.0,
+            cutting_force_n: 0.0,
+            belt_load_n: 0.0,
+            unbalance_g_mm: 0.0,
+            ..SpindlePath::typical()
+        };
+        assert!(zero.difference(800.0).is_zero());
+        let d = SpindlePath::none().difference(800.0);
         assert_eq!(d.offset_um, 0.0);
         assert_eq!(d.first_harmonic.amplitude_um, 0.0);
     }
@@ -269,11 +296,20 @@ mod tests {
         // Worked by hand: a = 120, b = 300: levers 1.4 and 0.4; compliance at the section
         // 1.4²/500 + 0.4²/200 = 0.00472 µm/N; F_p 25 N: 0.118 µm, the part read larger.
         let p = SpindlePath {
+            clearance_um: 0.0,
             cutting_force_n: 25.0,
-            ..SpindlePath::default()
+            belt_load_n: 0.0,
+            unbalance_g_mm: 0.0,
+            ..SpindlePath::typical()
         };
         let d = p.difference(800.0);
         assert!((d.offset_um - 0.118).abs() < 1e-9, "{d:?}");
+    }
+
+    #[test]
+    fn the_default_is_the_typical_lathe() {
+        assert_eq!(SpindlePath::default(), SpindlePath::typical());
+        assert!(!SpindlePath::default().difference(800.0).is_zero());
     }
 
     #[test]
