@@ -276,16 +276,20 @@ impl SpindlePath {
 mod tests {
     use super::*;
 
-    #[test]
-    fn no_loads_no_difference() {
-        let zero = SpindlePath {
+    /// The typical supports with no play and only `cutting_force_n` of load.
+    fn only_cutting_force(cutting_force_n: f64) -> SpindlePath {
+        SpindlePath {
             clearance_um: 0.0,
-            cutting_force_n: 0.0,
+            cutting_force_n,
             belt_load_n: 0.0,
             unbalance_g_mm: 0.0,
             ..SpindlePath::typical()
-        };
-        assert!(zero.difference(800.0).is_zero());
+        }
+    }
+
+    #[test]
+    fn no_loads_no_difference() {
+        assert!(only_cutting_force(0.0).difference(800.0).is_zero());
         let d = SpindlePath::none().difference(800.0);
         assert_eq!(d.offset_um, 0.0);
         assert_eq!(d.first_harmonic.amplitude_um, 0.0);
@@ -295,14 +299,7 @@ mod tests {
     fn cutting_force_alone_is_its_deflection_at_the_section() {
         // Worked by hand: a = 120, b = 300: levers 1.4 and 0.4; compliance at the section
         // 1.4²/500 + 0.4²/200 = 0.00472 µm/N; F_p 25 N: 0.118 µm, the part read larger.
-        let p = SpindlePath {
-            clearance_um: 0.0,
-            cutting_force_n: 25.0,
-            belt_load_n: 0.0,
-            unbalance_g_mm: 0.0,
-            ..SpindlePath::typical()
-        };
-        let d = p.difference(800.0);
+        let d = only_cutting_force(25.0).difference(800.0);
         assert!((d.offset_um - 0.118).abs() < 1e-9, "{d:?}");
     }
 
