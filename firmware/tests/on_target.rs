@@ -132,7 +132,9 @@ const QEMU_SYSTICK_HZ: u64 = 168_000_000;
 #[defmt_test::tests]
 mod tests {
     use super::*;
-    use tooltouch_firmware::nucleo::{adc, clocks, pins, timers};
+    use tooltouch_firmware::nucleo::clocks;
+    #[cfg(not(feature = "emulated"))]
+    use tooltouch_firmware::nucleo::{adc, timers};
 
     /// The board as the application's `init` sets it up, in its order (the RTIC app is
     /// not linked: no interrupt is enabled in the NVIC, the tests poll the flags).
@@ -142,16 +144,7 @@ mod tests {
         let dp = pac::Peripherals::take().unwrap();
         start_systick(&mut cp.SYST);
         board::cpu_load::start_cycle_counter(&mut cp.DCB, &mut cp.DWT);
-        let timing = board::configure_clocks(&dp.RCC, &dp.PWR, &dp.FLASH);
-        clocks::enable_peripheral_clocks(&dp.RCC);
-        pins::configure_outputs(&dp.GPIOA);
-        pins::configure_measurement_inputs(&dp.GPIOA, &dp.GPIOB, &dp.SYSCFG, &dp.EXTI);
-        pins::configure_command_inputs(&dp.GPIOC, &dp.SYSCFG, &dp.EXTI);
-        adc::configure_adc(&dp.GPIOB, &dp.GPIOC, &dp.ADC_COMMON, &dp.ADC1, &timing.adc);
-        timers::start_feed_pwm(&dp.TIM4, &dp.GPIOB, &timing.timers);
-        timers::start_fes_counter(&dp.TIM2, &dp.GPIOB);
-        timers::start_sample_tick(&dp.TIM6, &timing.timers);
-        timers::start_control_period(&dp.TIM3, &timing.timers);
+        let timing = board::bring_up(&dp);
         defmt::println!("SYSCLK {=u32} Hz", timing.sysclk_hz);
         Board { dp, timing }
     }

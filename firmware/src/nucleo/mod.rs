@@ -18,6 +18,8 @@ pub mod clocks;
 pub mod cpu_load;
 #[cfg(feature = "emulated")]
 pub mod emulated;
+#[cfg(feature = "panic-check")]
+mod null_logger;
 pub mod pins;
 pub mod timers;
 
@@ -68,4 +70,22 @@ pub fn configure_clocks(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> B
             RESET_TIMING
         }
     }
+}
+
+/// The board set up in `init`'s order: the clock tree ([`configure_clocks`]), the
+/// peripheral clocks, the pins and their EXTI lines, the ADC, then the timers (feed PWM,
+/// the FES counter, the sample tick, the control period). Returns the bus timing the
+/// tree gave. The application's `init` and the on-target tests' `#[init]` both run this.
+pub fn bring_up(dp: &pac::Peripherals) -> BusTiming {
+    let timing = configure_clocks(&dp.RCC, &dp.PWR, &dp.FLASH);
+    clocks::enable_peripheral_clocks(&dp.RCC);
+    pins::configure_outputs(&dp.GPIOA);
+    pins::configure_measurement_inputs(&dp.GPIOA, &dp.GPIOB, &dp.SYSCFG, &dp.EXTI);
+    pins::configure_command_inputs(&dp.GPIOC, &dp.SYSCFG, &dp.EXTI);
+    adc::configure_adc(&dp.GPIOB, &dp.GPIOC, &dp.ADC_COMMON, &dp.ADC1, &timing.adc);
+    timers::start_feed_pwm(&dp.TIM4, &dp.GPIOB, &timing.timers);
+    timers::start_fes_counter(&dp.TIM2, &dp.GPIOB);
+    timers::start_sample_tick(&dp.TIM6, &timing.timers);
+    timers::start_control_period(&dp.TIM3, &timing.timers);
+    timing
 }

@@ -65,23 +65,7 @@ mod emulated;
 #[cfg(not(any(feature = "panic-check", feature = "emulated")))]
 use defmt_rtt as _;
 
-/// The `panic-check` build's defmt logger: discards every frame. defmt-rtt's logger
-/// panics when it is taken re-entrantly (a misuse this firmware cannot commit: it logs
-/// only from `idle`), which would keep a panic path in the image; everything else in the
-/// check build is the shipped firmware.
-#[cfg(feature = "panic-check")]
-mod null_logger {
-    #[defmt::global_logger]
-    struct Null;
-
-    // SAFETY: stateless; every method is a no-op, so any call order is sound.
-    unsafe impl defmt::Logger for Null {
-        fn acquire() {}
-        unsafe fn flush() {}
-        unsafe fn release() {}
-        unsafe fn write(_bytes: &[u8]) {}
-    }
-}
+// The `panic-check` build's defmt logger is the library's (`nucleo::null_logger`).
 
 use stm32f4::stm32f446 as pac;
 use tooltouch_firmware::interrupts;
@@ -187,7 +171,7 @@ mod app {
     use tooltouch_firmware::model::force::kernel::ForceKernel;
     use tooltouch_firmware::model::{MeasureOutputs, Measurement};
     use tooltouch_firmware::nucleo::board::Nucleo;
-    use tooltouch_firmware::nucleo::{adc, clocks, configure_clocks, pins, timers};
+    use tooltouch_firmware::nucleo::{pins, timers};
 
     #[shared]
     struct Shared {
@@ -218,16 +202,7 @@ mod app {
             let mut core = cx.core;
             tooltouch_firmware::nucleo::cpu_load::start_cycle_counter(&mut core.DCB, &mut core.DWT);
         }
-        let timing = configure_clocks(&dp.RCC, &dp.PWR, &dp.FLASH);
-        clocks::enable_peripheral_clocks(&dp.RCC);
-        pins::configure_outputs(&dp.GPIOA);
-        pins::configure_measurement_inputs(&dp.GPIOA, &dp.GPIOB, &dp.SYSCFG, &dp.EXTI);
-        pins::configure_command_inputs(&dp.GPIOC, &dp.SYSCFG, &dp.EXTI);
-        adc::configure_adc(&dp.GPIOB, &dp.GPIOC, &dp.ADC_COMMON, &dp.ADC1, &timing.adc);
-        timers::start_feed_pwm(&dp.TIM4, &dp.GPIOB, &timing.timers);
-        timers::start_fes_counter(&dp.TIM2, &dp.GPIOB);
-        timers::start_sample_tick(&dp.TIM6, &timing.timers);
-        timers::start_control_period(&dp.TIM3, &timing.timers);
+        let timing = tooltouch_firmware::nucleo::bring_up(&dp);
         defmt::info!(
             "tooltouch firmware on Nucleo-F446RE, SYSCLK {} Hz, feed-override PWM {} Hz: \
              waiting for the CNC's arm line (PA0)",

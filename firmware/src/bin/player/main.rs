@@ -32,21 +32,7 @@
 #[cfg(not(any(feature = "panic-check", feature = "emulated")))]
 use defmt_rtt as _;
 
-/// The `panic-check` build's defmt logger: discards every frame (defmt-rtt keeps a panic
-/// path for re-entrant use, as in the controller's image).
-#[cfg(feature = "panic-check")]
-mod null_logger {
-    #[defmt::global_logger]
-    struct Null;
-
-    // SAFETY: stateless; every method is a no-op, so any call order is sound.
-    unsafe impl defmt::Logger for Null {
-        fn acquire() {}
-        unsafe fn flush() {}
-        unsafe fn release() {}
-        unsafe fn write(_bytes: &[u8]) {}
-    }
-}
+// The `panic-check` build's defmt logger is the library's (`nucleo::null_logger`).
 
 use stm32f4::stm32f446 as pac;
 #[cfg(not(feature = "emulated"))]
