@@ -16,9 +16,7 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 use tooltouch_cosim::nucleo::{self, NucleoRun};
 use tooltouch_cosim::{self as cosim, Case, Fault, Observe};
-use tooltouch_model::measure::calibration::{
-    applied_offset, corrected_position, CalibrationRecord,
-};
+use tooltouch_model::measure::calibration::{applied_offset, CalibrationRecord};
 use tooltouch_settings::firmware_config::FirmwareConfig;
 
 /// Builds the emulated Nucleo image once per test binary.
@@ -75,19 +73,10 @@ pub(crate) fn expected_log(cases: &[Case], calibration: Option<&CalibrationRecor
                 continue;
             }
             on = o.register_now;
-            log.push(if on {
-                format!(
-                    "register now: position {} counts, calibrated {} counts (offset {offset}), \
-                     first contact at {}, {} revolutions, {} FES pulses; 0 ADC samples dropped",
-                    o.decision_position,
-                    corrected_position(o.decision_position, offset, bits),
-                    o.first_contact_position,
-                    o.revolutions,
-                    o.pulses
-                )
-            } else {
-                "measurement cycle armed; 0 ADC samples dropped".to_string()
-            });
+            log.push(format!(
+                "{}; 0 ADC samples dropped",
+                tooltouch_cosim::bench::decision_line(&o, offset, bits)
+            ));
         }
     }
     log.push("co-simulation ended, QEMU exit status 0".to_string());

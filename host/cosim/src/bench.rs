@@ -20,7 +20,7 @@ use tooltouch_model::measure::calibration::{corrected_position, CalibrationRecor
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::wire::measure_event::decode_event;
 use tooltouch_model::wire::{kind, Records, StreamKind};
-use tooltouch_model::{MeasureEvent, Measurement};
+use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
 
 /// The controller's chip, as probe-rs names it.
 pub const CHIP: &str = "STM32F446RETx";
@@ -94,22 +94,31 @@ pub fn expected_lines(
         let o = m.outputs();
         if o.register_now != on {
             on = o.register_now;
-            lines.push(if on {
-                format!(
-                    "register now: position {} counts, calibrated {} counts (offset {offset}), \
-                     first contact at {}, {} revolutions, {} FES pulses",
-                    o.decision_position,
-                    corrected_position(o.decision_position, offset, scale_bits),
-                    o.first_contact_position,
-                    o.revolutions,
-                    o.pulses
-                )
-            } else {
-                "measurement cycle armed".to_string()
-            });
+            lines.push(decision_line(&o, offset, scale_bits));
         }
     }
     Ok(lines)
+}
+
+/// The line the controller's idle logs when "register now" changes to
+/// `o.register_now`, up to its `;` (the firmware's defmt literal, src/bin/nucleo): at a
+/// decision `register now: position … counts, calibrated … counts (offset …), first contact
+/// at …, … revolutions, … FES pulses`, the position corrected by `offset` counts in
+/// `scale_bits`; at an arm `measurement cycle armed`.
+pub fn decision_line(o: &MeasureOutputs, offset: i32, scale_bits: u8) -> String {
+    if o.register_now {
+        format!(
+            "register now: position {} counts, calibrated {} counts (offset {offset}), first \
+             contact at {}, {} revolutions, {} FES pulses",
+            o.decision_position,
+            corrected_position(o.decision_position, offset, scale_bits),
+            o.first_contact_position,
+            o.revolutions,
+            o.pulses
+        )
+    } else {
+        "measurement cycle armed".to_string()
+    }
 }
 
 /// The decision lines of a controller's `log`, each up to its `;`.
