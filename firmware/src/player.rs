@@ -62,6 +62,51 @@ pub const NUCLEO_TIMER_HZ: u32 = 84_000_000;
 /// Longest pulse, in timer ticks of 84 MHz: 1 ms (pulses this far apart need no wider).
 pub const MAX_PULSE_TICKS: u64 = 84_000;
 
+/// The player timer's count at the start of a run: this many ticks before its 32-bit wrap
+/// (6 ms at 84 MHz, 1 ms at the emulated 500 MHz), so every run crosses the wrap of the
+/// 64-bit extension early.
+pub const WRAP_AHEAD_TICKS: u32 = 500_000;
+
+/// The player image under QEMU's `netduinoplus2` (its `emulated` build) and the host that
+/// reads its recording (`tooltouch_cosim::player`): one definition of the rate, the
+/// recording's format and the exit statuses.
+pub mod emulated {
+    /// TIM2's prescaler: QEMU's timers count at 1 GHz/(PSC+1) whatever RCC says.
+    pub const PRESCALER: u32 = 1;
+    /// TIM2's rate, Hz: 2 instructions per tick under `-icount shift=0`, as the board has
+    /// 2 CPU cycles per tick.
+    pub const TIMER_HZ: u32 = 500_000_000;
+    /// Bytes of one recorded BSRR write: the tick the loop saw (u64, from the run's
+    /// start), then the word (u32), little-endian.
+    pub const WRITE_BYTES: usize = 12;
+
+    /// One recorded write's bytes.
+    pub fn encode_write(seen_at: u64, bsrr: u32) -> [u8; WRITE_BYTES] {
+        let (t, w) = (seen_at.to_le_bytes(), bsrr.to_le_bytes());
+        [
+            t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], w[0], w[1], w[2], w[3],
+        ]
+    }
+
+    /// The (tick, word) of one recorded write.
+    pub fn decode_write(b: &[u8; WRITE_BYTES]) -> (u64, u32) {
+        (
+            u64::from_le_bytes([b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7]]),
+            u32::from_le_bytes([b[8], b[9], b[10], b[11]]),
+        )
+    }
+
+    /// The run's semihosting exit status.
+    pub mod exit_code {
+        /// Played once, the whole recording written.
+        pub const PLAYED: u8 = 0;
+        /// The embedded stream was refused (the log says why).
+        pub const STREAM_REFUSED: u8 = 3;
+        /// The recording could not be created or written.
+        pub const RECORDING_FAILED: u8 = 4;
+    }
+}
+
 impl PinMap {
     /// Every output pin as a BSRR reset word (all low).
     pub const fn all_low(&self) -> u32 {

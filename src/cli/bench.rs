@@ -139,8 +139,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         Command::Check(a) => {
             let want = expected(&a.stream)?;
-            let text = tooltouch_settings::read_text_file(&a.log, "controller log")
-                .map_err(anyhow::Error::msg)?;
+            let bytes = read_bounded(&a.log, "--log", MAX_LOG_BYTES, "a controller log may have")?;
+            let text = String::from_utf8(bytes).map_err(|e| {
+                anyhow::anyhow!(
+                    "--log {}: byte {} is not UTF-8 text; a controller log is probe-rs's \
+                     `--log-format {{s}}` output",
+                    a.log.display(),
+                    e.utf8_error().valid_up_to()
+                )
+            })?;
             if text.trim().is_empty() {
                 anyhow::bail!(
                     "controller log {}: holds no line (probe-rs printed nothing?)",
@@ -206,32 +213,55 @@ fn expected(a: &StreamArgs) -> anyhow::Result<Vec<String>> {
         .map_err(|e| anyhow::anyhow!("--stream {name}: {e}"))
 }
 
+/// The largest controller log `bench check` reads: 64 MiB (a day of decisions).
+const MAX_LOG_BYTES: u64 = 64 << 20;
+/// The largest controller image `bench collect` reads: 64 MiB (the Nucleo's ELF with its
+/// debug information is under 2 MiB).
+const MAX_ELF_BYTES: u64 = 64 << 20;
+
+/// The bytes of the file `path` given to `flag`, refused over `limit` bytes (`limit_is`:
+/// what the limit is; checked before it is read, and bounded while reading), or when it
+/// is a folder.
+fn read_bounded(path: &Path, flag: &str, limit: u64, limit_is: &str) -> anyhow::Result<Vec<u8>> {
+    use std::io::Read;
+    let name = path.display();
+    let file = std::fs::File::open(path).map_err(|e| anyhow::anyhow!("{flag} {name}: {e}"))?;
+    let meta = file
+        .metadata()
+        .map_err(|e| anyhow::anyhow!("{flag} {name}: {e}"))?;
+    if meta.is_dir() {
+        anyhow::bail!("{flag} {name}: is a folder, not a file");
+    }
+    let too_large =
+        |len: u64| anyhow::anyhow!("{flag} {name}: {len} bytes, more than the {limit} {limit_is}");
+    if meta.len() > limit {
+        return Err(too_large(meta.len()));
+    }
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| anyhow::anyhow!("{flag} {name}: {e}"))?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
 /// The stream's bytes, refused past what the player's flash holds.
 fn read_stream(path: &Path) -> anyhow::Result<Vec<u8>> {
-    let name = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| anyhow::anyhow!("--stream {name}: {e}"))?;
-    if meta.is_dir() {
-        anyhow::bail!("--stream {name}: is a folder, not a file");
-    }
-    if meta.len() > bench::MAX_PLAYER_STREAM_BYTES {
-        anyhow::bail!(
-            "--stream {name}: {} bytes, more than the {} the player's flash holds",
-            meta.len(),
-            bench::MAX_PLAYER_STREAM_BYTES
-        );
-    }
-    std::fs::read(path).map_err(|e| anyhow::anyhow!("--stream {name}: {e}"))
+    read_bounded(
+        path,
+        "--stream",
+        bench::MAX_PLAYER_STREAM_BYTES,
+        "the player's flash holds",
+    )
 }
 
 /// Refuses a file that is not an ELF or has no defmt table (probe-rs could not decode
 /// the controller's log with it).
 fn check_controller_elf(path: &Path) -> anyhow::Result<()> {
     let name = path.display();
-    let meta = std::fs::metadata(path).map_err(|e| anyhow::anyhow!("--elf {name}: {e}"))?;
-    if meta.is_dir() {
-        anyhow::bail!("--elf {name}: is a folder, not a file");
-    }
-    let bytes = std::fs::read(path).map_err(|e| anyhow::anyhow!("--elf {name}: {e}"))?;
+    let bytes = read_bounded(path, "--elf", MAX_ELF_BYTES, "a controller image may have")?;
     if !bytes.starts_with(b"\x7fELF") {
         anyhow::bail!("{name}: not an ELF image");
     }

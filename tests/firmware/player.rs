@@ -2,7 +2,7 @@
 //! plays the demo stream once and records every GPIOC_BSRR write with the TIM2 tick its
 //! loop saw (`tooltouch_cosim::player`). The recording must be the schedule the host makes
 //! for the same stream and rate (`tooltouch_firmware::player::Schedule`, its source compiled
-//! here; the firmware's host tests check it against the stream's events), word for word
+//! into `tooltouch_cosim::player`; the firmware's host tests check it against the stream's events), word for word
 //! and in order,
 //! each write at or after its tick, within [`SPIN_TICKS`] of it when the loop was free and
 //! within [`STEP_TICKS`] of the write before it when that one was still going out; the run
@@ -12,14 +12,8 @@
 //! Needs qemu-system-arm and the thumbv7em-none-eabihf target: without them the test
 //! fails with a message naming `cargo xtask setup`.
 
+use tooltouch_cosim::player::firmware_player::{Schedule, Step, NUCLEO_PINS, WRAP_AHEAD_TICKS};
 use tooltouch_cosim::player::{self, exit_code, EMULATED_TIMER_HZ};
-
-/// The player's schedule: the firmware library's own module (`tooltouch_firmware::player`,
-/// no_std, over the golden model's wire format only), compiled here for the host.
-#[path = "../../firmware/src/player.rs"]
-#[allow(dead_code)]
-mod schedule;
-use schedule::{Schedule, Step, NUCLEO_PINS};
 
 /// Ticks of 500 MHz (2 instructions each under `-icount shift=0`) the loop may take to
 /// see a step due once it spins for it: one spin iteration, measured 0–3 ticks.
@@ -31,9 +25,6 @@ const SPIN_TICKS: u64 = 8;
 /// after it.
 const STEP_TICKS: u64 = 256;
 
-/// The player's start: TIM2 this many ticks before its wrap (firmware/src/bin/player).
-const WRAP_AHEAD_TICKS: u64 = 500_000;
-
 #[test]
 fn the_player_image_plays_the_host_schedule_under_netduinoplus2() {
     let image = player::build_emulated().unwrap_or_else(|e| panic!("{e}"));
@@ -41,7 +32,7 @@ fn the_player_image_plays_the_host_schedule_under_netduinoplus2() {
     let log = run.log.join("\n");
     assert_eq!(
         run.status,
-        Some(exit_code::PLAYED),
+        Some(i32::from(exit_code::PLAYED)),
         "QEMU's exit status; the log:\n{log}"
     );
 
@@ -94,11 +85,11 @@ fn the_player_image_plays_the_host_schedule_under_netduinoplus2() {
     }
     // The run lasted past the wrap of TIM2's 32-bit count: the 64-bit extension carried.
     assert!(
-        summary.end > WRAP_AHEAD_TICKS,
+        summary.end > u64::from(WRAP_AHEAD_TICKS),
         "the demo stream ({} ticks) ends before TIM2 wraps",
         summary.end
     );
-    assert!(run.writes.last().unwrap().seen_at > WRAP_AHEAD_TICKS);
+    assert!(run.writes.last().unwrap().seen_at > u64::from(WRAP_AHEAD_TICKS));
 
     // The image's own log: the stream's summary at the emulated rate, and the run's figures.
     let played = format!(

@@ -171,10 +171,14 @@ pub fn check_defmt_table(elf: &[u8]) -> Result<(), BenchError> {
     }
 }
 
+/// The most log lines [`collect`] keeps: a probe-rs that prints without end stops the
+/// collection here instead of filling the memory.
+pub const MAX_LOG_LINES: usize = 1_000_000;
+
 /// Attaches `probe_rs` (the program: `probe-rs`, or a path) to the running controller
 /// whose image is `elf` (`probe`: its `--probe` selector when two are plugged in) and
-/// collects its log lines until `want` decision lines arrived, probe-rs ended, or
-/// `timeout` passed; probe-rs is then stopped.
+/// collects its log lines until `want` decision lines arrived, probe-rs ended, `timeout`
+/// passed or [`MAX_LOG_LINES`] were read; probe-rs is then stopped.
 pub fn collect(
     probe_rs: &str,
     elf: &Path,
@@ -218,7 +222,7 @@ pub fn collect(
     let deadline = Instant::now() + timeout;
     let mut log = Vec::new();
     let mut decisions = 0;
-    while decisions < want {
+    while decisions < want && log.len() < MAX_LOG_LINES {
         let left = deadline.saturating_duration_since(Instant::now());
         match rx.recv_timeout(left) {
             Ok(line) => {
@@ -236,7 +240,8 @@ pub fn collect(
         .map_err(|e| BenchError::ProbeRs(format!("waiting for `{probe_rs}`: {e}")))?;
     // Lines already read before the stop (the reader ends with probe-rs's output).
     drop(reader);
-    log.extend(rx.try_iter());
+    let room = MAX_LOG_LINES.saturating_sub(log.len());
+    log.extend(rx.try_iter().take(room));
     if log.is_empty() && status.code().is_some_and(|c| c != 0) {
         return Err(BenchError::ProbeRs(format!(
             "`{probe_rs} attach` failed ({status}) before printing a line: is the controller \

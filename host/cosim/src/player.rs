@@ -14,22 +14,17 @@ use super::qemu::{self, Artifact};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// TIM2's rate in the emulated build: QEMU's timers count at 1 GHz/(PSC+1), PSC 1.
-pub const EMULATED_TIMER_HZ: u32 = 500_000_000;
-/// Bytes of one recorded write.
-pub const WRITE_BYTES: usize = 12;
+/// The firmware's own player module (`tooltouch_firmware::player`: the schedule, the pin
+/// map, the emulated build's rate, recording format and exit statuses), compiled here for
+/// the host from firmware/src/player.rs: the firmware crate is a workspace of its own, so
+/// it cannot be a dependency, and this keeps one definition of each.
+#[path = "../../../firmware/src/player.rs"]
+pub mod firmware_player;
+
+pub use firmware_player::emulated::{exit_code, TIMER_HZ as EMULATED_TIMER_HZ, WRITE_BYTES};
+
 /// A run that takes longer is killed (the demo stream plays in about 2 s of QEMU).
 pub const WATCHDOG: Duration = Duration::from_secs(120);
-
-/// The player's QEMU exit statuses (firmware/src/bin/player).
-pub mod exit_code {
-    /// Played once, the whole recording written.
-    pub const PLAYED: i32 = 0;
-    /// The embedded stream was refused (the log says why).
-    pub const STREAM_REFUSED: i32 = 3;
-    /// The recording could not be created or written.
-    pub const RECORDING_FAILED: i32 = 4;
-}
 
 /// One recorded GPIOC_BSRR write.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,15 +91,10 @@ pub fn parse_recording(bytes: &[u8]) -> Result<Vec<RecordedWrite>, CosimError> {
     }
     Ok(bytes
         .chunks_exact(WRITE_BYTES)
+        .filter_map(|w| <&[u8; WRITE_BYTES]>::try_from(w).ok())
         .map(|w| {
-            let mut tick = [0; 8];
-            tick.copy_from_slice(&w[..8]);
-            let mut word = [0; 4];
-            word.copy_from_slice(&w[8..]);
-            RecordedWrite {
-                seen_at: u64::from_le_bytes(tick),
-                bsrr: u32::from_le_bytes(word),
-            }
+            let (seen_at, bsrr) = firmware_player::emulated::decode_write(w);
+            RecordedWrite { seen_at, bsrr }
         })
         .collect())
 }
@@ -117,9 +107,11 @@ mod tests {
     fn a_recording_parses_write_by_write_and_a_partial_one_is_refused() {
         let mut bytes = Vec::new();
         for (t, w) in [(0u64, 0x0001_0000u32), (1 << 33, 0x8)] {
-            bytes.extend_from_slice(&t.to_le_bytes());
-            bytes.extend_from_slice(&w.to_le_bytes());
+            bytes.extend_from_slice(&firmware_player::emulated::encode_write(t, w));
         }
+        // The format: the tick, then the word, little-endian.
+        assert_eq!(bytes[12..20], (1u64 << 33).to_le_bytes());
+        assert_eq!(bytes[20..], 8u32.to_le_bytes());
         let writes = parse_recording(&bytes).unwrap();
         assert_eq!(
             writes,

@@ -14,7 +14,7 @@
 //! (every output is on GPIOC, so each step is one store). No interrupt is enabled, so
 //! nothing delays a write but the loop itself: the worst lateness (ticks between a step's
 //! time and the spin seeing it) is measured and logged after each run. Before each run
-//! TIM2 is set [`WRAP_AHEAD_TICKS`] before its 32-bit wrap, so that every run crosses the
+//! TIM2 is set `player::WRAP_AHEAD_TICKS` before its 32-bit wrap, so that every run crosses the
 //! wrap of the 64-bit extension early.
 //!
 //! The `emulated` build runs under QEMU's `netduinoplus2` (docs/firmware.md lists the
@@ -22,7 +22,7 @@
 //! plays the stream once at boot, without B1; every BSRR write is also recorded, with the
 //! tick the loop saw, to the host file `tooltouch-outputs.bin` over semihosting; TIM2
 //! counts at QEMU's 1 GHz/(PSC+1) whatever RCC says, so PSC is 1 and the schedule is made
-//! for [`EMULATED_TIMER_HZ`] (2 instructions per tick under `-icount shift=0`, as the
+//! for `player::emulated::TIMER_HZ` (2 instructions per tick under `-icount shift=0`, as the
 //! board has 2 CPU cycles per tick); the run ends with a semihosting exit (0 played, 3 a
 //! stream refused, 4 the recording could not be written).
 
@@ -38,7 +38,9 @@ use stm32f4::stm32f446 as pac;
 #[cfg(not(feature = "emulated"))]
 use tooltouch_firmware::nucleo::PLL_TIMING;
 use tooltouch_firmware::nucleo::{clocks, configure_clocks};
-use tooltouch_firmware::player::{PlayerError, Schedule, NUCLEO_PINS};
+#[cfg(feature = "emulated")]
+use tooltouch_firmware::player::emulated;
+use tooltouch_firmware::player::{PlayerError, Schedule, NUCLEO_PINS, WRAP_AHEAD_TICKS};
 
 /// The stream to play (build.rs names the file).
 static STREAM: &[u8] = include_bytes!(env!("TOOLTOUCH_PLAYER_STREAM_FILE"));
@@ -47,23 +49,13 @@ static STREAM: &[u8] = include_bytes!(env!("TOOLTOUCH_PLAYER_STREAM_FILE"));
 #[cfg(not(feature = "emulated"))]
 const BUTTON: u32 = 1 << 13;
 
-/// TIM2's count at the start of a run: this many ticks before its 32-bit wrap (1 ms at
-/// 500 MHz, 6 ms at 84 MHz).
-const WRAP_AHEAD_TICKS: u32 = 500_000;
-
-/// TIM2's rate under QEMU: its timers count at 1 GHz/(PSC+1), PSC being 1.
-#[cfg(feature = "emulated")]
-const EMULATED_TIMER_HZ: u32 = 500_000_000;
-
 /// The emulated build's record of every BSRR write, sent to the host file
-/// `tooltouch-outputs.bin` in blocks: per write 12 bytes, the tick the loop saw (u64, from
-/// the run's start) and the word (u32), little-endian.
+/// `tooltouch-outputs.bin` in blocks (`player::emulated::encode_write`'s format).
 #[cfg(feature = "emulated")]
 mod recording {
+    use tooltouch_firmware::player::emulated::{encode_write, WRITE_BYTES as STEP_BYTES};
     use tooltouch_firmware::semihosting::{create, write_all, OUTPUTS_FILE};
 
-    /// Bytes of one recorded write.
-    const STEP_BYTES: usize = 12;
     /// Writes held before a block goes to the host.
     const BLOCK_STEPS: usize = 256;
 
@@ -89,11 +81,8 @@ mod recording {
 
         /// Records the write of `bsrr` seen at tick `at`.
         pub fn push(&mut self, at: u64, bsrr: u32) {
-            let (t, w) = (at.to_le_bytes(), bsrr.to_le_bytes());
             if let Some(slot) = self.block.get_mut(self.count) {
-                *slot = [
-                    t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7], w[0], w[1], w[2], w[3],
-                ];
+                *slot = encode_write(at, bsrr);
                 self.count += 1;
             }
             if self.count >= BLOCK_STEPS {
@@ -166,7 +155,7 @@ fn main() -> ! {
     #[cfg(feature = "emulated")]
     let (timer_hz, prescaler) = {
         let _ = timing;
-        (EMULATED_TIMER_HZ, 1)
+        (emulated::TIMER_HZ, emulated::PRESCALER)
     };
     clocks::enable_peripheral_clocks(&dp.RCC);
     let gpioc = &dp.GPIOC;
@@ -216,7 +205,7 @@ fn main() -> ! {
             let (what, figure) = describe(e);
             defmt::error!("player: the stream cannot be played: {} {}", what, figure);
             #[cfg(feature = "emulated")]
-            tooltouch_firmware::semihosting::exit(3);
+            tooltouch_firmware::semihosting::exit(emulated::exit_code::STREAM_REFUSED);
             #[cfg(not(feature = "emulated"))]
             loop {
                 cortex_m::asm::wfi();
@@ -227,7 +216,7 @@ fn main() -> ! {
     #[cfg(feature = "emulated")]
     let Some(mut recording) = recording::Recording::create() else {
         defmt::error!("player: the recording file could not be created");
-        tooltouch_firmware::semihosting::exit(4);
+        tooltouch_firmware::semihosting::exit(emulated::exit_code::RECORDING_FAILED);
     };
     loop {
         // Wait for a press of B1 (low), then for its release (emulated: play at once).
@@ -270,7 +259,11 @@ fn main() -> ! {
         #[cfg(feature = "emulated")]
         {
             recording.flush();
-            tooltouch_firmware::semihosting::exit(if recording.failed { 4 } else { 0 });
+            tooltouch_firmware::semihosting::exit(if recording.failed {
+                emulated::exit_code::RECORDING_FAILED
+            } else {
+                emulated::exit_code::PLAYED
+            });
         }
     }
 }
