@@ -17,9 +17,10 @@
 //! outputs record, and one force `OUTPUTS` record after every force event
 //! except a sample (model::force's convention), each at its event's time; then
 //! [`kind::FIRMWARE_PROFILE`], [`kind::FIRMWARE_FORCE_PROFILE`] and
-//! [`kind::FIRMWARE_STATUS`] records (the status ends with the hashes of the configuration
-//! baked into the image, [`crate::baked`]) and `END`. A bad input ends the trace with a [`kind::FIRMWARE_ERROR`] record and
-//! `END`, and [`run`] returns the error.
+//! [`kind::FIRMWARE_STATUS`] records (`wire::firmware_status`: the status ends with the
+//! hashes of the configuration baked into the image, [`crate::baked`]) and `END`. A bad
+//! input ends the trace with a [`kind::FIRMWARE_ERROR`] record and `END`, and [`run`]
+//! returns the error.
 //!
 //! Board-independent: the board supplies the file [`Port`] and the [`Target`] that
 //! delivers an event through its interrupt.
@@ -28,6 +29,7 @@ use crate::handlers::{Counters, ReportedDecision};
 use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceOutputs;
+use tooltouch_model::wire::firmware_status::FirmwareStatus;
 use tooltouch_model::wire::force_chunks::{ForceChunkError, ForceConfigAssembler};
 use tooltouch_model::wire::force_event::decode_force_event;
 use tooltouch_model::wire::measure_config::decode_config;
@@ -535,28 +537,17 @@ fn replay<P: Port, T: Target>(
     }
     let counters = target.counters();
     let (cal_instructions, cal_ticks) = target.calibration();
-    let mut status = [0u8; 40];
-    put_u32s(
-        &mut status,
-        &[
-            events,
-            counters.lost,
-            counters.overflowed,
-            target.stack_used(),
-            cal_instructions,
-            cal_ticks,
-        ],
-    );
-    // The image's own configuration (the one it was built with), so a trace tells which
-    // image made it.
-    for (d, s) in status.iter_mut().skip(24).zip(
-        crate::baked::MEASURE_HASH
-            .to_le_bytes()
-            .iter()
-            .chain(&crate::baked::FORCE_HASH.to_le_bytes()),
-    ) {
-        *d = *s;
-    }
+    let status = FirmwareStatus {
+        events,
+        lost: counters.lost,
+        overflowed: counters.overflowed,
+        stack_bytes: target.stack_used(),
+        calibration_instructions: cal_instructions,
+        calibration_ticks: cal_ticks,
+        // The image's own configuration (the one it was built with), so a trace tells
+        // which image made it.
+        image_hashes: Some((crate::baked::MEASURE_HASH, crate::baked::FORCE_HASH)),
+    };
     let (p, n) = profile.encode(0, 5);
     writer.record(
         port,
@@ -571,7 +562,11 @@ fn replay<P: Port, T: Target>(
             p.get(..n).unwrap_or(&[]),
         ),
     )?;
-    writer.record(port, &Record::new(kind::FIRMWARE_STATUS, previous, &status))?;
+    let (p, n) = status.encode();
+    writer.record(
+        port,
+        &Record::new(kind::FIRMWARE_STATUS, previous, p.get(..n).unwrap_or(&[])),
+    )?;
     writer.record(port, &Record::new(wire::kind::END, previous, &[]))?;
     Ok(())
 }

@@ -756,13 +756,18 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let events = vectors::events_from_stimulus(&run.stimulus, &config);
     let outputs = vectors::outputs_after_each_event(&events, &config);
     let write = |name: &str, bytes: Vec<u8>| out.write(name, bytes);
-    write(
-        "events.ttv",
-        binary::encode_events(&events, &config, scenario.clock_hz),
-    )?;
+    // The input stream's copy of the events lives only while it is encoded.
+    let header = {
+        let inputs = binary::InputStream::of_measure_events(&config, scenario.clock_hz, &events);
+        write("events.ttv", binary::encode_event_stream(&inputs))?;
+        inputs.header
+    };
+    let expected = outputs
+        .iter()
+        .map(|&(t, o)| (t, binary::Output::Measure(o)));
     write(
         "expected_outputs.ttv",
-        binary::encode_outputs(&outputs, &config, scenario.clock_hz),
+        binary::encode_output_stream(header, expected),
     )?;
 
     let mut summary = serde_json::json!({

@@ -1058,7 +1058,7 @@ fn named_rows(f: &Fixtures, rows: &mut Vec<Case>) {
         ));
     }
 
-    // A run too large to hold (1.6 GB in encode_events before).
+    // A run too large to hold (1.6 GB in the events' encoding before).
     r(case(
         "measure tiny feed, huge approach",
         &[

@@ -4,7 +4,7 @@
 
 use tooltouch_model::measure::frontend::{pin, Pins};
 use tooltouch_model::wire::{self, Header, StreamKind};
-use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_model::{MeasureConfig, MeasureOutputs, MeasureSettings};
 use tooltouch_plant::lathe::{CycleSettings, LatheScenario};
 use tooltouch_plant::measurement_cycle;
 use tooltouch_plant::stimulus::Stimulus;
@@ -181,14 +181,32 @@ fn check_names_a_missing_dut_signal() {
     assert!(err.contains("d.vcd") && err.contains("`charge`"), "{err}");
 }
 
+/// An Outputs stream of measurement outputs made under `config`.
+fn encode_outputs(outputs: &[(u64, MeasureOutputs)], config: &MeasureConfig) -> Vec<u8> {
+    let header = Header {
+        stream: StreamKind::Outputs,
+        tick_hz: 1_000_000,
+        measure_hash: config.hash(),
+        force_hash: 0,
+    };
+    binary::encode_output_stream(
+        header,
+        outputs
+            .iter()
+            .map(|&(t, o)| (t, binary::Output::Measure(o))),
+    )
+}
+
 fn streams() -> (MeasureConfig, Vec<u8>, Vec<u8>) {
     let (config, stimulus) = small();
     let events = events_from_stimulus(&stimulus, &config);
     let outputs = outputs_after_each_event(&events, &config);
     (
         config,
-        binary::encode_events(&events, &config, 1_000_000),
-        binary::encode_outputs(&outputs, &config, 1_000_000),
+        binary::encode_event_stream(&binary::InputStream::of_measure_events(
+            &config, 1_000_000, &events,
+        )),
+        encode_outputs(&outputs, &config),
     )
 }
 
@@ -197,9 +215,11 @@ fn binary_streams_round_trip() {
     let (config, stimulus) = small();
     let events = events_from_stimulus(&stimulus, &config);
     let (_, ev, _) = streams();
-    let back = binary::decode_events(&ev, "events.ttv", Some(config.hash())).unwrap();
-    assert_eq!(back.events, events);
-    assert_eq!(back.config, config);
+    let back = binary::decode_event_stream(&ev, "events.ttv").unwrap();
+    back.expect_measure_hash("events.ttv", config.hash())
+        .unwrap();
+    assert_eq!(back.measure_events(), events);
+    assert_eq!(back.measure, Some(config));
     assert_eq!(back.header.tick_hz, 1_000_000);
 }
 
@@ -207,7 +227,11 @@ fn binary_streams_round_trip() {
 fn corrupt_binary_files_give_clear_errors() {
     let (config, ev, _) = streams();
     let err = |bytes: &[u8], hash: Option<u64>| {
-        binary::decode_events(bytes, "events.ttv", hash)
+        binary::decode_event_stream(bytes, "events.ttv")
+            .and_then(|s| match hash {
+                Some(h) => s.expect_measure_hash("events.ttv", h),
+                None => Ok(()),
+            })
             .unwrap_err()
             .to_string()
     };
@@ -265,11 +289,11 @@ fn binary_check_names_record_field_and_values() {
         compare_binary(&out, "e.ttv", &out, "d.ttv").unwrap(),
         Verdict::Match(_)
     ));
-    let (_, records) = binary::decode_outputs(&out, "e.ttv", None).unwrap();
+    let records = binary::decode_output_stream(&out, "e.ttv").unwrap().measure;
     let i = records.len() / 2;
     let mut changed = records.clone();
     changed[i].1.charge ^= 4;
-    let dut = binary::encode_outputs(&changed, &config, 1_000_000);
+    let dut = encode_outputs(&changed, &config);
     let v = compare_binary(&out, "e.ttv", &dut, "d.ttv").unwrap();
     let want = format!(
         "record {i} (time {}): field charge expected 0x{:x} got 0x{:x}",
@@ -278,7 +302,7 @@ fn binary_check_names_record_field_and_values() {
         records[i].1.charge ^ 4
     );
     assert_eq!(v, Verdict::Mismatch(want));
-    let short = binary::encode_outputs(&records[..i], &config, 1_000_000);
+    let short = encode_outputs(&records[..i], &config);
     let v = compare_binary(&out, "e.ttv", &short, "d.ttv").unwrap();
     assert!(
         matches!(v, Verdict::Mismatch(ref s) if s.contains(&format!("record {i}"))),
@@ -292,7 +316,7 @@ fn binary_check_names_record_field_and_values() {
     }
     .validate()
     .unwrap();
-    let dut = binary::encode_outputs(&records, &other, 1_000_000);
+    let dut = encode_outputs(&records, &other);
     let e = compare_binary(&out, "e.ttv", &dut, "d.ttv")
         .unwrap_err()
         .to_string();

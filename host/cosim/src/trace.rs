@@ -4,6 +4,7 @@
 
 use super::error::CosimError;
 use tooltouch_model::force::kernel::ForceOutputs;
+use tooltouch_model::wire::firmware_status::FirmwareStatus;
 use tooltouch_model::wire::force_outputs::decode_force_outputs;
 use tooltouch_model::wire::measure_outputs::decode_outputs;
 use tooltouch_model::wire::{self, Header, Record, StreamKind, HEADER_LEN};
@@ -59,6 +60,29 @@ impl Profile {
         f64::from(self.calibration_instructions) / f64::from(self.calibration_ticks.max(1))
     }
 
+    /// Takes the firmware's status record's fields (its counters, the image's hashes).
+    pub fn set_status(&mut self, status: FirmwareStatus) {
+        let FirmwareStatus {
+            events,
+            lost,
+            overflowed,
+            stack_bytes,
+            calibration_instructions,
+            calibration_ticks,
+            image_hashes,
+        } = status;
+        *self = Profile {
+            per_kind: self.per_kind,
+            events,
+            lost,
+            overflowed,
+            stack_bytes,
+            calibration_instructions,
+            calibration_ticks,
+            image_hashes,
+        };
+    }
+
     /// Mean instructions per interrupt of kind `k` (index into [`EVENT_KIND_NAMES`]), pend
     /// to return.
     pub fn instructions_per_event(&self, k: usize) -> Option<f64> {
@@ -97,13 +121,6 @@ fn u32_at(p: &[u8], i: usize) -> u32 {
     p.get(i..i + 4)
         .and_then(|b| b.try_into().ok())
         .map(u32::from_le_bytes)
-        .unwrap_or(0)
-}
-
-fn u64_at(p: &[u8], i: usize) -> u64 {
-    p.get(i..i + 8)
-        .and_then(|b| b.try_into().ok())
-        .map(u64::from_le_bytes)
         .unwrap_or(0)
 }
 
@@ -168,16 +185,7 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<StreamTrace>, CosimError> {
                         *slot = (u32_at(p, 8 * k), u32_at(p, 8 * k + 4));
                     }
                 }
-                kind::FIRMWARE_STATUS => {
-                    let pr = &mut stream.profile;
-                    pr.events = u32_at(p, 0);
-                    pr.lost = u32_at(p, 4);
-                    pr.overflowed = u32_at(p, 8);
-                    pr.stack_bytes = u32_at(p, 12);
-                    pr.calibration_instructions = u32_at(p, 16);
-                    pr.calibration_ticks = u32_at(p, 20);
-                    pr.image_hashes = (p.len() >= 40).then(|| (u64_at(p, 24), u64_at(p, 32)));
-                }
+                kind::FIRMWARE_STATUS => stream.profile.set_status(FirmwareStatus::decode(p)),
                 kind::FIRMWARE_ERROR => {
                     return Err(CosimError::Firmware(describe_firmware_error(p)));
                 }

@@ -6,20 +6,29 @@
 //!
 //! A file holds exactly one stream: bytes after its END record (a second stream, or
 //! anything else) are an error, so a file glued from two runs is not read as the first.
-//! [`decode_output_stream`] reads every output stream a device emits — measurement
-//! outputs, force outputs (`tooltouch control --out`), and the firmware's own trace with
-//! its profile and status records; [`decode_event_stream`] reads every input stream —
-//! measurement events, force events with their configuration chunks, or both.
+//!
+//! Three layers, one API each way:
+//! - the framing, any record kind: [`RecordReader`] reads a stream record by record from
+//!   any [`Read`] (constant memory), [`RecordWriter`] writes one into any [`Write`];
+//! - input streams: [`read_event_stream`] / [`decode_event_stream`] read every input
+//!   stream — measurement events, force events with their configuration chunks, or both —
+//!   into an [`InputStream`], [`encode_event_stream`] writes one;
+//! - output streams: [`OutputReader`] / [`decode_output_stream`] read every output stream
+//!   a device emits — measurement outputs, force outputs (`tooltouch control --out`), and
+//!   the firmware's own trace with its profile and status ([`FirmwareStatus`]) records —
+//!   and [`encode_output_stream`] writes one.
 
-use std::io::Read;
+use std::borrow::Borrow;
+use std::io::{Read, Write};
 use std::path::Path;
 use tooltouch_model::force::config::ForceConfig;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceOutputs;
+pub use tooltouch_model::wire::firmware_status::FirmwareStatus;
 use tooltouch_model::wire::force_chunks::ForceConfigAssembler;
 use tooltouch_model::wire::force_event::decode_force_event;
 use tooltouch_model::wire::force_outputs::decode_force_outputs;
-use tooltouch_model::wire::{self, kind, Header, Record, Records, StreamKind, WireError};
+use tooltouch_model::wire::{self, kind, Header, Record, StreamKind, WireError};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, TimedEvent};
 
 /// A bad binary vector file.
@@ -99,6 +108,16 @@ pub enum BinaryError {
         /// What is wrong.
         problem: wire::force_chunks::ForceChunkError,
     },
+    /// A record written with a time before the previous record's.
+    #[error("{file}: time {time} is before the previous record's {previous}")]
+    TimeBeforePrevious {
+        /// The file.
+        file: String,
+        /// The record's time.
+        time: u64,
+        /// The previous record's time.
+        previous: u64,
+    },
     /// The trace holds the firmware's error record: it rejected its input.
     #[error("{file}: the firmware rejected its input: {what}")]
     Firmware {
@@ -109,24 +128,6 @@ pub enum BinaryError {
     },
 }
 
-/// Fails when bytes follow the END record that ends at `offset`.
-fn nothing_after_end(bytes: &[u8], offset: usize, file: &str) -> Result<(), BinaryError> {
-    let rest = bytes.get(offset..).unwrap_or(&[]);
-    if rest.is_empty() {
-        return Ok(());
-    }
-    let what = if rest.starts_with(&wire::MAGIC) {
-        "a second stream (magic \"TTVX\")".to_string()
-    } else {
-        format!("{} more bytes", rest.len())
-    };
-    Err(BinaryError::AfterEnd {
-        file: file.to_string(),
-        offset,
-        what,
-    })
-}
-
 fn push(out: &mut Vec<u8>, r: &Record) {
     let mut buf = [0u8; wire::RECORD_HEADER_LEN + wire::MAX_PAYLOAD];
     // `encode` only fails on a short buffer; this one holds the largest record.
@@ -134,142 +135,7 @@ fn push(out: &mut Vec<u8>, r: &Record) {
     out.extend_from_slice(&buf[..n]);
 }
 
-/// Encodes an Events stream: header (`tick_hz`, the configuration's hash), the
-/// configuration record at time 0, one record per event, END at the last event's time.
-pub fn encode_events(events: &[TimedEvent], config: &MeasureConfig, tick_hz: u32) -> Vec<u8> {
-    let header = Header {
-        stream: StreamKind::Events,
-        tick_hz,
-        measure_hash: config.hash(),
-        force_hash: 0,
-    };
-    let mut out = Vec::with_capacity(wire::HEADER_LEN + 16 * events.len() + 64);
-    out.extend_from_slice(&header.encode());
-    push(&mut out, &wire::measure_config::encode_config(config));
-    for e in events {
-        push(
-            &mut out,
-            &wire::measure_event::encode_event(e.time, e.event),
-        );
-    }
-    let end = events.last().map_or(0, |e| e.time);
-    push(&mut out, &Record::new(wire::kind::END, end, &[]));
-    out
-}
-
-/// Encodes an Outputs stream: one `MEASURE_OUTPUTS` record per `(time, outputs)`.
-pub fn encode_outputs(
-    outputs: &[(u64, MeasureOutputs)],
-    config: &MeasureConfig,
-    tick_hz: u32,
-) -> Vec<u8> {
-    let header = Header {
-        stream: StreamKind::Outputs,
-        tick_hz,
-        measure_hash: config.hash(),
-        force_hash: 0,
-    };
-    let mut out = Vec::with_capacity(wire::HEADER_LEN + 42 * outputs.len() + 16);
-    out.extend_from_slice(&header.encode());
-    for (t, o) in outputs {
-        push(
-            &mut out,
-            &Record::new(
-                wire::kind::MEASURE_OUTPUTS,
-                *t,
-                &wire::measure_outputs::encode_outputs(o),
-            ),
-        );
-    }
-    let end = outputs.last().map_or(0, |o| o.0);
-    push(&mut out, &Record::new(wire::kind::END, end, &[]));
-    out
-}
-
-/// A decoded Events stream.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EventStream {
-    /// Its header.
-    pub header: Header,
-    /// The configuration from its first record (its hash matches the header's).
-    pub config: MeasureConfig,
-    /// The events.
-    pub events: Vec<TimedEvent>,
-}
-
-/// Decodes an Events stream; `file` names it in errors. The first record must be the
-/// configuration and its hash must match the header's (and `expected_hash` when given).
-pub fn decode_events(
-    bytes: &[u8],
-    file: &str,
-    expected_hash: Option<u64>,
-) -> Result<EventStream, BinaryError> {
-    let wire_err = |problem| BinaryError::Wire {
-        file: file.to_string(),
-        problem,
-    };
-    let (header, records) = Records::new(bytes).map_err(wire_err)?;
-    expect_stream(file, header, StreamKind::Events, expected_hash)?;
-    let mut config = None;
-    let mut events = Vec::new();
-    let mut ended = false;
-    let mut offset = wire::HEADER_LEN;
-    for (index, r) in records.enumerate() {
-        let r = r.map_err(wire_err)?;
-        let bad = |message: String| BinaryError::BadRecord {
-            file: file.to_string(),
-            index,
-            kind: r.kind,
-            message,
-        };
-        if index == 0 {
-            if r.kind != wire::kind::MEASURE_CONFIG {
-                return Err(bad("the first record must be the configuration".into()));
-            }
-            let c = wire::measure_config::decode_config(r.payload()).map_err(wire_err)?;
-            if c.hash() != header.measure_hash {
-                return Err(BinaryError::ConfigMismatch {
-                    file: file.to_string(),
-                    found: c.hash(),
-                    expected: header.measure_hash,
-                });
-            }
-            config = Some(c);
-        } else if r.kind == wire::kind::END {
-            ended = true;
-        } else {
-            match wire::measure_event::decode_event(&r, offset).map_err(wire_err)? {
-                Some(event) => events.push(TimedEvent {
-                    time: r.time,
-                    event,
-                }),
-                None => return Err(bad("not a measurement event".into())),
-            }
-        }
-        offset += r.encoded_len();
-    }
-    if !ended {
-        return Err(BinaryError::NoEnd {
-            file: file.to_string(),
-        });
-    }
-    nothing_after_end(bytes, offset, file)?;
-    let config = config.ok_or_else(|| BinaryError::NoEnd {
-        file: file.to_string(),
-    })?;
-    Ok(EventStream {
-        header,
-        config,
-        events,
-    })
-}
-
-fn expect_stream(
-    file: &str,
-    header: Header,
-    expected: StreamKind,
-    expected_hash: Option<u64>,
-) -> Result<(), BinaryError> {
+fn expect_stream(file: &str, header: Header, expected: StreamKind) -> Result<(), BinaryError> {
     if header.stream != expected {
         return Err(BinaryError::WrongStream {
             file: file.to_string(),
@@ -277,71 +143,7 @@ fn expect_stream(
             expected,
         });
     }
-    if let Some(h) = expected_hash {
-        if h != header.measure_hash {
-            return Err(BinaryError::ConfigMismatch {
-                file: file.to_string(),
-                found: header.measure_hash,
-                expected: h,
-            });
-        }
-    }
     Ok(())
-}
-
-/// Decodes an Outputs stream: its header and `(time, outputs)` per record.
-pub fn decode_outputs(
-    bytes: &[u8],
-    file: &str,
-    expected_hash: Option<u64>,
-) -> Result<(Header, Vec<(u64, MeasureOutputs)>), BinaryError> {
-    let wire_err = |problem| BinaryError::Wire {
-        file: file.to_string(),
-        problem,
-    };
-    let (header, records) = Records::new(bytes).map_err(wire_err)?;
-    expect_stream(file, header, StreamKind::Outputs, expected_hash)?;
-    let mut out = Vec::new();
-    let mut ended = false;
-    let mut offset = wire::HEADER_LEN;
-    for (index, r) in records.enumerate() {
-        let r = r.map_err(wire_err)?;
-        offset += r.encoded_len();
-        match r.kind {
-            wire::kind::END => ended = true,
-            wire::kind::MEASURE_OUTPUTS => match wire::measure_outputs::decode_outputs(r.payload())
-            {
-                Some(o) => out.push((r.time, o)),
-                None => {
-                    return Err(BinaryError::BadRecord {
-                        file: file.to_string(),
-                        index,
-                        kind: r.kind,
-                        message: format!(
-                            "payload of {} bytes, expected {}",
-                            r.payload().len(),
-                            wire::measure_outputs::OUTPUTS_LEN
-                        ),
-                    })
-                }
-            },
-            k => {
-                return Err(BinaryError::BadRecord {
-                    file: file.to_string(),
-                    index,
-                    kind: k,
-                    message: "not a measurement-outputs record".into(),
-                })
-            }
-        }
-    }
-    if !ended {
-        return Err(BinaryError::NoEnd {
-            file: file.to_string(),
-        });
-    }
-    nothing_after_end(bytes, offset, file)?;
-    Ok((header, out))
 }
 
 /// One input event of either path.
@@ -374,6 +176,46 @@ pub struct InputStream {
 }
 
 impl InputStream {
+    /// The input stream of measurement `events` made under `config` alone: its header
+    /// (`tick_hz`, the configuration's hash, no force configuration), every event, END at
+    /// the last event's time.
+    pub fn of_measure_events(
+        config: &MeasureConfig,
+        tick_hz: u32,
+        events: &[TimedEvent],
+    ) -> InputStream {
+        InputStream {
+            header: Header {
+                stream: StreamKind::Events,
+                tick_hz,
+                measure_hash: config.hash(),
+                force_hash: 0,
+            },
+            measure: Some(*config),
+            force: None,
+            observe_fes: true,
+            events: events
+                .iter()
+                .map(|e| (e.time, Input::Measure(e.event)))
+                .collect(),
+            offsets: Vec::new(),
+            end_time: events.last().map_or(0, |e| e.time),
+        }
+    }
+
+    /// Fails unless the stream was made with the measurement configuration of hash
+    /// `expected` (its header's, which its configuration record matches); `file` names it.
+    pub fn expect_measure_hash(&self, file: &str, expected: u64) -> Result<(), BinaryError> {
+        if self.header.measure_hash != expected {
+            return Err(BinaryError::ConfigMismatch {
+                file: file.to_string(),
+                found: self.header.measure_hash,
+                expected,
+            });
+        }
+        Ok(())
+    }
+
     /// The measurement events, timed.
     pub fn measure_events(&self) -> Vec<TimedEvent> {
         self.events
@@ -404,7 +246,7 @@ pub fn read_event_stream<R: Read>(src: R, file: &str) -> Result<InputStream, Bin
     };
     let mut records = RecordReader::new(src, file)?;
     let header = records.header();
-    expect_stream(file, header, StreamKind::Events, None)?;
+    expect_stream(file, header, StreamKind::Events)?;
     let mut stream = InputStream {
         header,
         measure: None,
@@ -530,8 +372,7 @@ pub fn read_event_stream<R: Read>(src: R, file: &str) -> Result<InputStream, Bin
 
 /// Encodes an input stream: header, the measurement configuration, the force
 /// configuration chunks and the `FIRMWARE_OBSERVE` record (when the stream has them, all
-/// at time 0), the events, END at `end_time`. A measurement-only stream whose END is at
-/// its last event's time encodes as [`encode_events`] does.
+/// at time 0), the events, END at `end_time`.
 pub fn encode_event_stream(stream: &InputStream) -> Vec<u8> {
     let mut out = Vec::with_capacity(wire::HEADER_LEN + 16 * stream.events.len() + 64);
     out.extend_from_slice(&stream.header.encode());
@@ -570,15 +411,24 @@ pub enum Output {
 }
 
 /// Encodes an Outputs stream of either path or both: header (`tick_hz` and both hashes
-/// from `header`), one record per output in order, END at the last record's time.
-pub fn encode_output_stream(header: Header, outputs: &[(u64, Output)]) -> Vec<u8> {
+/// from `header`), one record per output `(time, output)` in order (a slice of them, or
+/// an iterator), END at the last record's time.
+pub fn encode_output_stream<I>(header: Header, outputs: I) -> Vec<u8>
+where
+    I: IntoIterator,
+    I::Item: Borrow<(u64, Output)>,
+{
     let header = Header {
         stream: StreamKind::Outputs,
         ..header
     };
-    let mut out = Vec::with_capacity(wire::HEADER_LEN + 54 * outputs.len() + 16);
+    let outputs = outputs.into_iter();
+    let mut out = Vec::with_capacity(wire::HEADER_LEN + 54 * outputs.size_hint().0 + 16);
     out.extend_from_slice(&header.encode());
-    for &(t, o) in outputs {
+    let mut end = 0;
+    for output in outputs {
+        let &(t, o) = output.borrow();
+        end = t;
         let r = match o {
             Output::Measure(o) => Record::new(
                 wire::kind::MEASURE_OUTPUTS,
@@ -589,20 +439,8 @@ pub fn encode_output_stream(header: Header, outputs: &[(u64, Output)]) -> Vec<u8
         };
         push(&mut out, &r);
     }
-    let end = outputs.last().map_or(0, |o| o.0);
     push(&mut out, &Record::new(wire::kind::END, end, &[]));
     out
-}
-
-/// The firmware's status record (`FIRMWARE_STATUS`) in its trace.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FirmwareStatus {
-    /// Events the firmware replayed.
-    pub events: u32,
-    /// Edges lost (an interrupt still pending at the next edge).
-    pub lost: u32,
-    /// Samples dropped by a full queue.
-    pub overflowed: u32,
 }
 
 /// A decoded Outputs stream of any device: measurement and force outputs in stream
@@ -619,11 +457,9 @@ pub struct OutputStream {
     pub status: Option<FirmwareStatus>,
 }
 
-fn u32_le(p: &[u8], i: usize) -> u32 {
-    p.get(i..i + 4)
-        .and_then(|b| b.try_into().ok())
-        .map_or(0, u32::from_le_bytes)
-}
+/// The part of the firmware's status a trace must hold: its events, lost and overflowed
+/// counters (the ones `check` reports), bytes.
+const STATUS_COUNTERS_LEN: usize = 12;
 
 /// One output record of a device's Outputs stream.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -651,7 +487,7 @@ impl<R: Read> OutputReader<R> {
     /// Reads the header of `src` (an Outputs stream); `file` names it in errors.
     pub fn new(src: R, file: &str) -> Result<Self, BinaryError> {
         let records = RecordReader::new(src, file)?;
-        expect_stream(file, records.header(), StreamKind::Outputs, None)?;
+        expect_stream(file, records.header(), StreamKind::Outputs)?;
         Ok(OutputReader {
             records,
             file: file.to_string(),
@@ -725,14 +561,10 @@ impl<R: Read> OutputReader<R> {
                 kind::FIRMWARE_PROFILE | kind::FIRMWARE_FORCE_PROFILE | kind::FIRMWARE_DECISION => {
                 }
                 kind::FIRMWARE_STATUS => {
-                    if p.len() < 12 {
+                    if p.len() < STATUS_COUNTERS_LEN {
                         return Err(bad(format!("status payload of {} bytes", p.len())));
                     }
-                    self.status = Some(FirmwareStatus {
-                        events: u32_le(p, 0),
-                        lost: u32_le(p, 4),
-                        overflowed: u32_le(p, 8),
-                    });
+                    self.status = Some(FirmwareStatus::decode(p));
                 }
                 kind::FIRMWARE_ERROR => {
                     return Err(BinaryError::Firmware {
@@ -785,7 +617,7 @@ fn fill<R: Read>(src: &mut R, buf: &mut [u8]) -> std::io::Result<usize> {
 /// Reads a stream record by record from any [`Read`] (a `BufReader` over the file), so
 /// that a file of any length is read in constant memory: the header first
 /// ([`RecordReader::new`]), then one record per [`RecordReader::next_record`], with the
-/// same checks and messages as [`Records`] over the whole file in memory (truncation, bad
+/// same checks and messages as [`wire::Records`] over the whole file in memory (truncation, bad
 /// payload lengths, time going backwards, each at its byte offset).
 pub struct RecordReader<R> {
     src: R,
@@ -914,6 +746,87 @@ impl<R: Read> RecordReader<R> {
     }
 }
 
+/// Writes a stream record by record into any [`Write`] (a `BufWriter` over the file), the
+/// framing [`RecordReader`] reads back: the header first ([`RecordWriter::new`]), then one
+/// record per [`RecordWriter::write`], time never going backwards, and the END record at
+/// the last record's time ([`RecordWriter::finish`]).
+pub struct RecordWriter<W: Write> {
+    sink: W,
+    file: String,
+    last_time: u64,
+    /// Records written, END excluded.
+    written: usize,
+}
+
+impl<W: Write> RecordWriter<W> {
+    /// Writes `header` into `sink`; `file` names it in errors.
+    pub fn new(mut sink: W, header: Header, file: &str) -> Result<Self, BinaryError> {
+        sink.write_all(&header.encode())
+            .map_err(|source| BinaryError::Io {
+                file: file.to_string(),
+                source,
+            })?;
+        Ok(RecordWriter {
+            sink,
+            file: file.to_string(),
+            last_time: 0,
+            written: 0,
+        })
+    }
+
+    /// The last record's time (0 before the first).
+    pub fn last_time(&self) -> u64 {
+        self.last_time
+    }
+
+    /// Writes `record`: not before the previous record's time, and not END (which
+    /// [`RecordWriter::finish`] writes).
+    pub fn write(&mut self, record: &Record) -> Result<(), BinaryError> {
+        if record.kind == kind::END {
+            return Err(BinaryError::BadRecord {
+                file: self.file.clone(),
+                index: self.written,
+                kind: record.kind,
+                message: "END is written when the stream is finished".into(),
+            });
+        }
+        self.put(record)?;
+        self.written += 1;
+        Ok(())
+    }
+
+    fn put(&mut self, record: &Record) -> Result<(), BinaryError> {
+        if record.time < self.last_time {
+            return Err(BinaryError::TimeBeforePrevious {
+                file: self.file.clone(),
+                time: record.time,
+                previous: self.last_time,
+            });
+        }
+        let mut buf = [0u8; wire::RECORD_HEADER_LEN + wire::MAX_PAYLOAD];
+        // `encode` only fails on a short buffer; this one holds the largest record.
+        let n = record.encode(&mut buf).unwrap_or(0);
+        self.sink
+            .write_all(&buf[..n])
+            .map_err(|source| BinaryError::Io {
+                file: self.file.clone(),
+                source,
+            })?;
+        self.last_time = record.time;
+        Ok(())
+    }
+
+    /// Writes the END record at the last record's time, flushes the sink and returns it.
+    pub fn finish(mut self) -> Result<W, BinaryError> {
+        self.put(&Record::new(kind::END, self.last_time, &[]))?;
+        self.sink.flush().map_err(|source| BinaryError::Io {
+            file: self.file.clone(),
+            source,
+        })?;
+        Ok(self.sink)
+    }
+}
+
 /// Reads a whole file, naming it in the error.
 pub fn read_file(path: &Path) -> Result<Vec<u8>, BinaryError> {
     std::fs::read(path).map_err(|source| BinaryError::Io {
@@ -935,10 +848,8 @@ mod tests {
     use super::*;
     use tooltouch_model::MeasureEvent;
 
-    #[test]
-    fn events_round_trip() {
-        let c = MeasureConfig::default();
-        let ev = vec![
+    fn events() -> Vec<TimedEvent> {
+        vec![
             TimedEvent {
                 time: 3,
                 event: MeasureEvent::Arm(true),
@@ -947,10 +858,42 @@ mod tests {
                 time: 3,
                 event: MeasureEvent::Scale { a: true, b: false },
             },
-        ];
-        let bytes = encode_events(&ev, &c, 50_000_000);
-        let s = decode_events(&bytes, "x", Some(c.hash())).unwrap();
-        assert_eq!(s.events, ev);
-        assert_eq!(s.config, c);
+        ]
+    }
+
+    #[test]
+    fn events_round_trip() {
+        let c = MeasureConfig::default();
+        let ev = events();
+        let bytes = encode_event_stream(&InputStream::of_measure_events(&c, 50_000_000, &ev));
+        let s = decode_event_stream(&bytes, "x").unwrap();
+        s.expect_measure_hash("x", c.hash()).unwrap();
+        assert_eq!(s.measure_events(), ev);
+        assert_eq!(s.measure, Some(c));
+        assert_eq!(s.end_time, 3);
+        let e = s.expect_measure_hash("x", c.hash() ^ 1).unwrap_err();
+        assert!(e.to_string().contains("does not match"), "{e}");
+    }
+
+    #[test]
+    fn the_record_writer_writes_what_the_encoders_write() {
+        let c = MeasureConfig::default();
+        let stream = InputStream::of_measure_events(&c, 1000, &events());
+        let mut w = RecordWriter::new(Vec::new(), stream.header, "w.ttv").unwrap();
+        w.write(&wire::measure_config::encode_config(&c)).unwrap();
+        for &(time, e) in &stream.events {
+            let Input::Measure(e) = e else { unreachable!() };
+            w.write(&wire::measure_event::encode_event(time, e))
+                .unwrap();
+        }
+        assert_eq!(w.last_time(), 3);
+        let e = w.write(&Record::new(kind::FES, 2, &[])).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "w.ttv: time 2 is before the previous record's 3"
+        );
+        let e = w.write(&Record::new(kind::END, 9, &[])).unwrap_err();
+        assert!(e.to_string().contains("record 3 (kind 0x7f)"), "{e}");
+        assert_eq!(w.finish().unwrap(), encode_event_stream(&stream));
     }
 }

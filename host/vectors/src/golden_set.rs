@@ -18,7 +18,6 @@ use anyhow::Context;
 use std::io::Write;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
-use tooltouch_model::wire::{Header, StreamKind};
 use tooltouch_model::{MeasureConfig, MeasureEvent, Measurement};
 use tooltouch_plant::stimulus::Stimulus;
 
@@ -112,23 +111,7 @@ impl GoldenSet {
     /// The golden set of a pin stimulus under `config`.
     pub fn from_pins(config: &MeasureConfig, stimulus: Stimulus) -> GoldenSet {
         let events = super::events_from_stimulus(&stimulus, config);
-        let inputs = InputStream {
-            header: Header {
-                stream: StreamKind::Events,
-                tick_hz: stimulus.clock_hz,
-                measure_hash: config.hash(),
-                force_hash: 0,
-            },
-            measure: Some(*config),
-            force: None,
-            observe_fes: true,
-            end_time: events.last().map_or(0, |e| e.time),
-            offsets: Vec::new(),
-            events: events
-                .iter()
-                .map(|e| (e.time, Input::Measure(e.event)))
-                .collect(),
-        };
+        let inputs = InputStream::of_measure_events(config, stimulus.clock_hz, &events);
         let hex = hex::golden_vectors(config, &stimulus).map_err(|e| e.to_string());
         GoldenSet {
             outputs: expected_outputs(&inputs),

@@ -85,9 +85,10 @@ pub const FIRMWARE_ERROR: u8 = 0x5d;
 /// u32 spent in them (pend to return), 40 bytes. FES: the counter's compare
 /// interrupts (most FES events raise none).
 pub const FIRMWARE_PROFILE: u8 = 0x5e;
-/// events u32, lost u32, overflowed u32, stack bytes used u32, calibration
-/// instructions u32, calibration ticks u32 (24 bytes), then the measure and force hashes
-/// (u64 each) of the configuration baked into the image: 40 bytes.
+/// The firmware's status after a stream (`wire::firmware_status`): events u32, lost u32,
+/// overflowed u32, stack bytes used u32, calibration instructions u32, calibration ticks
+/// u32 (24 bytes), then the measure and force hashes (u64 each) of the configuration baked
+/// into the image: 40 bytes.
 pub const FIRMWARE_STATUS: u8 = 0x5f;
 /// Last kind reserved for other output traces.
 pub const OUTPUT_LAST: u8 = 0x5f;

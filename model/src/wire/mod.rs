@@ -19,14 +19,16 @@
 //! | force configuration in chunks | `FORCE_CONFIG_CHUNK` | [`force_chunks`] |
 //! | force events | `SAMPLE`..=`TOOL_CHANGED` | [`force_event`] |
 //! | force outputs | `FORCE_OUTPUTS` | [`force_outputs`] |
+//! | the firmware's status | `FIRMWARE_STATUS` | [`firmware_status`] |
 //!
-//! The firmware co-simulation's records (`FIRMWARE_*`) are registered in [`kind`]; their
-//! payloads are written by the firmware and read by the host's `tooltouch::cosim`.
+//! The firmware co-simulation's other records (`FIRMWARE_*`) are registered in [`kind`];
+//! their payloads are written by the firmware and read by the host's `tooltouch::cosim`.
 //!
 //! Decoding never panics: a short, unknown or malformed record is a [`WireError`].
 //! Dependencies point one way: the payload files import this framing and the model types
 //! they encode; nothing in `measure` or `force` imports `wire`.
 
+pub mod firmware_status;
 pub mod force_chunks;
 pub mod force_config;
 pub mod force_event;
