@@ -1,8 +1,10 @@
-//! `.ttv` binary vector streams for Python: `TtvReader` reads a file record by record
-//! through a small buffer (a stream of any length costs constant memory) with the checks
-//! of `tooltouch_model::wire` (header, record framing, time never going backwards, one END
-//! record closing the stream, nothing after it); `TtvWriter` writes one with the same
-//! framing the CLI uses, so a stream read and written back is byte-identical.
+//! `.ttv` binary vector streams for Python, over `tooltouch_vectors::binary`'s framing:
+//! `TtvReader` reads a file record by record through a small buffer (a stream of any
+//! length costs constant memory) with `RecordReader`'s checks (header, record framing,
+//! time never going backwards) and its own (one END record closing the stream, nothing
+//! after it), any record kind typed by its `tooltouch_model::wire` decoder; `TtvWriter`
+//! writes one through `RecordWriter`, the framing the CLI uses, so a stream read and
+//! written back is byte-identical.
 
 use crate::force::{ForceEvent, ForceOutputs, ForceSettings};
 use crate::model::{Event, Outputs};
@@ -11,8 +13,9 @@ use pyo3::exceptions::{PyOSError, PyOverflowError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Read, Write};
+use std::io::{BufReader, BufWriter};
 use std::path::PathBuf;
+use tooltouch_model::wire::firmware_status::{encode_status_fields, status_fields, STATUS_FIELDS};
 use tooltouch_model::wire::force_chunks::{force_config_chunks, ForceConfigAssembler};
 use tooltouch_model::wire::force_event::{decode_force_event, encode_force_event};
 use tooltouch_model::wire::force_outputs::{decode_force_outputs, outputs_record};
@@ -20,10 +23,19 @@ use tooltouch_model::wire::measure_config::{decode_config, encode_config};
 use tooltouch_model::wire::measure_event::{decode_event, encode_event};
 use tooltouch_model::wire::measure_outputs::{decode_outputs, encode_outputs};
 use tooltouch_model::wire::{
-    kind, Header, Record as WireRecord, StreamKind, WireError, HEADER_LEN, MAX_PAYLOAD,
-    RECORD_HEADER_LEN,
+    kind, Header, Record as WireRecord, StreamKind, WireError, MAX_PAYLOAD,
 };
 use tooltouch_settings::Settings as HostSettings;
+use tooltouch_vectors::binary::{BinaryError, RecordReader, RecordWriter};
+
+/// A stream's error as Python's: an I/O failure is an `OSError`, anything wrong with the
+/// stream (or a record written out of order) a `ValueError`; both name the file.
+fn py_error(e: BinaryError) -> PyErr {
+    match e {
+        BinaryError::Io { .. } => PyOSError::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
 
 /// The name of a record kind, as in `tooltouch_model::wire::kind` in snake case.
 fn kind_name(k: u8) -> &'static str {
@@ -105,96 +117,44 @@ impl Record {
 #[pyclass(module = "tooltouch")]
 pub struct TtvReader {
     file: String,
-    source: BufReader<File>,
-    header: Header,
-    offset: usize,
-    previous: u64,
-    done: bool,
+    records: RecordReader<BufReader<File>>,
+    /// After the END record or an error.
+    finished: bool,
     chunks: ForceConfigAssembler,
     force: Option<ForceSettings>,
 }
 
 impl TtvReader {
-    fn wire_error(&self, e: WireError) -> PyErr {
-        PyValueError::new_err(format!("{}: {e}", self.file))
-    }
-
-    /// Fills `buf` from the stream; `Ok(false)` at a clean end of file before any byte.
-    fn read_exact_or_eof(&mut self, buf: &mut [u8]) -> PyResult<bool> {
-        let mut got = 0;
-        while got < buf.len() {
-            let n = self
-                .source
-                .read(&mut buf[got..])
-                .map_err(|e| PyOSError::new_err(format!("{}: {e}", self.file)))?;
-            if n == 0 {
-                if got == 0 {
-                    return Ok(false);
-                }
-                return Err(self.wire_error(WireError::Truncated {
-                    offset: self.offset,
-                    needed: buf.len(),
-                }));
-            }
-            got += n;
-        }
-        Ok(true)
+    fn header(&self) -> Header {
+        self.records.header()
     }
 
     fn next_record(&mut self, py: Python<'_>) -> PyResult<Option<Record>> {
-        if self.done {
+        if self.finished {
             return Ok(None);
         }
-        let mut buf = [0u8; RECORD_HEADER_LEN + MAX_PAYLOAD];
-        if !self.read_exact_or_eof(&mut buf[..RECORD_HEADER_LEN])? {
-            self.done = true;
+        let next = self.records.next_record().map_err(|e| {
+            self.finished = true;
+            py_error(e)
+        })?;
+        let Some((record, offset)) = next else {
+            self.finished = true;
             return Err(PyValueError::new_err(format!(
                 "{}: ends at byte {} without its END record (cut short?)",
-                self.file, self.offset
+                self.file,
+                self.records.offset()
             )));
-        }
-        let len = usize::from(buf[1]);
-        if len > MAX_PAYLOAD {
-            self.done = true;
-            return Err(self.wire_error(WireError::BadLength {
-                kind: buf[0],
-                len: buf[1],
-                offset: self.offset,
-            }));
-        }
-        let n = RECORD_HEADER_LEN + len;
-        if len > 0 && !self.read_exact_or_eof(&mut buf[RECORD_HEADER_LEN..n])? {
-            self.done = true;
-            return Err(self.wire_error(WireError::Truncated {
-                offset: self.offset,
-                needed: n,
-            }));
-        }
-        let (record, _) = WireRecord::decode(&buf[..n], self.offset).map_err(|e| {
-            self.done = true;
-            PyValueError::new_err(format!("{}: {e}", self.file))
-        })?;
-        if record.time < self.previous {
-            self.done = true;
-            return Err(self.wire_error(WireError::NonMonotonicTime {
-                offset: self.offset,
-                previous: self.previous,
-                time: record.time,
-            }));
-        }
-        let offset = self.offset;
-        self.previous = record.time;
-        self.offset += n;
+        };
         if record.kind == kind::END {
-            self.done = true;
-            let mut extra = [0u8; 1];
-            if self.read_exact_or_eof(&mut extra)? {
-                return Err(PyValueError::new_err(format!(
+            self.finished = true;
+            return match self.records.nothing_after_end() {
+                Ok(()) => Ok(None),
+                Err(BinaryError::AfterEnd { .. }) => Err(PyValueError::new_err(format!(
                     "{}: bytes after the END record at byte {offset} (two streams glued together?)",
                     self.file
-                )));
-            }
-            return Ok(None);
+                ))),
+                Err(e) => Err(py_error(e)),
+            };
         }
         let value = self.decode_value(py, &record, offset)?;
         Ok(Some(Record {
@@ -247,7 +207,7 @@ impl TtvReader {
                     PyValueError::new_err(format!("{}: byte {offset}: {e}", self.file))
                 })?;
                 if complete {
-                    let config = self.chunks.finish(self.header.force_hash).map_err(|e| {
+                    let config = self.chunks.finish(self.header().force_hash).map_err(|e| {
                         PyValueError::new_err(format!("{}: byte {offset}: {e}", self.file))
                     })?;
                     self.force = Some(ForceSettings { config });
@@ -288,27 +248,12 @@ impl TtvReader {
     fn new(path: PathBuf) -> PyResult<TtvReader> {
         let file = path.display().to_string();
         let f = File::open(&path).map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
-        let mut source = BufReader::with_capacity(1 << 16, f);
-        let mut head = [0u8; HEADER_LEN];
-        let mut got = 0;
-        while got < HEADER_LEN {
-            let n = source
-                .read(&mut head[got..])
-                .map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
-            if n == 0 {
-                break;
-            }
-            got += n;
-        }
-        let header = Header::decode(&head[..got])
-            .map_err(|e| PyValueError::new_err(format!("{file}: {e}")))?;
+        let records =
+            RecordReader::new(BufReader::with_capacity(1 << 16, f), &file).map_err(py_error)?;
         Ok(TtvReader {
             file,
-            source,
-            header,
-            offset: HEADER_LEN,
-            previous: 0,
-            done: false,
+            records,
+            finished: false,
             chunks: ForceConfigAssembler::new(),
             force: None,
         })
@@ -317,22 +262,22 @@ impl TtvReader {
     /// `events` or `outputs`.
     #[getter]
     fn stream(&self) -> &'static str {
-        stream_name(self.header.stream)
+        stream_name(self.header().stream)
     }
     /// Ticks per second of the record times, Hz.
     #[getter]
     fn tick_hz(&self) -> u32 {
-        self.header.tick_hz
+        self.header().tick_hz
     }
     /// Configuration hash of the measurement settings the stream was made with.
     #[getter]
     fn measure_hash(&self) -> u64 {
-        self.header.measure_hash
+        self.header().measure_hash
     }
     /// Hash of the force configuration (0 when none).
     #[getter]
     fn force_hash(&self) -> u64 {
-        self.header.force_hash
+        self.header().force_hash
     }
 
     /// The force configuration reassembled from the `force_config_chunk` records read so
@@ -356,29 +301,18 @@ impl TtvReader {
 #[pyclass(module = "tooltouch")]
 pub struct TtvWriter {
     file: String,
-    sink: Option<BufWriter<File>>,
-    last_time: u64,
+    /// `None` once closed.
+    sink: Option<RecordWriter<BufWriter<File>>>,
 }
 
 impl TtvWriter {
     fn put(&mut self, record: &WireRecord) -> PyResult<()> {
-        if record.time < self.last_time {
-            return Err(PyValueError::new_err(format!(
-                "{}: time {} is before the previous record's {}",
-                self.file, record.time, self.last_time
-            )));
-        }
         let file = &self.file;
-        let sink = self
-            .sink
+        self.sink
             .as_mut()
-            .ok_or_else(|| PyValueError::new_err(format!("{file}: already closed")))?;
-        let mut buf = [0u8; RECORD_HEADER_LEN + MAX_PAYLOAD];
-        let n = record.encode(&mut buf).unwrap_or(0);
-        sink.write_all(&buf[..n])
-            .map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
-        self.last_time = record.time;
-        Ok(())
+            .ok_or_else(|| PyValueError::new_err(format!("{file}: already closed")))?
+            .write(record)
+            .map_err(py_error)
     }
 }
 
@@ -423,13 +357,11 @@ impl TtvWriter {
             force_hash,
         };
         let f = File::create(&path).map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
-        let mut sink = BufWriter::with_capacity(1 << 16, f);
-        sink.write_all(&header.encode())
-            .map_err(|e| PyOSError::new_err(format!("{file}: {e}")))?;
+        let sink = RecordWriter::new(BufWriter::with_capacity(1 << 16, f), header, &file)
+            .map_err(py_error)?;
         Ok(TtvWriter {
             file,
             sink: Some(sink),
-            last_time: 0,
         })
     }
 
@@ -509,13 +441,8 @@ impl TtvWriter {
 
     /// Writes the END record at the last record's time and closes the file. Idempotent.
     fn close(&mut self) -> PyResult<()> {
-        if self.sink.is_none() {
-            return Ok(());
-        }
-        self.put(&WireRecord::new(kind::END, self.last_time, &[]))?;
-        if let Some(mut sink) = self.sink.take() {
-            sink.flush()
-                .map_err(|e| PyOSError::new_err(format!("{}: {e}", self.file)))?;
+        if let Some(sink) = self.sink.take() {
+            sink.finish().map_err(py_error)?;
         }
         Ok(())
     }
@@ -535,16 +462,6 @@ impl TtvWriter {
 const PROFILE_SLOTS: [&str; 5] = ["arm", "contact", "index", "fes", "scale"];
 /// Slots of the firmware's force profile record, in payload order.
 const FORCE_PROFILE_SLOTS: [&str; 3] = ["sample", "tick", "command"];
-/// The firmware status record's u32 fields, then its u64 fields, in payload order.
-const STATUS_U32: [&str; 6] = [
-    "events",
-    "lost",
-    "overflowed",
-    "stack_bytes",
-    "calibration_instructions",
-    "calibration_ticks",
-];
-const STATUS_U64: [&str; 2] = ["measure_hash", "force_hash"];
 /// The fields of a `firmware_decision` payload, each an i32 (little-endian) in turn.
 const DECISION_I32: [&str; 2] = ["corrected_position", "offset"];
 
@@ -601,15 +518,8 @@ fn firmware_dict<'py>(py: Python<'py>, k: u8, p: &[u8]) -> PyResult<Bound<'py, P
             }
         }
         kind::FIRMWARE_STATUS => {
-            for (i, name) in STATUS_U32.iter().enumerate() {
-                if let Some(v) = u32_at(p, 4 * i) {
-                    d.set_item(*name, v)?;
-                }
-            }
-            for (i, name) in STATUS_U64.iter().enumerate() {
-                if let Some(v) = u64_at(p, 24 + 8 * i) {
-                    d.set_item(*name, v)?;
-                }
+            for (field, value) in status_fields(p) {
+                d.set_item(field.name, value)?;
             }
         }
         _ => {
@@ -674,20 +584,16 @@ fn firmware_payload(name: &str, d: &Bound<'_, PyDict>) -> PyResult<(u8, Vec<u8>)
             k
         }
         "firmware_status" => {
-            let mut complete = true;
-            for f in STATUS_U32 {
-                let Some(v) = get(f)? else {
-                    complete = false;
-                    break;
-                };
-                p.extend_from_slice(&v.extract::<u32>()?.to_le_bytes());
+            let mut values = Vec::new();
+            for field in &STATUS_FIELDS {
+                let Some(v) = get(field.name)? else { break };
+                values.push(match field.width {
+                    4 => u64::from(v.extract::<u32>()?),
+                    _ => v.extract::<u64>()?,
+                });
             }
-            if complete {
-                for f in STATUS_U64 {
-                    let Some(v) = get(f)? else { break };
-                    p.extend_from_slice(&v.extract::<u64>()?.to_le_bytes());
-                }
-            }
+            let (payload, len) = encode_status_fields(&values);
+            p.extend_from_slice(&payload[..len]);
             kind::FIRMWARE_STATUS
         }
         "firmware_error" => {
