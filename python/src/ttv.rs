@@ -27,6 +27,7 @@ use tooltouch_model::wire::{
 };
 use tooltouch_settings::Settings as HostSettings;
 use tooltouch_vectors::binary::{BinaryError, RecordReader, RecordWriter};
+use tooltouch_vectors::firmware_error::{describe_firmware_error, FirmwareError};
 
 /// A stream's error as Python's: an I/O failure is an `OSError`, anything wrong with the
 /// stream (or a record written out of order) a `ValueError`; both name the file.
@@ -477,12 +478,6 @@ fn i32_at(p: &[u8], i: usize) -> Option<i32> {
         .map(i32::from_le_bytes)
 }
 
-fn u64_at(p: &[u8], i: usize) -> Option<u64> {
-    p.get(i..i + 8)
-        .and_then(|b| b.try_into().ok())
-        .map(u64::from_le_bytes)
-}
-
 /// A firmware record's payload as a dict (layouts: `tooltouch_model::wire::kind`):
 /// - `firmware_observe`: `observe_fes` (bool);
 /// - `firmware_decision`: `corrected_position`, `offset` (i32), the decision the firmware
@@ -523,15 +518,13 @@ fn firmware_dict<'py>(py: Python<'py>, k: u8, p: &[u8]) -> PyResult<Bound<'py, P
             }
         }
         _ => {
-            d.set_item("code", p.first().copied().unwrap_or(0))?;
-            d.set_item("wire_error", p.get(1).copied().unwrap_or(0))?;
-            d.set_item("offset", u64_at(p, 2).unwrap_or(0))?;
-            d.set_item("detail", u64_at(p, 10).unwrap_or(0))?;
-            d.set_item("field", PyBytes::new(py, p.get(18..).unwrap_or(&[])))?;
-            d.set_item(
-                "description",
-                tooltouch_vectors::firmware_error::describe_firmware_error(p),
-            )?;
+            let e = FirmwareError::decode(p);
+            d.set_item("code", e.code)?;
+            d.set_item("wire_error", e.wire_error)?;
+            d.set_item("offset", e.offset)?;
+            d.set_item("detail", e.detail)?;
+            d.set_item("field", PyBytes::new(py, e.field))?;
+            d.set_item("description", describe_firmware_error(p))?;
         }
     }
     Ok(d)

@@ -1,6 +1,7 @@
-//! The firmware's error record explained: why an image rejected its input stream (codes of
-//! firmware/src/cosim.rs `Error::code`, and the wire errors of `tooltouch_model::wire`), as
-//! the co-simulation and `check` report it.
+//! The firmware's error record read ([`FirmwareError`], the Python package's dict of it)
+//! and explained: why an image rejected its input stream (codes of firmware/src/cosim.rs
+//! `Error::code`, and the wire errors of `tooltouch_model::wire`), as the co-simulation and
+//! `check` report it.
 
 fn u64_at(p: &[u8], i: usize) -> u64 {
     p.get(i..i + 8)
@@ -9,12 +10,44 @@ fn u64_at(p: &[u8], i: usize) -> u64 {
         .unwrap_or(0)
 }
 
+/// The fields of a firmware error record's payload (layout: `kind::FIRMWARE_ERROR`); a
+/// field the payload is too short for reads as 0 (the name as empty).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FirmwareError<'a> {
+    /// What the firmware rejected (firmware/src/cosim.rs `Error::code`).
+    pub code: u8,
+    /// The wire or chunk error under it (for codes 2 and 8).
+    pub wire_error: u8,
+    /// Byte offset in the event file.
+    pub offset: u64,
+    /// A value of the error (a length, a kind, a field's bits, ...).
+    pub detail: u64,
+    /// A force configuration field's name (UTF-8), for a field out of range.
+    pub field: &'a [u8],
+}
+
+impl<'a> FirmwareError<'a> {
+    /// Reads the payload `p`; never fails.
+    pub fn decode(p: &'a [u8]) -> FirmwareError<'a> {
+        FirmwareError {
+            code: p.first().copied().unwrap_or(0),
+            wire_error: p.get(1).copied().unwrap_or(0),
+            offset: u64_at(p, 2),
+            detail: u64_at(p, 10),
+            field: p.get(18..).unwrap_or(&[]),
+        }
+    }
+}
+
 /// Explains a firmware error record (codes of firmware/src/cosim.rs `Error::code`).
 pub fn describe_firmware_error(p: &[u8]) -> String {
-    let code = p.first().copied().unwrap_or(0);
-    let wire_code = p.get(1).copied().unwrap_or(0);
-    let offset = u64_at(p, 2);
-    let detail = u64_at(p, 10);
+    let FirmwareError {
+        code,
+        wire_error: wire_code,
+        offset,
+        detail,
+        field,
+    } = FirmwareError::decode(p);
     let what = match code {
         1 => "semihosting file I/O failed".to_string(),
         2 => {
@@ -43,7 +76,7 @@ pub fn describe_firmware_error(p: &[u8]) -> String {
         7 => "input holds no stream".to_string(),
         8 => {
             let (hi, lo) = (detail >> 16, detail & 0xffff);
-            let field = String::from_utf8_lossy(p.get(18..).unwrap_or(&[])).into_owned();
+            let field = String::from_utf8_lossy(field).into_owned();
             let w = match wire_code {
                 1 => format!(
                     "a chunk of {detail} bytes (needs a 4-byte header and 1..=44 data bytes)"
@@ -69,4 +102,29 @@ pub fn describe_firmware_error(p: &[u8]) -> String {
         _ => format!("error code {code}"),
     };
     format!("{what} at byte {offset} of the event file")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_error_record_reads_its_fields_and_explains_them() {
+        let mut p = vec![8, 9];
+        p.extend_from_slice(&28u64.to_le_bytes());
+        p.extend_from_slice(&(-5i64 << 32).to_le_bytes());
+        p.extend_from_slice(b"kp");
+        let e = FirmwareError::decode(&p);
+        assert_eq!(
+            (e.code, e.wire_error, e.offset, e.field),
+            (8, 9, 28, &b"kp"[..])
+        );
+        assert_eq!(e.detail as i64, -5i64 << 32);
+        assert_eq!(
+            describe_firmware_error(&p),
+            "bad force configuration chunks: field `kp` out of range (value -5) at byte 28 of the event file"
+        );
+        let short = FirmwareError::decode(&p[..5]);
+        assert_eq!((short.code, short.offset, short.field), (8, 0, &[][..]));
+    }
 }
