@@ -11,6 +11,8 @@
 //! - ADC codes: 12 bit, `0..=4095` (larger codes are clamped to 4095). Speed and measured
 //!   power are unipolar (code × scale); phase voltages, phase currents and the dynamometer
 //!   force are bipolar around [`ADC_MID`] ((code − 2048) × scale). `i_w = −i_u − i_v`.
+//! - Channel order: [`AdcChannel::ALL`] (speed, power, force, v_u, v_v, v_w, i_u, i_v), the
+//!   one order of a sample as an array ([`AdcCodes::to_array`]) everywhere outside the model.
 //! - Filter state and averages: `i64` in codes (or codes² for the squares) with
 //!   [`FILTER_FRAC_BITS`] fractional bits. Largest magnitude: Σi² ≤ 2·2048² + 4095² < 2^25,
 //!   ×2^8 < 2^33, summed over at most 1000 samples < 2^43: no `i64` operation here can
