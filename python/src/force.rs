@@ -24,32 +24,24 @@ use tooltouch_model::force::events::ForceEvent as ModelForceEvent;
 use tooltouch_model::force::kernel::{
     ForceKernel as ModelForceKernel, ForceOutputs as ModelOutputs,
 };
-use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::force::sampling::{AdcChannel, AdcCodes};
 use tooltouch_model::units::Fx;
 use tooltouch_model::wire::force_config::decode_force_settings;
 use tooltouch_plant::drive::scenario::{self, scenario_settings, ControlScenario, ControllerKind};
 use tooltouch_settings::firmware_config::{FirmwareConfig, ForceDesign};
 
-/// ADC channels of one sample, in wire order: speed, power, force, v_u, v_v, v_w, i_u, i_v.
-pub(crate) const CHANNELS: usize = 8;
+/// ADC channels of one sample, in the model's order ([`AdcChannel::ALL`], the wire order):
+/// speed, power, force, v_u, v_v, v_w, i_u, i_v.
+pub(crate) const CHANNELS: usize = AdcChannel::COUNT;
 
-/// A sample's codes in wire order.
+/// A sample's codes in the model's channel order.
 pub(crate) fn codes_row(c: &AdcCodes) -> [u16; CHANNELS] {
-    [
-        c.speed, c.power, c.force, c.volts[0], c.volts[1], c.volts[2], c.amps[0], c.amps[1],
-    ]
+    c.to_array()
 }
 
-/// Codes from a row in wire order.
+/// Codes from a row in the model's channel order.
 pub(crate) fn codes_from(row: [u16; CHANNELS]) -> AdcCodes {
-    let [speed, power, force, vu, vv, vw, iu, iv] = row;
-    AdcCodes {
-        speed,
-        power,
-        force,
-        volts: [vu, vv, vw],
-        amps: [iu, iv],
-    }
+    AdcCodes::from_array(row)
 }
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {

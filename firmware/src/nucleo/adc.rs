@@ -7,16 +7,45 @@
 //! clock tree at compile time ([`AdcClock`]); every channel is sampled for
 //! [`ADC_SAMPLE_CYCLES`].
 
-use crate::model::force::sampling::AdcCodes;
+use crate::model::force::sampling::{AdcChannel, AdcCodes};
 use crate::nucleo::clocks::{ClockTree, PLL_168_MHZ, RESET_CLOCKS};
 use stm32f4::stm32f446 as pac;
 
 use pac::adc1::smpr1::SMP10;
 use pac::adc_common::ccr::ADCPRE;
 
-/// ADC1 channels in [`AdcCodes`] order: speed, power, force, v_u, v_v, v_w, i_u, i_v
-/// (PC0–PC5 are IN10–IN15, PB0 and PB1 are IN8 and IN9).
-pub const ADC_CHANNELS: [u8; 8] = [10, 11, 12, 13, 14, 15, 8, 9];
+/// The ADC1 input each spindle-drive channel is wired to: speed, power, force and the
+/// phase voltages on PC0–PC5 (IN10–IN15), the phase currents i_u and i_v on PB0 and PB1
+/// (IN8 and IN9).
+pub const fn adc_input(channel: AdcChannel) -> u8 {
+    match channel {
+        AdcChannel::Speed => 10,
+        AdcChannel::Power => 11,
+        AdcChannel::Force => 12,
+        AdcChannel::VoltsU => 13,
+        AdcChannel::VoltsV => 14,
+        AdcChannel::VoltsW => 15,
+        AdcChannel::AmpsU => 8,
+        AdcChannel::AmpsV => 9,
+    }
+}
+
+/// ADC1 inputs in conversion order, the model's channel order ([`AdcChannel::ALL`]).
+pub const ADC_CHANNELS: [u8; AdcChannel::COUNT] = {
+    let mut inputs = [0; AdcChannel::COUNT];
+    let mut i = 0;
+    while i < AdcChannel::COUNT {
+        inputs[i] = adc_input(AdcChannel::ALL[i]);
+        i += 1;
+    }
+    inputs
+};
+// The board's wiring, by physical meaning: the sample's i_u (word 6 of the model's order)
+// is converted from PB0 = IN8, its speed (word 0) from PC0 = IN10. A change of the model's
+// channel order fails the build here.
+const _: () = assert!(matches!(ADC_CHANNELS, [10, 11, 12, 13, 14, 15, 8, 9]));
+const _: () = assert!(ADC_CHANNELS[AdcChannel::AmpsU.index()] == 8);
+
 /// Highest ADC clock (Hz) for VDDA 2.4–3.6 V (STM32F446 datasheet; 18 MHz below 2.4 V).
 const ADC_CLK_MAX_HZ: u32 = 36_000_000;
 /// ADC sampling time per channel (ADC clocks). With the datasheet's R_AIN formula
@@ -156,17 +185,7 @@ pub fn configure_adc(
 
 /// One conversion of every channel, in [`AdcCodes`] order.
 pub fn convert_all() -> AdcCodes {
-    let mut c = [0u16; 8];
-    for (code, channel) in c.iter_mut().zip(ADC_CHANNELS) {
-        *code = convert(channel);
-    }
-    AdcCodes {
-        speed: c[0],
-        power: c[1],
-        force: c[2],
-        volts: [c[3], c[4], c[5]],
-        amps: [c[6], c[7]],
-    }
+    AdcCodes::from_array(ADC_CHANNELS.map(convert))
 }
 
 /// One software-started ADC1 conversion of `channel` ([`ADC_CONVERSION_CYCLES`] ADC

@@ -53,7 +53,8 @@ static inline void tt_hal_force_words(const TtForceOutputs *f, int64_t w[TT_HAL_
 }
 
 /* A force event of `kind` with `on` and the condition set `set`; for a sample the eight
- * codes `adc` (speed power force volts u v w amps u v), each clamped to 4095. */
+ * codes `adc` in the model's channel order (speed power force volts_u volts_v volts_w
+ * amps_u amps_v), each clamped to 4095. */
 static inline TtForceEvent tt_hal_force_event(uint8_t kind, uint8_t on, uint8_t set, const uint32_t adc[8]) {
     TtForceEvent e;
     uint16_t c[8];

@@ -21,7 +21,7 @@ use tooltouch_model::force::control::{
 use tooltouch_model::force::estimator::settings::EstimatorSettings;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::sampling::AdcScales;
-use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
+use tooltouch_model::force::sampling::{AdcChannel, AdcCodes, ADC_MAX, ADC_MID};
 use tooltouch_model::force::wear::{ConditionSet, Threshold, WearSettings};
 use tooltouch_model::testing::force::draw_force;
 use tooltouch_model::units::Fx;
@@ -218,18 +218,13 @@ pub fn random_force_settings(rng: &mut impl Rng, plant: &PlantSetup) -> ForceSet
 
 /// The front end with 4× gain: every channel clips at its rails.
 fn saturate(c: AdcCodes) -> AdcCodes {
-    let mid = ADC_MID;
-    let g = |code: u16, m: i32| {
-        let v = m + 4 * (i32::from(code) - m);
-        v.clamp(0, i32::from(ADC_MAX)) as u16
-    };
-    AdcCodes {
-        speed: g(c.speed, 0),
-        power: g(c.power, 0),
-        force: g(c.force, mid),
-        volts: c.volts.map(|v| g(v, mid)),
-        amps: c.amps.map(|a| g(a, mid)),
+    let mut out = c;
+    for ch in AdcChannel::ALL {
+        let m = if ch.bipolar() { ADC_MID } else { 0 };
+        let v = m + 4 * (i32::from(c[ch]) - m);
+        out[ch] = v.clamp(0, i32::from(ADC_MAX)) as u16;
     }
+    out
 }
 
 /// Runs `plant` closed around the golden kernel for `config` for about `duration` s and
@@ -340,7 +335,7 @@ mod tests {
             assert!(events.windows(2).all(|w| w[0].0 <= w[1].0), "time order");
             let clipped = events.iter().any(|(_, e)| {
                 matches!(e, ForceEvent::Sample(c)
-                    if [c.speed, c.power, c.force, c.volts[0], c.volts[1], c.volts[2], c.amps[0], c.amps[1]]
+                    if c.to_array()
                         .iter()
                         .any(|&v| v == 0 || v == ADC_MAX))
             });

@@ -11,6 +11,8 @@
 //! - ADC codes: 12 bit, `0..=4095` (larger codes are clamped to 4095). Speed and measured
 //!   power are unipolar (code × scale); phase voltages, phase currents and the dynamometer
 //!   force are bipolar around [`ADC_MID`] ((code − 2048) × scale). `i_w = −i_u − i_v`.
+//! - Channel order: [`AdcChannel::ALL`] (speed, power, force, v_u, v_v, v_w, i_u, i_v), the
+//!   one order of a sample as an array ([`AdcCodes::to_array`]) everywhere outside the model.
 //! - Filter state and averages: `i64` in codes (or codes² for the squares) with
 //!   [`FILTER_FRAC_BITS`] fractional bits. Largest magnitude: Σi² ≤ 2·2048² + 4095² < 2^25,
 //!   ×2^8 < 2^33, summed over at most 1000 samples < 2^43: no `i64` operation here can
@@ -46,6 +48,156 @@ pub struct AdcCodes {
     pub volts: [u16; 3],
     /// Phase currents i_u, i_v, bipolar: A = (code − 2048) × `amps_per_lsb`.
     pub amps: [u16; 2],
+}
+
+/// One ADC channel of the spindle drive. [`AdcChannel::ALL`] is the one order of the eight
+/// channels: the sample record's payload, the Python rows, the HAL component's `adc-*` pins
+/// and the Nucleo's conversion order all follow it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AdcChannel {
+    /// Motor speed ω_M ([`AdcCodes::speed`]).
+    Speed,
+    /// Measured drive power P_o ([`AdcCodes::power`]).
+    Power,
+    /// Dynamometer force ([`AdcCodes::force`]).
+    Force,
+    /// Phase voltage v_u (`AdcCodes::volts[0]`).
+    VoltsU,
+    /// Phase voltage v_v (`AdcCodes::volts[1]`).
+    VoltsV,
+    /// Phase voltage v_w (`AdcCodes::volts[2]`).
+    VoltsW,
+    /// Phase current i_u (`AdcCodes::amps[0]`).
+    AmpsU,
+    /// Phase current i_v (`AdcCodes::amps[1]`).
+    AmpsV,
+}
+
+impl AdcChannel {
+    /// Number of ADC channels in one sample.
+    pub const COUNT: usize = 8;
+
+    /// Every channel, in sample order (index `i` is the channel whose
+    /// [`AdcChannel::index`] is `i`).
+    pub const ALL: [AdcChannel; AdcChannel::COUNT] = [
+        AdcChannel::Speed,
+        AdcChannel::Power,
+        AdcChannel::Force,
+        AdcChannel::VoltsU,
+        AdcChannel::VoltsV,
+        AdcChannel::VoltsW,
+        AdcChannel::AmpsU,
+        AdcChannel::AmpsV,
+    ];
+
+    /// The channel's position in [`AdcChannel::ALL`] (and in a sample's array form).
+    pub const fn index(self) -> usize {
+        let mut i = 0;
+        while i < AdcChannel::COUNT {
+            if AdcChannel::ALL[i] as u8 == self as u8 {
+                return i;
+            }
+            i += 1;
+        }
+        panic!("every channel is in AdcChannel::ALL")
+    }
+
+    /// The channel's name, snake case: `speed`, `power`, `force`, `volts_u`, `volts_v`,
+    /// `volts_w`, `amps_u`, `amps_v` (the HAL pins are `adc-` and this, with dashes).
+    pub const fn name(self) -> &'static str {
+        match self {
+            AdcChannel::Speed => "speed",
+            AdcChannel::Power => "power",
+            AdcChannel::Force => "force",
+            AdcChannel::VoltsU => "volts_u",
+            AdcChannel::VoltsV => "volts_v",
+            AdcChannel::VoltsW => "volts_w",
+            AdcChannel::AmpsU => "amps_u",
+            AdcChannel::AmpsV => "amps_v",
+        }
+    }
+
+    /// The [`AdcCodes`] field that holds the channel, as written in Rust and in C
+    /// (the C ABI's `TtAdcCodes` has the same fields): `speed`, `volts[0]`, `amps[1]`, ...
+    pub const fn field(self) -> &'static str {
+        match self {
+            AdcChannel::Speed => "speed",
+            AdcChannel::Power => "power",
+            AdcChannel::Force => "force",
+            AdcChannel::VoltsU => "volts[0]",
+            AdcChannel::VoltsV => "volts[1]",
+            AdcChannel::VoltsW => "volts[2]",
+            AdcChannel::AmpsU => "amps[0]",
+            AdcChannel::AmpsV => "amps[1]",
+        }
+    }
+
+    /// What the channel measures, in words (`motor speed`, `phase current u`, ...).
+    pub const fn quantity(self) -> &'static str {
+        match self {
+            AdcChannel::Speed => "motor speed",
+            AdcChannel::Power => "drive power",
+            AdcChannel::Force => "dynamometer force",
+            AdcChannel::VoltsU => "phase voltage u",
+            AdcChannel::VoltsV => "phase voltage v",
+            AdcChannel::VoltsW => "phase voltage w",
+            AdcChannel::AmpsU => "phase current u",
+            AdcChannel::AmpsV => "phase current v",
+        }
+    }
+
+    /// Bipolar around [`ADC_MID`] (force, phase voltages and currents) or unipolar
+    /// (speed, power).
+    pub const fn bipolar(self) -> bool {
+        !matches!(self, AdcChannel::Speed | AdcChannel::Power)
+    }
+}
+
+impl AdcCodes {
+    /// The codes in [`AdcChannel::ALL`] order.
+    pub fn to_array(&self) -> [u16; AdcChannel::COUNT] {
+        AdcChannel::ALL.map(|ch| self[ch])
+    }
+
+    /// Codes from an array in [`AdcChannel::ALL`] order.
+    pub fn from_array(codes: [u16; AdcChannel::COUNT]) -> AdcCodes {
+        let mut c = AdcCodes::default();
+        for (ch, code) in AdcChannel::ALL.into_iter().zip(codes) {
+            c[ch] = code;
+        }
+        c
+    }
+}
+
+impl core::ops::Index<AdcChannel> for AdcCodes {
+    type Output = u16;
+    fn index(&self, ch: AdcChannel) -> &u16 {
+        match ch {
+            AdcChannel::Speed => &self.speed,
+            AdcChannel::Power => &self.power,
+            AdcChannel::Force => &self.force,
+            AdcChannel::VoltsU => &self.volts[0],
+            AdcChannel::VoltsV => &self.volts[1],
+            AdcChannel::VoltsW => &self.volts[2],
+            AdcChannel::AmpsU => &self.amps[0],
+            AdcChannel::AmpsV => &self.amps[1],
+        }
+    }
+}
+
+impl core::ops::IndexMut<AdcChannel> for AdcCodes {
+    fn index_mut(&mut self, ch: AdcChannel) -> &mut u16 {
+        match ch {
+            AdcChannel::Speed => &mut self.speed,
+            AdcChannel::Power => &mut self.power,
+            AdcChannel::Force => &mut self.force,
+            AdcChannel::VoltsU => &mut self.volts[0],
+            AdcChannel::VoltsV => &mut self.volts[1],
+            AdcChannel::VoltsW => &mut self.volts[2],
+            AdcChannel::AmpsU => &mut self.amps[0],
+            AdcChannel::AmpsV => &mut self.amps[1],
+        }
+    }
 }
 
 /// Number of filtered channels.
@@ -281,6 +433,32 @@ impl AdcScales {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_channel_order_is_the_sample_order() {
+        let codes = AdcCodes {
+            speed: 1,
+            power: 2,
+            force: 3,
+            volts: [4, 5, 6],
+            amps: [7, 8],
+        };
+        assert_eq!(codes.to_array(), [1, 2, 3, 4, 5, 6, 7, 8]);
+        assert_eq!(AdcCodes::from_array(codes.to_array()), codes);
+        for (i, ch) in AdcChannel::ALL.into_iter().enumerate() {
+            assert_eq!(ch.index(), i);
+        }
+        assert_eq!(
+            AdcChannel::ALL.map(AdcChannel::name),
+            ["speed", "power", "force", "volts_u", "volts_v", "volts_w", "amps_u", "amps_v"]
+        );
+        assert_eq!(
+            AdcChannel::ALL.map(AdcChannel::field),
+            ["speed", "power", "force", "volts[0]", "volts[1]", "volts[2]", "amps[0]", "amps[1]"]
+        );
+        assert_eq!(codes[AdcChannel::AmpsU], codes.amps[0]);
+        assert!(AdcChannel::Force.bipolar() && !AdcChannel::Power.bipolar());
+    }
 
     #[test]
     fn constant_codes_average_to_themselves() {

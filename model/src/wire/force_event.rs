@@ -4,17 +4,17 @@
 //!
 //! | event | kind | payload |
 //! |---|---|---|
-//! | `Sample(codes)` | `SAMPLE` | speed, power, force, v_u, v_v, v_w, i_u, i_v: u16 LE each |
+//! | `Sample(codes)` | `SAMPLE` | the codes in [`AdcChannel::ALL`] order (speed, power, force, v_u, v_v, v_w, i_u, i_v): u16 LE each |
 //! | `Tick`, `ToolChanged` | `TICK`, `TOOL_CHANGED` | none |
 //! | `Identify(on)`, `Control(on)` | `IDENTIFY`, `CONTROL` | level, 1 byte: 0 or 1 |
 //! | `Conditions(index)` | `CONDITIONS` | index, 1 byte |
 
 use crate::force::events::ForceEvent;
-use crate::force::sampling::AdcCodes;
+use crate::force::sampling::{AdcChannel, AdcCodes};
 use crate::wire::{kind, le_u16, Record, WireError};
 
 /// ADC channels in a [`kind::SAMPLE`] payload, one u16 each.
-const SAMPLE_WORDS: usize = 8;
+const SAMPLE_WORDS: usize = AdcChannel::COUNT;
 /// Length of a [`kind::SAMPLE`] payload, bytes.
 const SAMPLE_LEN: usize = 2 * SAMPLE_WORDS;
 
@@ -48,10 +48,7 @@ pub fn encode_force_event(time: u64, event: &ForceEvent) -> Record {
     match event {
         ForceEvent::Sample(c) => {
             let mut p = [0u8; SAMPLE_LEN];
-            let words = [
-                c.speed, c.power, c.force, c.volts[0], c.volts[1], c.volts[2], c.amps[0], c.amps[1],
-            ];
-            for (chunk, w) in p.chunks_exact_mut(2).zip(words) {
+            for (chunk, w) in p.chunks_exact_mut(2).zip(c.to_array()) {
                 chunk.copy_from_slice(&w.to_le_bytes());
             }
             Record::new(kind::SAMPLE, time, &p)
@@ -85,14 +82,7 @@ pub fn decode_force_event(record: &Record, offset: usize) -> Result<Option<Force
             for (d, chunk) in w.iter_mut().zip(p.chunks_exact(2)) {
                 *d = le_u16(chunk);
             }
-            let [speed, power, force, vu, vv, vw, iu, iv] = w;
-            ForceEvent::Sample(AdcCodes {
-                speed,
-                power,
-                force,
-                volts: [vu, vv, vw],
-                amps: [iu, iv],
-            })
+            ForceEvent::Sample(AdcCodes::from_array(w))
         }
         kind::TICK if p.is_empty() => ForceEvent::Tick,
         kind::IDENTIFY => ForceEvent::Identify(level()?),

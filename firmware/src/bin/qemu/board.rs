@@ -8,7 +8,7 @@
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 use tooltouch_firmware::board::Board;
 use tooltouch_firmware::model::force::events::ForceEvent;
-use tooltouch_firmware::model::force::sampling::AdcCodes;
+use tooltouch_firmware::model::force::sampling::{AdcChannel, AdcCodes};
 
 /// Virtual pin bits in [`PINS`].
 pub const ARM: u8 = 1;
@@ -27,7 +27,8 @@ pub static FES_COUNT: AtomicU32 = AtomicU32::new(0);
 pub static FES_COMPARE: AtomicU32 = AtomicU32::new(0);
 /// The "register now" output.
 pub static REGISTER_NOW: AtomicBool = AtomicBool::new(false);
-/// The virtual ADC's result registers: speed, power, force, v_u, v_v, v_w, i_u, i_v,
+/// The virtual ADC's result registers: the codes in the model's channel order
+/// ([`AdcChannel::ALL`]: speed, power, force, v_u, v_v, v_w, i_u, i_v),
 /// two 16-bit codes per word.
 static ADC: [AtomicU32; 4] = [
     AtomicU32::new(0),
@@ -74,14 +75,11 @@ fn decode_command(word: u32) -> Option<ForceEvent> {
 
 /// Loads the virtual ADC's result registers with `codes`.
 pub fn set_adc(codes: &AdcCodes) {
-    let words = [
-        (codes.speed, codes.power),
-        (codes.force, codes.volts[0]),
-        (codes.volts[1], codes.volts[2]),
-        (codes.amps[0], codes.amps[1]),
-    ];
-    for (reg, (lo, hi)) in ADC.iter().zip(words) {
-        reg.store(u32::from(lo) | u32::from(hi) << 16, Ordering::Relaxed);
+    for (reg, pair) in ADC.iter().zip(codes.to_array().chunks_exact(2)) {
+        reg.store(
+            u32::from(pair[0]) | u32::from(pair[1]) << 16,
+            Ordering::Relaxed,
+        );
     }
 }
 
@@ -112,21 +110,13 @@ impl Board for Qemu {
         REGISTER_NOW.store(on, Ordering::Relaxed);
     }
     fn adc() -> AdcCodes {
-        let w: [u32; 4] = [
-            ADC[0].load(Ordering::Relaxed),
-            ADC[1].load(Ordering::Relaxed),
-            ADC[2].load(Ordering::Relaxed),
-            ADC[3].load(Ordering::Relaxed),
-        ];
-        let lo = |x: u32| (x & 0xffff) as u16;
-        let hi = |x: u32| (x >> 16) as u16;
-        AdcCodes {
-            speed: lo(w[0]),
-            power: hi(w[0]),
-            force: lo(w[1]),
-            volts: [hi(w[1]), lo(w[2]), hi(w[2])],
-            amps: [lo(w[3]), hi(w[3])],
+        let mut codes = [0u16; AdcChannel::COUNT];
+        for (pair, reg) in codes.chunks_exact_mut(2).zip(&ADC) {
+            let w = reg.load(Ordering::Relaxed);
+            pair[0] = (w & 0xffff) as u16;
+            pair[1] = (w >> 16) as u16;
         }
+        AdcCodes::from_array(codes)
     }
     fn force_command() -> Option<ForceEvent> {
         decode_command(COMMAND.swap(0, Ordering::Relaxed))

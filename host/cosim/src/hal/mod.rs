@@ -2,8 +2,10 @@
 //! (docs/linuxcnc.md): its period semantics over the model ([`period`]), the golden
 //! stimulus ([`stimulus`]), and the files of a `halrun` session — the streamer's input, the
 //! samplers' output read back as Outputs streams that `tooltouch check` compares
-//! ([`files`]).
+//! ([`files`]), and the component's pins and header generated from the model's tables
+//! ([`component`]).
 
+pub mod component;
 pub mod files;
 pub mod period;
 pub mod size_loop;

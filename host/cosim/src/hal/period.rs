@@ -6,7 +6,7 @@
 use tooltouch_model::force::config::ForceConfig;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::{ForceKernel, ForceOutputs};
-use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::force::sampling::{AdcChannel, AdcCodes};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 
 /// The largest ADC code the component passes on (12-bit converters); larger pin values
@@ -35,8 +35,9 @@ pub struct PeriodInputs {
     pub fes_counts: i32,
     /// `scale-counts`: the linear scale's position, x4 counts.
     pub scale_counts: i32,
-    /// `adc-speed`, `adc-power`, `adc-force`, `adc-volts-u/v/w`, `adc-amps-u/v`: 12-bit codes.
-    pub adc: [u32; 8],
+    /// `adc-speed`, `adc-power`, `adc-force`, `adc-volts-u/v/w`, `adc-amps-u/v`: 12-bit codes
+    /// in [`AdcChannel::ALL`] order.
+    pub adc: [u32; AdcChannel::COUNT],
     /// `force-control`.
     pub force_control: bool,
     /// `identify`.
@@ -235,24 +236,15 @@ impl PeriodKernel {
     }
 }
 
-/// The eight ADC pins as the model's codes, each clamped to [`ADC_MAX`].
-pub fn adc_codes(adc: &[u32; 8]) -> AdcCodes {
-    let c = adc.map(|v| v.min(ADC_MAX) as u16);
-    AdcCodes {
-        speed: c[0],
-        power: c[1],
-        force: c[2],
-        volts: [c[3], c[4], c[5]],
-        amps: [c[6], c[7]],
-    }
+/// The eight ADC pins ([`AdcChannel::ALL`] order) as the model's codes, each clamped to
+/// [`ADC_MAX`].
+pub fn adc_codes(adc: &[u32; AdcChannel::COUNT]) -> AdcCodes {
+    AdcCodes::from_array(adc.map(|v| v.min(ADC_MAX) as u16))
 }
 
-/// The eight ADC pins of a sample of the model's codes.
-pub fn adc_pins(c: &AdcCodes) -> [u32; 8] {
-    [
-        c.speed, c.power, c.force, c.volts[0], c.volts[1], c.volts[2], c.amps[0], c.amps[1],
-    ]
-    .map(u32::from)
+/// The eight ADC pins ([`AdcChannel::ALL`] order) of a sample of the model's codes.
+pub fn adc_pins(c: &AdcCodes) -> [u32; AdcChannel::COUNT] {
+    c.to_array().map(u32::from)
 }
 
 #[cfg(test)]

@@ -133,17 +133,7 @@ where
     fn inject_force(&mut self, event: ForceEvent) -> Option<u32> {
         let irq = match event {
             ForceEvent::Sample(codes) => {
-                let c = [
-                    codes.speed,
-                    codes.power,
-                    codes.force,
-                    codes.volts[0],
-                    codes.volts[1],
-                    codes.volts[2],
-                    codes.amps[0],
-                    codes.amps[1],
-                ];
-                for (channel, code) in ADC_CHANNELS.iter().zip(c) {
+                for (channel, code) in ADC_CHANNELS.iter().zip(codes.to_array()) {
                     drive::adc(*channel, code);
                 }
                 ADC_SAMPLE
