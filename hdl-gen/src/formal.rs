@@ -30,7 +30,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
 use tooltouch_model::measure::frontend::pin;
-use tooltouch_model::MeasureConfig;
+use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 /// Induction length tried before a proof is given up as undecided. The invariants make
 /// the generated designs inductive at length 1 or 2; the bound leaves room for a change that
@@ -223,7 +223,7 @@ pub struct Trace {
     pub mcu_addr: Vec<u32>,
     /// The optimized design's outputs registered after each clock, raw bits in
     /// [`crate::output_fields`] order.
-    pub outputs: Vec<[u64; 15]>,
+    pub outputs: Vec<[u64; MeasureOutputs::FIELD_COUNT]>,
     /// The assertions that fail at the end of the trace.
     pub failed: Vec<String>,
 }
@@ -470,7 +470,7 @@ fn read_yosys_trace(vcd: &str, miter: &Miter, config: &MeasureConfig) -> Option<
         outputs: steps[1..]
             .iter()
             .map(|s| {
-                let mut o = [0u64; 15];
+                let mut o = [0u64; MeasureOutputs::FIELD_COUNT];
                 for (value, f) in o.iter_mut().zip(fields.iter()) {
                     *value = s.get(&format!("opt_{}", f.name)).copied().unwrap_or(0);
                 }

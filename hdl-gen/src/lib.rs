@@ -59,6 +59,14 @@
 //! The generated files of two configurations are committed under `hdl-gen/snapshots/`
 //! and compared byte for byte by `tests/snapshots.rs`, so every change of the generator
 //! shows as a diff of the Verilog; `cargo xtask bless-hdl` rewrites them.
+//!
+//! ## The scoreboards' output lists
+//!
+//! [`scoreboard_lists`] writes the lists of outputs in the DPI-C and VPI scoreboards and
+//! their bench (`host/abi/{sv,c,verilog}`: ports, names, width checks, comparisons) from
+//! [`output_ports`], as generated regions of those hand-written files;
+//! `tests/scoreboard_lists.rs` fails when the committed regions differ, and
+//! `cargo xtask bless-hdl` rewrites them too.
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
 
@@ -69,6 +77,7 @@ pub mod formal;
 mod mcu;
 mod modules;
 mod outputs;
+pub mod scoreboard_lists;
 
 use tooltouch_model::MeasureConfig;
 
@@ -81,7 +90,10 @@ pub use modules::tt_testbench::{
     TESTBENCH,
 };
 pub use modules::tt_testbench_main::{verilator_main, VERILATOR_MAIN};
-pub use outputs::{mask, output_fields, output_values, outputs_width, OutputField};
+pub use outputs::{
+    mask, output_fields, output_ports, output_values, outputs_width, OutputField, OutputPort,
+    IRQ_SOURCE,
+};
 
 /// Writes the Verilog of the front end for `config`.
 pub fn generate(config: &MeasureConfig, options: &Options) -> Design {

@@ -63,4 +63,4 @@ pub use measure::config::{MeasureConfig, MeasureSettings};
 pub use measure::events::{MeasureEvent, TimedEvent};
 pub use measure::frontend::{FrontEnd, Pins};
 pub use measure::kernel::Measurement;
-pub use measure::outputs::MeasureOutputs;
+pub use measure::outputs::{MeasureOutputs, OutputWidth};

@@ -12,9 +12,10 @@
 //! (`tests/tune/cost_model.rs`) with `TOOLTOUCH_BLESS=1`. Unchanged synthesis, unchanged
 //! file; otherwise `git diff` shows which points moved.
 //!
-//! `cargo xtask bless-hdl`: rewrites the Verilog snapshots under `hdl-gen/snapshots/` by
-//! running their test (`hdl-gen/tests/snapshots.rs`) with `TOOLTOUCH_BLESS=1`, so the
-//! files are written by the same code that compares them.
+//! `cargo xtask bless-hdl`: rewrites the Verilog snapshots under `hdl-gen/snapshots/` and
+//! the generated output lists of the scoreboards under `host/abi/` by running their tests
+//! (`hdl-gen/tests/snapshots.rs`, `hdl-gen/tests/scoreboard_lists.rs`) with
+//! `TOOLTOUCH_BLESS=1`, so the files are written by the same code that compares them.
 
 use anyhow::{bail, Context, Result};
 use std::path::Path;
@@ -39,7 +40,11 @@ fn cargo_blessing(args: &[&str]) -> Result<()> {
     Ok(())
 }
 
-/// `cargo xtask bless-hdl`: rewrites `hdl-gen/snapshots/` and lists what changed.
+/// The folders `cargo xtask bless-hdl` rewrites files in.
+const BLESSED_HDL: [&str; 2] = ["hdl-gen/snapshots", "host/abi"];
+
+/// `cargo xtask bless-hdl`: rewrites `hdl-gen/snapshots/` and the scoreboards' generated
+/// regions, and lists what changed.
 pub fn bless_snapshots() -> Result<()> {
     cargo_blessing(&[
         "test",
@@ -48,15 +53,18 @@ pub fn bless_snapshots() -> Result<()> {
         "tooltouch-hdl-gen",
         "--test",
         "snapshots",
+        "--test",
+        "scoreboard_lists",
         "--",
         "--nocapture",
     ])?;
-    crate::process::run(
-        &crate::process::root(),
-        "git",
-        &["status", "--short", "--", "hdl-gen/snapshots"],
-    )?;
-    println!("review the changes with `git diff hdl-gen/snapshots`");
+    let mut status = vec!["status", "--short", "--"];
+    status.extend(BLESSED_HDL);
+    crate::process::run(&crate::process::root(), "git", &status)?;
+    println!(
+        "review the changes with `git diff {}`",
+        BLESSED_HDL.join(" ")
+    );
     Ok(())
 }
 

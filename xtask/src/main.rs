@@ -44,8 +44,9 @@ verbs:
                fresh release builds and co-simulations; review with `git diff`
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
                refit the tuning cost model (host/tune/src/cost_model.json)
-  bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) from the
-               generator; review the result with `git diff hdl-gen/snapshots`
+  bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) and the
+               scoreboards' generated output lists (host/abi/) from the generator;
+               review the result with `git diff hdl-gen/snapshots host/abi`
   formal       prove the generated Verilog equal to the reference RTL written from the model
                (yosys k-induction): default, structural variants, TOOLTOUCH_FORMAL_CONFIGS
                random configurations (4), and every injected fault caught (docs/formal.md)

@@ -43,7 +43,7 @@ module ${TOP} (
     input  wire         rst,       // synchronous reset to the power-on state
 ${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
     output reg  [${DB1}:0] mcu_rdata,
-${PORTS}    output wire         irq        // = register_now, for the MCU
+${PORTS}    output wire         irq        // = ${IRQ_SOURCE}, for the MCU
 );
     // The configuration this design was generated from (the MCU's CONFIG_HASH_HI/LO
     // words): a testbench's scoreboard reads it (dut.CONFIG_HASH) and checks it against
@@ -81,7 +81,7 @@ ${PORTS}    output wire         irq        // = register_now, for the MCU
 ${CONNS}
     );
 
-    assign irq = register_now;
+    assign irq = ${IRQ_SOURCE};
 
 ${MCU_READ_MUX}endmodule
 "#,
@@ -98,6 +98,7 @@ ${MCU_READ_MUX}endmodule
             ("ARM", pin_index(pin::ARM)),
             ("CONTACT", pin_index(pin::CONTACT)),
             ("CONNS", conns),
+            ("IRQ_SOURCE", crate::outputs::IRQ_SOURCE.to_string()),
             ("MCU_READ_MUX", mcu_read_mux),
         ],
     );

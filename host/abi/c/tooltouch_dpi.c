@@ -20,9 +20,13 @@
 extern "C" {
 #endif
 
-/* Signal indexes of tooltouch_compare and tooltouch_expected: 0..14 the outputs
- * (TT_OUTPUT_COUNT, tt_output_name), then these two. */
+/* Signal indexes of tooltouch_compare and tooltouch_expected: 0..TT_OUTPUT_COUNT-1 the
+ * outputs (in tt_output_name's order), then these two. */
 enum { SIGNAL_IRQ = TT_OUTPUT_COUNT, SIGNAL_MCU_RDATA = TT_OUTPUT_COUNT + 1 };
+/* BEGIN GENERATED irq-source: hdl-gen's scoreboard_lists, cargo xtask bless-hdl */
+/* irq is a copy of output 2, register_now (tt_frontend: `assign irq = register_now`). */
+enum { IRQ_SOURCE = 2 };
+/* END GENERATED irq-source */
 
 typedef struct Scoreboard {
     TtConfig *config;
@@ -105,13 +109,13 @@ int32_t tooltouch_clock(void *handle, unsigned char pins, unsigned char rst) {
     return 0;
 }
 
-/* The model's value of signal `index` (0..14 the outputs, 15 irq, 16 mcu_rdata at
+/* The model's value of signal `index` (the outputs, SIGNAL_IRQ, SIGNAL_MCU_RDATA at
  * `mcu_addr`) after the last clock. */
 uint64_t tooltouch_expected(void *handle, int32_t index, uint32_t mcu_addr) {
     Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL || index < 0) return 0;
     if (index < (int32_t)TT_OUTPUT_COUNT) return sb->registers[index];
-    if (index == SIGNAL_IRQ) return sb->registers[2]; /* irq = register_now */
+    if (index == SIGNAL_IRQ) return sb->registers[IRQ_SOURCE];
     if (index == SIGNAL_MCU_RDATA) return mcu_word(sb, mcu_addr);
     return 0;
 }
@@ -119,22 +123,26 @@ uint64_t tooltouch_expected(void *handle, int32_t index, uint32_t mcu_addr) {
 /* Compares the DUT's outputs after the last clock with the model's: the index of the
  * first differing signal (as tooltouch_expected), or -1 when all agree. `unknown` has bit
  * i set when signal i holds an X or Z bit (always a mismatch). */
+/* BEGIN GENERATED compare-signature: hdl-gen's scoreboard_lists, cargo xtask bless-hdl */
 int32_t tooltouch_compare(void *handle, uint32_t unknown, uint32_t mcu_addr, uint32_t mcu_rdata,
                           unsigned char irq, uint64_t armed, uint64_t contact,
-                          uint64_t register_now, uint64_t decision_position,
-                          uint64_t first_contact, uint64_t first_contact_position,
-                          uint64_t position, uint64_t scale_errors, uint64_t count,
-                          uint64_t last_window_count, uint64_t charge, uint64_t density_armed,
-                          uint64_t density_fired, uint64_t revolutions, uint64_t pulses) {
+                          uint64_t register_now, uint64_t decision_position, uint64_t first_contact,
+                          uint64_t first_contact_position, uint64_t position, uint64_t scale_errors,
+                          uint64_t count, uint64_t last_window_count, uint64_t charge,
+                          uint64_t density_armed, uint64_t density_fired, uint64_t revolutions,
+                          uint64_t pulses) {
+/* END GENERATED compare-signature */
     Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL) return 0;
+    /* BEGIN GENERATED compare-outputs: hdl-gen's scoreboard_lists, cargo xtask bless-hdl */
     const uint64_t got[TT_OUTPUT_COUNT] = {armed, contact, register_now, decision_position,
                                            first_contact, first_contact_position, position,
                                            scale_errors, count, last_window_count, charge,
                                            density_armed, density_fired, revolutions, pulses};
+    /* END GENERATED compare-outputs */
     for (int32_t i = 0; i < (int32_t)TT_OUTPUT_COUNT; i++)
         if ((unknown >> i & 1u) || got[i] != sb->registers[i]) return i;
-    if ((unknown >> SIGNAL_IRQ & 1u) || irq != sb->registers[2]) return SIGNAL_IRQ;
+    if ((unknown >> SIGNAL_IRQ & 1u) || irq != sb->registers[IRQ_SOURCE]) return SIGNAL_IRQ;
     if ((unknown >> SIGNAL_MCU_RDATA & 1u) || mcu_addr >= TT_MCU_ADDRESSES ||
         mcu_rdata != mcu_word(sb, mcu_addr))
         return SIGNAL_MCU_RDATA;

@@ -12,9 +12,10 @@
  *   $tooltouch_output_width(m, index)            width of output index, bits
  *   $tooltouch_clock(m, pins, rst)               one rising edge (or reset); 0 on success
  *   $tooltouch_compare(m, mcu_addr, mcu_rdata, irq, armed, ..., pulses)
- *                                                the first differing signal (0..14 outputs,
- *                                                15 irq, 16 mcu_rdata), -1 if none; X or Z
- *                                                in a DUT signal is a mismatch
+ *                                                the first differing signal (the outputs in
+ *                                                tt_output_name's order, irq, mcu_rdata), -1
+ *                                                if none; X or Z in a DUT signal is a
+ *                                                mismatch
  *   $tooltouch_expected(m, index, mcu_addr)      the model's value of a signal
  * At the end of the simulation each model prints `tooltouch_scoreboard OK <cycles>` (or
  * FAIL with the count of mismatching cycles, or that no clock was compared). Nothing is allocated after $tooltouch_open. */
@@ -26,6 +27,13 @@
 
 #define MAX_MODELS 16
 #define SIGNALS (TT_OUTPUT_COUNT + 2)
+/* BEGIN GENERATED irq-source: hdl-gen's scoreboard_lists, cargo xtask bless-hdl */
+/* irq is a copy of output 2, register_now (tt_frontend: `assign irq = register_now`). */
+enum { IRQ_SOURCE = 2 };
+/* END GENERATED irq-source */
+/* BEGIN GENERATED compare-arguments: hdl-gen's scoreboard_lists, cargo xtask bless-hdl */
+#define COMPARE_ARGUMENTS "the model, mcu_addr, mcu_rdata, irq and the 15 outputs"
+/* END GENERATED compare-arguments */
 
 typedef struct Model {
     TtConfig *config;
@@ -216,9 +224,9 @@ static PLI_INT32 compare_calltf(PLI_BYTE8 *name) {
         if (first < 0 && m != NULL && (unknown || got != m->registers[i])) first = i;
     }
     if (c.count != 4 + (int)TT_OUTPUT_COUNT) {
-        stop(name, "takes the model, mcu_addr, mcu_rdata, irq and the 15 outputs");
+        stop(name, "takes " COMPARE_ARGUMENTS);
     } else if (m != NULL) {
-        if (first < 0 && (irq_unknown || irq != m->registers[2])) first = TT_OUTPUT_COUNT;
+        if (first < 0 && (irq_unknown || irq != m->registers[IRQ_SOURCE])) first = TT_OUTPUT_COUNT;
         if (first < 0 && (addr_unknown || rdata_unknown || rdata != mcu_word(m, addr)))
             first = TT_OUTPUT_COUNT + 1;
         if (first >= 0) m->mismatches++;
@@ -236,7 +244,7 @@ static PLI_INT32 expected_calltf(PLI_BYTE8 *name) {
     uint64_t value = 0;
     if (m != NULL && !unknown) {
         if (index < TT_OUTPUT_COUNT) value = m->registers[index];
-        else if (index == TT_OUTPUT_COUNT) value = m->registers[2];
+        else if (index == TT_OUTPUT_COUNT) value = m->registers[IRQ_SOURCE];
         else if (index == TT_OUTPUT_COUNT + 1 && !addr_unknown) value = mcu_word(m, addr);
     }
     end_call(&c, (int32_t)(uint32_t)value);

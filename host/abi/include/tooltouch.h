@@ -13,9 +13,7 @@
 #define TT_ABI_VERSION 1
 
 // Number of measurement outputs ([`TtMeasureOutputs`] fields, [`tt_frontend_registers`]
-// entries), in the model's order: armed contact register_now decision_position
-// first_contact first_contact_position position scale_errors count last_window_count
-// charge density_armed density_fired revolutions pulses.
+// entries), in the model's order ([`tt_output_name`] names them).
 #define TT_OUTPUT_COUNT 15
 
 // Number of MCU register addresses (`mcu_addr` is 4 bits wide).

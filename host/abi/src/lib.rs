@@ -47,9 +47,7 @@ use tooltouch_model::{FrontEnd, MeasureConfig, MeasureEvent, MeasureOutputs, Mea
 pub const TT_ABI_VERSION: u32 = 1;
 
 /// Number of measurement outputs ([`TtMeasureOutputs`] fields, [`tt_frontend_registers`]
-/// entries), in the model's order: armed contact register_now decision_position
-/// first_contact first_contact_position position scale_errors count last_window_count
-/// charge density_armed density_fired revolutions pulses.
+/// entries), in the model's order ([`tt_output_name`] names them).
 pub const TT_OUTPUT_COUNT: u32 = 15;
 
 /// Number of MCU register addresses (`mcu_addr` is 4 bits wide).
@@ -406,31 +404,37 @@ pub extern "C" fn tt_last_error() -> *const c_char {
         .unwrap_or(EMPTY.as_ptr())
 }
 
+/// Bytes of a name in [`OUTPUT_NAMES`]: the longest output name and its NUL fit.
+const OUTPUT_NAME_BYTES: usize = 32;
+
+/// Every output's name as in `MeasureOutputs::LAYOUT` (the model's one list), NUL-padded.
+static OUTPUT_NAMES: [[u8; OUTPUT_NAME_BYTES]; MeasureOutputs::FIELD_COUNT] = output_names();
+
+/// [`OUTPUT_NAMES`], made at compile time (a name too long fails the build).
+const fn output_names() -> [[u8; OUTPUT_NAME_BYTES]; MeasureOutputs::FIELD_COUNT] {
+    let mut out = [[0u8; OUTPUT_NAME_BYTES]; MeasureOutputs::FIELD_COUNT];
+    let mut i = 0;
+    while i < MeasureOutputs::FIELD_COUNT {
+        let name = MeasureOutputs::LAYOUT[i].0.as_bytes();
+        assert!(name.len() < OUTPUT_NAME_BYTES, "an output name is too long");
+        let mut j = 0;
+        while j < name.len() {
+            out[i][j] = name[j];
+            j += 1;
+        }
+        i += 1;
+    }
+    out
+}
+
 /// The name of output `index` (`0..TT_OUTPUT_COUNT`, the order of [`TtMeasureOutputs`]) as
 /// in the Verilog ports and VCD signals, NUL-terminated and static; NULL if out of range.
 #[no_mangle]
 pub extern "C" fn tt_output_name(index: u32) -> *const c_char {
-    const NAMES: [&CStr; TT_OUTPUT_COUNT as usize] = [
-        c"armed",
-        c"contact",
-        c"register_now",
-        c"decision_position",
-        c"first_contact",
-        c"first_contact_position",
-        c"position",
-        c"scale_errors",
-        c"count",
-        c"last_window_count",
-        c"charge",
-        c"density_armed",
-        c"density_fired",
-        c"revolutions",
-        c"pulses",
-    ];
     usize::try_from(index)
         .ok()
-        .and_then(|i| NAMES.get(i))
-        .map_or(core::ptr::null(), |name| name.as_ptr())
+        .and_then(|i| OUTPUT_NAMES.get(i))
+        .map_or(core::ptr::null(), |name| name.as_ptr().cast::<c_char>())
 }
 
 // ---------------------------------------------------------------------------------------

@@ -362,3 +362,14 @@ fn a_long_message_is_cut_not_overflowed() {
     let text = last_error();
     assert!(text.len() < ERROR_CAPACITY && text.chars().all(|c| c == 'é'));
 }
+
+#[test]
+fn every_output_is_named_as_in_the_models_list() {
+    for (index, (name, _)) in (0u32..).zip(MeasureOutputs::LAYOUT) {
+        // SAFETY: a non-NULL result is a static NUL-terminated string.
+        let got = unsafe { CStr::from_ptr(tt_output_name(index)) };
+        assert_eq!(got.to_str(), Ok(name), "output {index}");
+    }
+    assert!(tt_output_name(TT_OUTPUT_COUNT).is_null());
+    assert!(tt_output_name(u32::MAX).is_null());
+}

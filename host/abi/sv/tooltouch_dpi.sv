@@ -1,10 +1,12 @@
 // tooltouch_dpi: the golden model's DPI-C imports (host/abi/c/tooltouch_dpi.c over the C
 // ABI of libtooltouch_abi). tooltouch_scoreboard uses them; a UVM predictor can too.
 //
-// Signal indexes (tooltouch_compare, tooltouch_expected): 0..14 the outputs in the order
-// of the ports (armed contact register_now decision_position first_contact
-// first_contact_position position scale_errors count last_window_count charge
-// density_armed density_fired revolutions pulses), 15 irq, 16 mcu_rdata.
+// BEGIN GENERATED signal-indexes: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
+// Signal indexes (tooltouch_compare, tooltouch_expected): 0..14 the outputs in the order of
+// the ports (armed contact register_now decision_position first_contact
+// first_contact_position position scale_errors count last_window_count charge density_armed
+// density_fired revolutions pulses), 15 irq, 16 mcu_rdata.
+// END GENERATED signal-indexes
 `timescale 1ns / 1ns
 
 package tooltouch_dpi;
@@ -28,6 +30,7 @@ package tooltouch_dpi;
     import "DPI-C" function int tooltouch_compare(
         input chandle handle, input int unsigned unknown, input int unsigned mcu_addr,
         input int unsigned mcu_rdata, input bit irq,
+        // BEGIN GENERATED compare-outputs: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
         input longint unsigned armed, input longint unsigned contact,
         input longint unsigned register_now, input longint unsigned decision_position,
         input longint unsigned first_contact, input longint unsigned first_contact_position,
@@ -36,4 +39,5 @@ package tooltouch_dpi;
         input longint unsigned charge, input longint unsigned density_armed,
         input longint unsigned density_fired, input longint unsigned revolutions,
         input longint unsigned pulses);
+        // END GENERATED compare-outputs
 endpackage

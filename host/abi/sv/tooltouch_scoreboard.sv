@@ -38,6 +38,7 @@ module tooltouch_scoreboard
     input wire                   pin_scale_b,
     input wire [3:0]             mcu_addr,
     input wire [31:0]            mcu_rdata,
+    // BEGIN GENERATED ports: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
     input wire                   armed,
     input wire                   contact,
     input wire                   register_now,
@@ -53,6 +54,7 @@ module tooltouch_scoreboard
     input wire                   density_fired,
     input wire [15:0]            revolutions,
     input wire [31:0]            pulses,
+    // END GENERATED ports
     input wire                   irq,
     input wire [63:0]            dut_config_hash
 );
@@ -61,34 +63,58 @@ module tooltouch_scoreboard
     longint      mismatches = 0;
     bit          nostop;
     string       config_path;
+    // BEGIN GENERATED signal-indexes: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
+    // Signal indexes: 0..14 the outputs in port order, 15 irq, 16 mcu_rdata.
+    localparam integer SIGNAL_MCU_RDATA = 16;
+    // END GENERATED signal-indexes
 
+    // BEGIN GENERATED signal-name: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
     function automatic string signal_name(input int index);
         case (index)
-            0: return "armed";             1: return "contact";
-            2: return "register_now";      3: return "decision_position";
-            4: return "first_contact";     5: return "first_contact_position";
-            6: return "position";          7: return "scale_errors";
-            8: return "count";             9: return "last_window_count";
-            10: return "charge";           11: return "density_armed";
-            12: return "density_fired";    13: return "revolutions";
-            14: return "pulses";           15: return "irq";
+            0: return "armed";
+            1: return "contact";
+            2: return "register_now";
+            3: return "decision_position";
+            4: return "first_contact";
+            5: return "first_contact_position";
+            6: return "position";
+            7: return "scale_errors";
+            8: return "count";
+            9: return "last_window_count";
+            10: return "charge";
+            11: return "density_armed";
+            12: return "density_fired";
+            13: return "revolutions";
+            14: return "pulses";
+            15: return "irq";
             default: return "mcu_rdata";
         endcase
     endfunction
+    // END GENERATED signal-name
 
+    // BEGIN GENERATED dut-value: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
     function automatic longint unsigned dut_value(input int index);
         case (index)
-            0: return 64'(armed);                  1: return 64'(contact);
-            2: return 64'(register_now);           3: return 64'(decision_position);
-            4: return 64'(first_contact);          5: return 64'(first_contact_position);
-            6: return 64'(position);               7: return 64'(scale_errors);
-            8: return 64'(count);                  9: return 64'(last_window_count);
-            10: return 64'(charge);                11: return 64'(density_armed);
-            12: return 64'(density_fired);         13: return 64'(revolutions);
-            14: return 64'(pulses);                15: return 64'(irq);
+            0: return 64'(armed);
+            1: return 64'(contact);
+            2: return 64'(register_now);
+            3: return 64'(decision_position);
+            4: return 64'(first_contact);
+            5: return 64'(first_contact_position);
+            6: return 64'(position);
+            7: return 64'(scale_errors);
+            8: return 64'(count);
+            9: return 64'(last_window_count);
+            10: return 64'(charge);
+            11: return 64'(density_armed);
+            12: return 64'(density_fired);
+            13: return 64'(revolutions);
+            14: return 64'(pulses);
+            15: return 64'(irq);
             default: return 64'(mcu_rdata);
         endcase
     endfunction
+    // END GENERATED dut-value
 
     task automatic check_width(input int index, input int width);
         int unsigned want;
@@ -105,9 +131,11 @@ module tooltouch_scoreboard
         model = tooltouch_open(config_path, MCU_DIAGNOSTICS);
         if (model == null)
             $fatal(1, "tooltouch_scoreboard: %s", tooltouch_error());
+        // BEGIN GENERATED check-widths: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
         check_width(3, SCALE_BITS);
         check_width(8, COUNT_BITS);
         check_width(10, CHARGE_BITS);
+        // END GENERATED check-widths
         // The DUT's hash is a constant; #0 lets its port connection settle.
         /* verilator lint_off ZERODLY */
         #0;
@@ -130,6 +158,7 @@ module tooltouch_scoreboard
         int first;
         int unsigned unknown;
         if (model != null && cycle >= 0) begin
+            // BEGIN GENERATED compare: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
             unknown = {15'd0, $isunknown(mcu_rdata) | $isunknown(mcu_addr), $isunknown(irq),
                        $isunknown(pulses), $isunknown(revolutions), $isunknown(density_fired),
                        $isunknown(density_armed), $isunknown(charge), $isunknown(last_window_count),
@@ -137,14 +166,15 @@ module tooltouch_scoreboard
                        $isunknown(first_contact_position), $isunknown(first_contact),
                        $isunknown(decision_position), $isunknown(register_now), $isunknown(contact),
                        $isunknown(armed)};
-            first = tooltouch_compare(model, unknown, 32'(mcu_addr), mcu_rdata, irq,
-                64'(armed), 64'(contact), 64'(register_now), 64'(decision_position),
-                64'(first_contact), 64'(first_contact_position), 64'(position),
-                64'(scale_errors), 64'(count), 64'(last_window_count), 64'(charge),
-                64'(density_armed), 64'(density_fired), 64'(revolutions), 64'(pulses));
+            first = tooltouch_compare(model, unknown, 32'(mcu_addr), mcu_rdata, irq, 64'(armed),
+                64'(contact), 64'(register_now), 64'(decision_position), 64'(first_contact),
+                64'(first_contact_position), 64'(position), 64'(scale_errors), 64'(count),
+                64'(last_window_count), 64'(charge), 64'(density_armed), 64'(density_fired),
+                64'(revolutions), 64'(pulses));
+            // END GENERATED compare
             if (first >= 0) begin
                 if (mismatches == 0) begin
-                    if (first == 16)
+                    if (first == SIGNAL_MCU_RDATA)
                         $display("tooltouch_scoreboard MISMATCH cycle %0d (time %0t ns): signal mcu_rdata expected 0x%0h got 0x%0h at MCU address %0d",
                                  cycle, $time, tooltouch_expected(model, first, 32'(mcu_addr)), mcu_rdata, mcu_addr);
                     else

@@ -25,6 +25,7 @@ module tooltouch_bench;
     reg  [3:0]  mcu_addr = 4'd0;
     wire [31:0] mcu_rdata;
     wire        irq;
+    // BEGIN GENERATED wires: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
     wire                   armed;
     wire                   contact;
     wire                   register_now;
@@ -40,18 +41,22 @@ module tooltouch_bench;
     wire                   density_fired;
     wire [15:0]            revolutions;
     wire [31:0]            pulses;
+    // END GENERATED wires
 
     tt_frontend dut (
         .clk(clk), .rst(rst),
         .pin_arm(pins[0]), .pin_contact(pins[1]), .pin_index(pins[2]), .pin_fes(pins[3]),
         .pin_scale_a(pins[4]), .pin_scale_b(pins[5]),
         .mcu_addr(mcu_addr), .mcu_rdata(mcu_rdata),
+        // BEGIN GENERATED connections: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
         .armed(armed), .contact(contact), .register_now(register_now),
         .decision_position(decision_position), .first_contact(first_contact),
         .first_contact_position(first_contact_position), .position(position),
         .scale_errors(scale_errors), .count(count), .last_window_count(last_window_count),
         .charge(charge), .density_armed(density_armed), .density_fired(density_fired),
-        .revolutions(revolutions), .pulses(pulses), .irq(irq)
+        .revolutions(revolutions), .pulses(pulses),
+        // END GENERATED connections
+        .irq(irq)
     );
 
     tooltouch_scoreboard #(
@@ -62,12 +67,15 @@ module tooltouch_bench;
         .pin_arm(pins[0]), .pin_contact(pins[1]), .pin_index(pins[2]), .pin_fes(pins[3]),
         .pin_scale_a(pins[4]), .pin_scale_b(pins[5]),
         .mcu_addr(mcu_addr), .mcu_rdata(mcu_rdata),
+        // BEGIN GENERATED connections: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
         .armed(armed), .contact(contact), .register_now(register_now),
         .decision_position(decision_position), .first_contact(first_contact),
         .first_contact_position(first_contact_position), .position(position),
         .scale_errors(scale_errors), .count(count), .last_window_count(last_window_count),
         .charge(charge), .density_armed(density_armed), .density_fired(density_fired),
-        .revolutions(revolutions), .pulses(pulses), .irq(irq),
+        .revolutions(revolutions), .pulses(pulses),
+        // END GENERATED connections
+        .irq(irq),
         .dut_config_hash(dut.CONFIG_HASH)
     );
 

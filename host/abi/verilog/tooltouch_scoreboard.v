@@ -34,6 +34,7 @@ module tooltouch_scoreboard #(
     input wire                   pin_scale_b,
     input wire [3:0]             mcu_addr,
     input wire [31:0]            mcu_rdata,
+    // BEGIN GENERATED ports: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
     input wire                   armed,
     input wire                   contact,
     input wire                   register_now,
@@ -47,8 +48,9 @@ module tooltouch_scoreboard #(
     input wire [CHARGE_BITS-1:0] charge,
     input wire                   density_armed,
     input wire                   density_fired,
-    input wire                   [15:0] revolutions,
+    input wire [15:0]            revolutions,
     input wire [31:0]            pulses,
+    // END GENERATED ports
     input wire                   irq,
     input wire [63:0]            dut_config_hash
 );
@@ -60,34 +62,58 @@ module tooltouch_scoreboard #(
     reg     nostop;
     reg [8*512-1:0] config_path;  // up to 512 characters
     reg [63:0] model_hash;
+    // BEGIN GENERATED signal-indexes: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
+    // Signal indexes: 0..14 the outputs in port order, 15 irq, 16 mcu_rdata.
+    localparam integer SIGNAL_MCU_RDATA = 16;
+    // END GENERATED signal-indexes
 
-    function [8*24-1:0] signal_name(input integer index);
+    // BEGIN GENERATED signal-name: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
+    function [8*22-1:0] signal_name(input integer index);
         case (index)
-            0: signal_name = "armed";             1: signal_name = "contact";
-            2: signal_name = "register_now";      3: signal_name = "decision_position";
-            4: signal_name = "first_contact";     5: signal_name = "first_contact_position";
-            6: signal_name = "position";          7: signal_name = "scale_errors";
-            8: signal_name = "count";             9: signal_name = "last_window_count";
-            10: signal_name = "charge";           11: signal_name = "density_armed";
-            12: signal_name = "density_fired";    13: signal_name = "revolutions";
-            14: signal_name = "pulses";           15: signal_name = "irq";
+            0: signal_name = "armed";
+            1: signal_name = "contact";
+            2: signal_name = "register_now";
+            3: signal_name = "decision_position";
+            4: signal_name = "first_contact";
+            5: signal_name = "first_contact_position";
+            6: signal_name = "position";
+            7: signal_name = "scale_errors";
+            8: signal_name = "count";
+            9: signal_name = "last_window_count";
+            10: signal_name = "charge";
+            11: signal_name = "density_armed";
+            12: signal_name = "density_fired";
+            13: signal_name = "revolutions";
+            14: signal_name = "pulses";
+            15: signal_name = "irq";
             default: signal_name = "mcu_rdata";
         endcase
     endfunction
+    // END GENERATED signal-name
 
+    // BEGIN GENERATED dut-value: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
     function [31:0] dut_value(input integer index);
         case (index)
-            0: dut_value = armed;                  1: dut_value = contact;
-            2: dut_value = register_now;           3: dut_value = decision_position;
-            4: dut_value = first_contact;          5: dut_value = first_contact_position;
-            6: dut_value = position;               7: dut_value = scale_errors;
-            8: dut_value = count;                  9: dut_value = last_window_count;
-            10: dut_value = charge;                11: dut_value = density_armed;
-            12: dut_value = density_fired;         13: dut_value = revolutions;
-            14: dut_value = pulses;                15: dut_value = irq;
+            0: dut_value = armed;
+            1: dut_value = contact;
+            2: dut_value = register_now;
+            3: dut_value = decision_position;
+            4: dut_value = first_contact;
+            5: dut_value = first_contact_position;
+            6: dut_value = position;
+            7: dut_value = scale_errors;
+            8: dut_value = count;
+            9: dut_value = last_window_count;
+            10: dut_value = charge;
+            11: dut_value = density_armed;
+            12: dut_value = density_fired;
+            13: dut_value = revolutions;
+            14: dut_value = pulses;
+            15: dut_value = irq;
             default: dut_value = mcu_rdata;
         endcase
     endfunction
+    // END GENERATED dut-value
 
     task check_width(input integer index, input integer wanted_here);
         begin
@@ -108,9 +134,11 @@ module tooltouch_scoreboard #(
         end
         model = $tooltouch_open(config_path, MCU_DIAGNOSTICS);
         if (model < 0) $fatal(1, "tooltouch_scoreboard: no model");
+        // BEGIN GENERATED check-widths: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
         check_width(3, SCALE_BITS);
         check_width(8, COUNT_BITS);
         check_width(10, CHARGE_BITS);
+        // END GENERATED check-widths
         #0;  // the DUT's hash is a constant; let its port connection settle
         model_hash = {$tooltouch_config_hash_hi(model), $tooltouch_config_hash_lo(model)};
         if (model_hash !== dut_config_hash) begin
@@ -132,13 +160,15 @@ module tooltouch_scoreboard #(
 
     always @(negedge clk) begin
         if (model >= 0 && cycle >= 0) begin
-            first = $tooltouch_compare(model, mcu_addr, mcu_rdata, irq,
-                armed, contact, register_now, decision_position, first_contact,
-                first_contact_position, position, scale_errors, count, last_window_count,
-                charge, density_armed, density_fired, revolutions, pulses);
+            // BEGIN GENERATED compare: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
+            first = $tooltouch_compare(model, mcu_addr, mcu_rdata, irq, armed, contact,
+                register_now, decision_position, first_contact, first_contact_position, position,
+                scale_errors, count, last_window_count, charge, density_armed, density_fired,
+                revolutions, pulses);
+            // END GENERATED compare
             if (first >= 0) begin
                 if (mismatches == 0) begin
-                    if (first == 16)
+                    if (first == SIGNAL_MCU_RDATA)
                         $display("tooltouch_scoreboard MISMATCH cycle %0d (time %0t ns): signal mcu_rdata expected 0x%0h got 0x%0h at MCU address %0d",
                                  cycle, $time, $tooltouch_expected(model, first, mcu_addr), mcu_rdata, mcu_addr);
                     else

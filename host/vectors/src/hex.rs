@@ -91,7 +91,7 @@ impl Word {
 }
 
 /// Output values of every field, in [`output_fields`] order.
-type OutputValues = [u64; 15];
+type OutputValues = [u64; MeasureOutputs::FIELD_COUNT];
 
 /// The expected response of a run: one `(cycle, outputs)` entry for clock 0 and for every
 /// later clock after which an output changed, and the front end after the last clock.

@@ -147,7 +147,7 @@ pub(crate) fn golden_changes(
     let total = stimulus.total_cycles();
     let end = end.unwrap_or(total).min(total);
     let mut last_pins: Option<Pins> = None;
-    let mut last_out: Option<[u64; 15]> = None;
+    let mut last_out: Option<[u64; MeasureOutputs::FIELD_COUNT]> = None;
     let mut changes: Vec<(usize, u64)> = Vec::new();
     let mut error = None;
     // Pin changes at segment starts and output changes at clocked clocks, merged by

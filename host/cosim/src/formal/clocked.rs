@@ -17,7 +17,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use tooltouch_hdl_gen::{mask, output_fields, MCU_REGISTERS, TESTBENCH};
 use tooltouch_model::measure::frontend::{FrontEnd, Pins};
-use tooltouch_model::MeasureConfig;
+use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 /// File the replay testbench prints to: per clock `frame mcu_rdata output…` in hex.
 pub const REPLAY_TEXT: &str = "replay.txt";
@@ -61,7 +61,12 @@ impl std::fmt::Display for ClockedMismatch {
 /// ([`tooltouch_hdl_gen::output_values`] order), as the register map defines it:
 /// positions sign-extended from `scale_bits`, counts zero-extended, the diagnostic
 /// counters 0 unless `diagnostics`, an unlisted address 0.
-pub fn mcu_word(config: &MeasureConfig, values: &[u64; 15], addr: u32, diagnostics: bool) -> u32 {
+pub fn mcu_word(
+    config: &MeasureConfig,
+    values: &[u64; MeasureOutputs::FIELD_COUNT],
+    addr: u32,
+    diagnostics: bool,
+) -> u32 {
     let fields = output_fields(config);
     let v = |name: &str| {
         fields
@@ -310,7 +315,7 @@ mod tests {
             mcu_addr: vec![0, 0, 10],
             rst: vec![false, true, false],
         };
-        let zeros = vec!["0"; 15].join(" ");
+        let zeros = vec!["0"; MeasureOutputs::FIELD_COUNT].join(" ");
         // density_armed is 1 after reset: the outputs line must carry it.
         let fields = output_fields(&c);
         let line = |f: usize, rdata: &str| {
