@@ -44,7 +44,7 @@ pub struct Args {
     pub sweep_values: Option<Vec<f64>>,
     /// The settings' flags (as `measure`; `--seed` seeds the simulation).
     #[command(flatten)]
-    pub flags: Box<super::measure::SettingFlags>,
+    pub flags: super::setting_flags::SettingFlags,
 }
 
 fn fmt_outcome(o: &Outcome, sim: Option<&Simulated>, m: u32) -> String {

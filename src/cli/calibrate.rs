@@ -49,7 +49,7 @@ pub struct Args {
     pub residuals: u32,
     /// The settings' flags (as `measure`).
     #[command(flatten)]
-    pub flags: Box<super::measure::SettingFlags>,
+    pub flags: super::setting_flags::SettingFlags,
 }
 
 /// Runs `tooltouch calibrate`.

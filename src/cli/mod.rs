@@ -57,6 +57,7 @@ pub mod measure;
 pub mod ranges;
 pub mod run_settings;
 pub mod run_tables;
+pub mod setting_flags;
 pub mod tune;
 pub mod vectors;
 pub mod wear;

@@ -7,6 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
+use tooltouch_plot::pareto::ParetoPoint;
 use tooltouch_tune::{self as tune, output, Overrides, Shard, SweepSpec};
 use tooltouch_vectors::output::OutputFolder;
 
@@ -389,8 +390,28 @@ fn write_folder(results: &tune::Results, dir: &std::path::Path) -> Result<()> {
         dir,
         [output::JSON, output::CSV, output::FORCE_CSV, output::SVG],
     )?;
-    output::write(results, out.staging())?;
+    write_files(results, out.staging())?;
     out.commit()?;
+    Ok(())
+}
+
+/// Writes a sweep's files into `dir`: the tables ([`output::write`]) and, for a whole
+/// sweep, `pareto.svg` ([`tooltouch_plot::pareto`]).
+pub fn write_files(results: &tune::Results, dir: &std::path::Path) -> Result<()> {
+    output::write(results, dir)?;
+    if let Some(rows) = output::pareto_rows(results) {
+        let points: Vec<ParetoPoint> = rows
+            .iter()
+            .map(|&(r, error_um)| ParetoPoint {
+                method: r.method.as_str(),
+                logic_cells: r.logic_cells,
+                // An error below 1 nm is drawn at 1 nm, on the log axis.
+                error_um: error_um.max(1e-3),
+                on_front: r.pareto,
+            })
+            .collect();
+        tooltouch_plot::pareto::pareto(&points, &dir.join(output::SVG))?;
+    }
     Ok(())
 }
 

@@ -10,7 +10,7 @@ use tooltouch_model::force::control::adaptive::DEFAULT_ADAPTIVE;
 use tooltouch_model::force::control::fuzzy::DEFAULT_FUZZY;
 use tooltouch_model::force::control::pi::DEFAULT_PI;
 use tooltouch_model::force::control::{
-    clamp_override, Controller, ControllerSettings, ForceController, PiSettings,
+    clamp_override, Controller, ControllerSettings, ForceController,
 };
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
@@ -534,6 +534,42 @@ fn estimator_converges_on_a_constant_torque_plant() {
 
 #[test]
 fn pi_settings_from_the_design_are_valid() {
-    let s = PiSettings { ..DEFAULT_PI };
-    s.validate().unwrap();
+    use tooltouch_model::force::config::ForceSource;
+    use tooltouch_plant::drive::kienzle::KienzleProcess;
+    use tooltouch_plant::drive::scenario::{kienzle_settings, scenario_settings, ControllerKind};
+    use tooltouch_plant::reference::design::{pi_settings, NominalProcess};
+    // The Ziegler–Nichols design on the nominal F10, and the PI of every scenario built on it.
+    let (kp, ki) = NominalProcess::default().ziegler_nichols_pi();
+    let designed = pi_settings(kp, ki);
+    designed.validate().unwrap();
+    let kienzle = KienzleProcess::default();
+    for source in [ForceSource::Estimated, ForceSource::Measured] {
+        for settings in [
+            scenario_settings(ControllerKind::Pi, source),
+            kienzle_settings(ControllerKind::Pi, source, &kienzle),
+        ] {
+            let ControllerSettings::Pi(pi) = settings.controller else {
+                panic!("a PI scenario without a PI: {:?}", settings.controller);
+            };
+            assert_eq!(pi, designed);
+            pi.validate().unwrap();
+            settings.validate().unwrap();
+        }
+    }
+    // The design on other nominal processes, and scaled as the force sweep's
+    // `kp_percent`/`ki_percent` scale it (its defaults 50..=200 %), stays inside the PI's
+    // ranges.
+    for (ks, tau_p) in [(500.0, 0.02), (2000.0, 0.08), (6000.0, 0.5)] {
+        let (kp, ki) = NominalProcess {
+            ks,
+            tau_p,
+            ..NominalProcess::default()
+        }
+        .ziegler_nichols_pi();
+        for scale in [0.5, 1.0, 2.0] {
+            let s = pi_settings(kp * scale, ki * scale);
+            s.validate()
+                .unwrap_or_else(|e| panic!("K_s {ks}, τ_p {tau_p}, ×{scale}: {e}"));
+        }
+    }
 }

@@ -2,6 +2,7 @@
 //! bad sweep specifications are errors naming the parameter.
 
 use std::process::Command;
+use tooltouch::cli::tune::write_files;
 use tooltouch_tune::scenario::ApproachSettings;
 use tooltouch_tune::{self as tune, output, Overrides, Shard, SweepSpec};
 
@@ -58,15 +59,15 @@ fn sharded_and_merged_equals_unsharded() {
     let mut dirs = Vec::new();
     for (k, p) in parts.iter().enumerate() {
         let d = dir.path().join(format!("shard{k}"));
-        output::write(p, &d).unwrap();
+        write_files(p, &d).unwrap();
         dirs.push(d);
     }
     let read: Vec<_> = dirs.iter().map(|d| output::read(d).unwrap()).collect();
     let merged = tune::merge(&read).unwrap();
     assert_eq!(merged, whole);
     let (a, b) = (dir.path().join("whole"), dir.path().join("merged"));
-    output::write(&whole, &a).unwrap();
-    output::write(&merged, &b).unwrap();
+    write_files(&whole, &a).unwrap();
+    write_files(&merged, &b).unwrap();
     for f in [output::JSON, output::CSV, output::FORCE_CSV, output::SVG] {
         let x = std::fs::read(a.join(f)).unwrap();
         assert!(!x.is_empty(), "{f}");

@@ -1,6 +1,7 @@
 //! The layering check of `cargo xtask test` (docs/architecture.md): no import cycle between the
 //! source files of any crate, and no library crate (nor the Python package) depending on the
-//! `tooltouch` command-line crate.
+//! `tooltouch` command-line crate, and no crate of the command line's alone ([`NOT_IN_THE_WHEEL`]:
+//! plots, argument parsing, progress bars) in the Python wheel's dependencies.
 //!
 //! An import is a path through `crate::` or `super::` (in a `use`, a `use` group or an
 //! expression) that names an item of another file of the same crate; a file's `#[cfg(test)]`
@@ -45,10 +46,15 @@ pub fn run(root: &Path) -> Result<()> {
         }
     }
     problems.extend(cli_dependents(root)?);
+    problems.extend(wheel_compiles(root)?);
     if !problems.is_empty() {
         bail!("{}", problems.join("\n"));
     }
-    println!("imports: no cycle; no library depends on the command line");
+    println!(
+        "imports: no cycle; no library depends on the command line; the Python wheel compiles \
+         none of {}",
+        NOT_IN_THE_WHEEL.join(", ")
+    );
     Ok(())
 }
 
@@ -74,6 +80,114 @@ fn cli_dependents(root: &Path) -> Result<Vec<String>> {
         }
     }
     Ok(out)
+}
+
+/// Crates the Python wheel (python/Cargo.toml) must not compile: the command line's plots,
+/// argument parsing and progress bars.
+pub const NOT_IN_THE_WHEEL: [&str; 3] = ["plotters", "clap", "indicatif"];
+
+/// Each [`NOT_IN_THE_WHEEL`] crate that a workspace crate the wheel compiles names as a
+/// normal dependency (`[dependencies]`, `[target.*.dependencies]`; dev- and build-
+/// dependencies are not linked), following path dependencies from python/Cargo.toml.
+/// Read from the manifests: no build, no registry. Third-party crates are not opened (the
+/// workspace's own dependencies are where a plot or a parser would come in).
+fn wheel_compiles(root: &Path) -> Result<Vec<String>> {
+    let root_manifest = root.join("Cargo.toml");
+    let text = std::fs::read_to_string(&root_manifest)
+        .with_context(|| format!("reading {}", root_manifest.display()))?;
+    let workspace: BTreeMap<String, PathBuf> =
+        section_dependencies(&text, "workspace.dependencies")
+            .into_iter()
+            .filter_map(|(name, path)| Some((name, root.join(path?))))
+            .collect();
+    let mut seen = BTreeSet::new();
+    let mut todo = vec![root.join("python")];
+    let mut out = Vec::new();
+    while let Some(dir) = todo.pop() {
+        if !seen.insert(dir.clone()) {
+            continue;
+        }
+        let manifest = dir.join("Cargo.toml");
+        let text = std::fs::read_to_string(&manifest)
+            .with_context(|| format!("reading {}", manifest.display()))?;
+        for (name, path) in normal_dependencies(&text) {
+            if NOT_IN_THE_WHEEL.contains(&name.as_str()) {
+                out.push(format!(
+                    "the Python wheel compiles `{name}`: {} depends on it",
+                    manifest.display()
+                ));
+            }
+            match path {
+                Some(p) => todo.push(dir.join(p)),
+                None => todo.extend(workspace.get(&name).cloned()),
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The normal dependencies of a manifest's text: `(name, path)`.
+fn normal_dependencies(text: &str) -> Vec<(String, Option<String>)> {
+    let mut out = section_dependencies(text, "dependencies");
+    for header in text.lines().filter_map(section_name) {
+        if header.starts_with("target.") && header.ends_with(".dependencies") {
+            out.extend(section_dependencies(text, header));
+        }
+        // `[dependencies.name]`: one dependency as a table.
+        if let Some(name) = header.strip_prefix("dependencies.") {
+            out.push((name.trim().to_string(), table_path(text, header)));
+        }
+    }
+    out
+}
+
+/// The name of a `[section]` header line.
+fn section_name(line: &str) -> Option<&str> {
+    let line = line.split('#').next().unwrap_or("").trim();
+    line.strip_prefix('[')?.strip_suffix(']').map(str::trim)
+}
+
+/// The `(name, path)` of each key of the manifest section `[name]` (`a = "1"`,
+/// `a.workspace = true`, `a = { path = "x" }`).
+fn section_dependencies(text: &str, section: &str) -> Vec<(String, Option<String>)> {
+    let mut inside = false;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        if let Some(name) = section_name(line) {
+            inside = name == section;
+            continue;
+        }
+        let line = line.split('#').next().unwrap_or("").trim();
+        if !inside || line.is_empty() {
+            continue;
+        }
+        let key = line.split(['=', '.']).next().unwrap_or("").trim();
+        if !key.is_empty() {
+            out.push((key.trim_matches('"').to_string(), path_in(line)));
+        }
+    }
+    out
+}
+
+/// The `path = "…"` of the table `[header]`.
+fn table_path(text: &str, header: &str) -> Option<String> {
+    let mut inside = false;
+    for line in text.lines() {
+        if let Some(name) = section_name(line) {
+            inside = name == header;
+        } else if inside && line.trim_start().starts_with("path") {
+            return path_in(line);
+        }
+    }
+    None
+}
+
+/// The string after `path =` in a manifest line.
+fn path_in(line: &str) -> Option<String> {
+    let at = line.find("path")?;
+    let rest = line[at + 4..].trim_start().strip_prefix('=')?.trim_start();
+    let rest = rest.strip_prefix('"')?;
+    Some(rest[..rest.find('"')?].to_string())
 }
 
 /// The module path of a source file relative to its crate's `src/`.
@@ -324,6 +438,36 @@ mod tests {
     #[test]
     fn the_workspace_has_no_import_cycle_and_no_library_on_the_cli() {
         run(&crate::process::root()).unwrap();
+    }
+
+    #[test]
+    fn a_plotting_dependency_of_the_wheel_is_found_through_path_dependencies() {
+        let dir = crate_of(&[
+            (
+                "Cargo.toml",
+                "[workspace.dependencies]\nlib-b = { path = \"b\" }\nclap = \"4\"\n",
+            ),
+            (
+                "python/Cargo.toml",
+                "[package]\nname = \"py\"\n[dependencies]\nlib-a = { path = \"../a\" }\n",
+            ),
+            (
+                "a/Cargo.toml",
+                "[dependencies]\nlib-b.workspace = true\n[dev-dependencies]\nclap = \"4\"\n",
+            ),
+            (
+                "b/Cargo.toml",
+                "[target.'cfg(unix)'.dependencies]\nindicatif = \"0.17\"\n[dependencies.plotters]\nversion = \"0.3\"\n",
+            ),
+        ]);
+        let found = wheel_compiles(dir.path()).unwrap();
+        assert_eq!(found.len(), 2, "{found:?}");
+        assert!(
+            found.iter().all(|f| f.contains("b/Cargo.toml")),
+            "{found:?}"
+        );
+        assert!(found.iter().any(|f| f.contains("`indicatif`")), "{found:?}");
+        assert!(found.iter().any(|f| f.contains("`plotters`")), "{found:?}");
     }
 
     #[test]

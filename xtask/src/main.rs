@@ -56,7 +56,8 @@ verbs:
   bench        speed table: model (plain, fast-forward, event level) vs Verilator and Icarus
                (--criterion: also every criterion bench)
   imports      the layering check: no import cycle between the files of any crate, no
-               library crate depending on the command line (docs/architecture.md)
+               library crate depending on the command line, no plotting, argument parsing
+               or progress bar in the Python wheel (docs/architecture.md)
   mutants      mutation testing (cargo-mutants, installed when missing) of the model against
                its unit tests and of firmware/src/handlers.rs against its host tests; score
                per file (--file F, repeatable: only these files); not part of `test`

@@ -775,16 +775,10 @@ fn refusal(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> Optio
 /// large by up to 60 % (docs/accuracy.md).
 pub const SLOW_TO_FEED_LIMIT: f64 = 0.4;
 
-/// The budget of `variant` on the settings `config` and `scenario`.
-pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> Outcome {
-    if let Some(reason) = refusal(config, s, variant) {
-        return Outcome::Refused { variant, reason };
-    }
-    let model = SurfaceModel::new(s, s.repeating_mismatch, true);
-    let unloaded = SurfaceModel::new(s, s.repeating_mismatch, false);
-    let matched = SurfaceModel::new(s, 0.0, false);
+/// The spindle path term's detail: its loads and what they make of the path.
+fn path_detail(s: &LatheScenario) -> String {
     let path = s.spindle_path.difference(s.rpm);
-    let path_detail = if s.spindle_path.loads {
+    if s.spindle_path.loads {
         format!(
             "supports b {} mm, a {} mm, play {} µm; F_p {} N machining only, belt {} N, \
              unbalance {:.1} N machining / {:.1} N measuring: offset {:+.3} µm, \
@@ -801,7 +795,243 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
         )
     } else {
         "no loads (`loads = false`): the measuring path is the machining path".to_string()
+    }
+}
+
+/// The decided diameter's moments of `variant`'s approaches, with or without the slow
+/// errors, over the phases of [`slow_samples`]; contact is possible from revolution
+/// `first_rev`, the approach gives up after `max_revs`.
+fn approach_moments(
+    config: &MeasureConfig,
+    s: &LatheScenario,
+    variant: Variant,
+    model: &SurfaceModel,
+    approach: Approach,
+    (first_rev, max_revs): (u64, u64),
+    with_slow: bool,
+) -> Moments {
+    let samples = slow_samples(s, with_slow);
+    let parts: Vec<Moments> = match variant.method {
+        DecisionMethod::Counter => {
+            let w = u32::from(config.settings().window_revs);
+            let points = pulse_points(model, config.pulses_per_rev(), variant.rule);
+            samples
+                .iter()
+                .map(|slow| {
+                    counter_moments(
+                        &points,
+                        approach,
+                        slow,
+                        w,
+                        config.settings().i_def,
+                        first_rev / u64::from(w),
+                        max_revs.div_ceil(u64::from(w)),
+                    )
+                })
+                .collect()
+        }
+        _ => samples
+            .iter()
+            .map(|slow| single_pulse_moments(model, approach, slow, first_rev, max_revs))
+            .collect(),
     };
+    Moments::combine(&parts)
+}
+
+/// What the bias terms of a variant are computed from.
+struct BiasInputs<'a> {
+    config: &'a MeasureConfig,
+    s: &'a LatheScenario,
+    variant: Variant,
+    /// The seen surface, with the spindle path's loads.
+    model: &'a SurfaceModel,
+    /// The seen surface without the loads.
+    unloaded: &'a SurfaceModel,
+    /// The surface with the per-revolution errors matched (no trajectory mismatch).
+    matched: &'a SurfaceModel,
+    approach: Approach,
+    /// The decided diameter's moments with the slow errors, and without.
+    full: Moments,
+    still: Moments,
+}
+
+/// A variant's bias terms: what it reads, the lag of its decision (revolutions) and the
+/// terms.
+struct Biases {
+    reference: Reference,
+    lag_revs: f64,
+    terms: Vec<Term>,
+}
+
+/// The pulse counter's bias terms: the share level, then what moves the decision off it.
+fn counter_biases(b: &BiasInputs) -> Biases {
+    let BiasInputs {
+        config,
+        s,
+        variant,
+        model,
+        unloaded,
+        matched,
+        approach,
+        full,
+        still,
+    } = *b;
+    let mut terms = Vec::new();
+    let w = u32::from(config.settings().window_revs);
+    let i_def = config.settings().i_def;
+    let share = (f64::from(i_def) + 1.0) / f64::from(config.window_pulses());
+    let n = config.pulses_per_rev();
+    let level_matched = static_level(&pulse_points(matched, n, ContactRule::Sampled), w, i_def);
+    let level_unloaded = static_level(&pulse_points(unloaded, n, ContactRule::Sampled), w, i_def);
+    let level_seen = static_level(&pulse_points(model, n, ContactRule::Sampled), w, i_def);
+    let level_rule = static_level(&pulse_points(model, n, variant.rule), w, i_def);
+    let lag_revs = (level_rule - still.mean) / approach.feed;
+    terms.push(Term {
+        name: "share level",
+        formula: "S9",
+        kind: TermKind::Bias,
+        value_um: 2.0 * level_matched,
+        detail: format!(
+            "the level where {:.1} % of the revolution is in contact ((i_def + 1)/{} \
+             pulses), form and roughness, against the mean",
+            100.0 * share,
+            config.window_pulses()
+        ),
+    });
+    terms.push(Term {
+        name: "trajectory mismatch",
+        formula: "Δ1 (E)",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (level_unloaded - level_matched),
+        detail: format!(
+            "repeating_mismatch {} of the per-revolution errors changes the seen \
+             surface's share level",
+            s.repeating_mismatch
+        ),
+    });
+    terms.push(Term {
+        name: "spindle path from its loads",
+        formula: "Δ1 (E, Fig. 1)",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (level_seen - level_unloaded),
+        detail: path_detail(s),
+    });
+    terms.push(Term {
+        name: "contact rule",
+        formula: "S9, rule",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (level_rule - level_seen),
+        detail: match variant.rule {
+            ContactRule::Sampled => "sampled: the level at each FES edge".into(),
+            ContactRule::Sticky => {
+                "sticky: a pulse counts if contact touched any part of it".into()
+            }
+        },
+    });
+    terms.push(Term {
+        name: "decision lag",
+        formula: "lag × f_r",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (still.mean - level_rule),
+        detail: format!(
+            "{lag_revs:.2} rev × {:.4} µm/rev: the window that completes the count \
+             comes after the level is crossed (start {:.2} µm above R0, windows of {w} rev)",
+            approach.feed, approach.home
+        ),
+    });
+    terms.push(Term {
+        name: "slow errors, first window up",
+        formula: "S10",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (full.mean - still.mean),
+        detail: "the first window to reach the share is more often one the slow \
+                 errors lift"
+            .into(),
+    });
+    Biases {
+        reference: Reference::Mean,
+        lag_revs,
+        terms,
+    }
+}
+
+/// The first contact's bias terms: the largest diameter, then what moves the contact off it.
+fn largest_biases(b: &BiasInputs) -> Biases {
+    let BiasInputs {
+        s,
+        model,
+        unloaded,
+        approach,
+        full,
+        still,
+        ..
+    } = *b;
+    let true_largest = SurfaceModel::expected_max(&model.truth, model.sigma);
+    let seen_largest = SurfaceModel::expected_max(&model.seen, model.sigma);
+    let unloaded_largest = SurfaceModel::expected_max(&unloaded.seen, unloaded.sigma);
+    let mut terms = Vec::new();
+    let lag_revs = (seen_largest - still.mean) / approach.feed;
+    terms.push(Term {
+        name: "largest diameter read",
+        formula: "S4",
+        kind: TermKind::Bias,
+        value_um: 0.0,
+        detail: format!(
+            "Δ_f = e + Δφ: the first contact reads the largest diameter, {:+.2} µm \
+             from the mean (form and roughness)",
+            2.0 * true_largest
+        ),
+    });
+    terms.push(Term {
+        name: "trajectory mismatch",
+        formula: "Δ1 (E)",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (unloaded_largest - true_largest),
+        detail: format!(
+            "repeating_mismatch {}: the largest seen radius against the true one",
+            s.repeating_mismatch
+        ),
+    });
+    terms.push(Term {
+        name: "spindle path from its loads",
+        formula: "Δ1 (E, Fig. 1)",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (seen_largest - unloaded_largest),
+        detail: path_detail(s),
+    });
+    terms.push(Term {
+        name: "feed step",
+        formula: "S5",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (still.mean - seen_largest),
+        detail: format!(
+            "Δf = k·f_r,min/n = {:.4} µm per revolution: the first contact comes \
+             {lag_revs:.2} rev after the tool passes the largest radius",
+            approach.feed
+        ),
+    });
+    terms.push(Term {
+        name: "slow errors, e at first contact",
+        formula: "S4 (e), S10",
+        kind: TermKind::Bias,
+        value_um: 2.0 * (full.mean - still.mean),
+        detail: "the first contact comes where the slow errors lift the surface".into(),
+    });
+    Biases {
+        reference: Reference::Largest,
+        lag_revs,
+        terms,
+    }
+}
+
+/// The budget of `variant` on the settings `config` and `scenario`.
+pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> Outcome {
+    if let Some(reason) = refusal(config, s, variant) {
+        return Outcome::Refused { variant, reason };
+    }
+    let model = SurfaceModel::new(s, s.repeating_mismatch, true);
+    let unloaded = SurfaceModel::new(s, s.repeating_mismatch, false);
+    let matched = SurfaceModel::new(s, 0.0, false);
     let approach = Approach::new(s);
     let res = s.scale_resolution_um;
     let quantization = 2.0 * res / 12f64.sqrt();
@@ -815,36 +1045,17 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
     let first_rev = ((approach.home - reach) / approach.feed).floor().max(0.0) as u64;
     let max_revs = u64::from(s.cycle.max_approach_revs);
     let true_largest = SurfaceModel::expected_max(&model.truth, model.sigma);
-    let seen_largest = SurfaceModel::expected_max(&model.seen, model.sigma);
-    let unloaded_largest = SurfaceModel::expected_max(&unloaded.seen, unloaded.sigma);
     let slow_closed = 2.0 * slow_sigma_closed_form(s);
-    let moments = |with_slow: bool| -> Moments {
-        let samples = slow_samples(s, with_slow);
-        let parts: Vec<Moments> = match variant.method {
-            DecisionMethod::Counter => {
-                let w = u32::from(config.settings().window_revs);
-                let points = pulse_points(&model, config.pulses_per_rev(), variant.rule);
-                samples
-                    .iter()
-                    .map(|slow| {
-                        counter_moments(
-                            &points,
-                            approach,
-                            slow,
-                            w,
-                            config.settings().i_def,
-                            first_rev / u64::from(w),
-                            max_revs.div_ceil(u64::from(w)),
-                        )
-                    })
-                    .collect()
-            }
-            _ => samples
-                .iter()
-                .map(|slow| single_pulse_moments(&model, approach, slow, first_rev, max_revs))
-                .collect(),
-        };
-        Moments::combine(&parts)
+    let moments = |with_slow| {
+        approach_moments(
+            config,
+            s,
+            variant,
+            &model,
+            approach,
+            (first_rev, max_revs),
+            with_slow,
+        )
     };
     let (full, still) = (moments(true), moments(false));
     if full.undecided > 1e-3 {
@@ -866,137 +1077,25 @@ pub fn predict(config: &MeasureConfig, s: &LatheScenario, variant: Variant) -> O
         s.slow.iter().filter(|h| h.amplitude_um != 0.0).count(),
         PHASE_SAMPLES
     );
-    let mut terms = Vec::new();
-    let lag_revs;
-    let reference;
-    match variant.method {
-        DecisionMethod::Counter => {
-            reference = Reference::Mean;
-            let w = u32::from(config.settings().window_revs);
-            let i_def = config.settings().i_def;
-            let share = (f64::from(i_def) + 1.0) / f64::from(config.window_pulses());
-            let n = config.pulses_per_rev();
-            let level_matched =
-                static_level(&pulse_points(&matched, n, ContactRule::Sampled), w, i_def);
-            let level_unloaded =
-                static_level(&pulse_points(&unloaded, n, ContactRule::Sampled), w, i_def);
-            let level_seen = static_level(&pulse_points(&model, n, ContactRule::Sampled), w, i_def);
-            let level_rule = static_level(&pulse_points(&model, n, variant.rule), w, i_def);
-            lag_revs = (level_rule - still.mean) / approach.feed;
-            terms.push(Term {
-                name: "share level",
-                formula: "S9",
-                kind: TermKind::Bias,
-                value_um: 2.0 * level_matched,
-                detail: format!(
-                    "the level where {:.1} % of the revolution is in contact ((i_def + 1)/{} \
-                     pulses), form and roughness, against the mean",
-                    100.0 * share,
-                    config.window_pulses()
-                ),
-            });
-            terms.push(Term {
-                name: "trajectory mismatch",
-                formula: "Δ1 (E)",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (level_unloaded - level_matched),
-                detail: format!(
-                    "repeating_mismatch {} of the per-revolution errors changes the seen \
-                     surface's share level",
-                    s.repeating_mismatch
-                ),
-            });
-            terms.push(Term {
-                name: "spindle path from its loads",
-                formula: "Δ1 (E, Fig. 1)",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (level_seen - level_unloaded),
-                detail: path_detail,
-            });
-            terms.push(Term {
-                name: "contact rule",
-                formula: "S9, rule",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (level_rule - level_seen),
-                detail: match variant.rule {
-                    ContactRule::Sampled => "sampled: the level at each FES edge".into(),
-                    ContactRule::Sticky => {
-                        "sticky: a pulse counts if contact touched any part of it".into()
-                    }
-                },
-            });
-            terms.push(Term {
-                name: "decision lag",
-                formula: "lag × f_r",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (still.mean - level_rule),
-                detail: format!(
-                    "{lag_revs:.2} rev × {:.4} µm/rev: the window that completes the count \
-                     comes after the level is crossed (start {:.2} µm above R0, windows of {w} rev)",
-                    approach.feed, approach.home
-                ),
-            });
-            terms.push(Term {
-                name: "slow errors, first window up",
-                formula: "S10",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (full.mean - still.mean),
-                detail: "the first window to reach the share is more often one the slow \
-                         errors lift"
-                    .into(),
-            });
-        }
-        _ => {
-            reference = Reference::Largest;
-            lag_revs = (seen_largest - still.mean) / approach.feed;
-            terms.push(Term {
-                name: "largest diameter read",
-                formula: "S4",
-                kind: TermKind::Bias,
-                value_um: 0.0,
-                detail: format!(
-                    "Δ_f = e + Δφ: the first contact reads the largest diameter, {:+.2} µm \
-                     from the mean (form and roughness)",
-                    2.0 * true_largest
-                ),
-            });
-            terms.push(Term {
-                name: "trajectory mismatch",
-                formula: "Δ1 (E)",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (unloaded_largest - true_largest),
-                detail: format!(
-                    "repeating_mismatch {}: the largest seen radius against the true one",
-                    s.repeating_mismatch
-                ),
-            });
-            terms.push(Term {
-                name: "spindle path from its loads",
-                formula: "Δ1 (E, Fig. 1)",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (seen_largest - unloaded_largest),
-                detail: path_detail,
-            });
-            terms.push(Term {
-                name: "feed step",
-                formula: "S5",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (still.mean - seen_largest),
-                detail: format!(
-                    "Δf = k·f_r,min/n = {:.4} µm per revolution: the first contact comes \
-                     {lag_revs:.2} rev after the tool passes the largest radius",
-                    approach.feed
-                ),
-            });
-            terms.push(Term {
-                name: "slow errors, e at first contact",
-                formula: "S4 (e), S10",
-                kind: TermKind::Bias,
-                value_um: 2.0 * (full.mean - still.mean),
-                detail: "the first contact comes where the slow errors lift the surface".into(),
-            });
-        }
-    }
+    let inputs = BiasInputs {
+        config,
+        s,
+        variant,
+        model: &model,
+        unloaded: &unloaded,
+        matched: &matched,
+        approach,
+        full,
+        still,
+    };
+    let Biases {
+        reference,
+        lag_revs,
+        mut terms,
+    } = match variant.method {
+        DecisionMethod::Counter => counter_biases(&inputs),
+        _ => largest_biases(&inputs),
+    };
     terms.push(Term {
         name: "slow errors",
         formula: "S10",

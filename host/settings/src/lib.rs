@@ -1,6 +1,7 @@
 //! tooltouch's settings files: the one configuration every embodiment is built from.
 //!
 //! - this page: the settings of `tooltouch measure`;
+//! - [`flags`]: their command-line flags, declared once (name, field, help, how each applies);
 //! - [`load`]: the same file as `vectors`, `hdl` and the Python package read it;
 //! - [`firmware_config`]: the configuration both firmware images are built with;
 //! - [`force_design`] and [`values`]: force designs and the value lists specs sweep.
@@ -45,6 +46,7 @@
 //! naming the new one ([`old_spellings_in_toml`]).
 
 pub mod firmware_config;
+pub mod flags;
 pub mod force_design;
 pub mod load;
 pub mod values;

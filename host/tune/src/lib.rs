@@ -8,6 +8,10 @@
 //!
 //! A sweep is deterministic: every point is computed on its own from the spec, so a sweep
 //! split with [`Shard`]s and joined with [`merge`] gives exactly the unsharded result.
+//!
+//! Draws nothing and parses no command line (the Python package links it): the command
+//! line draws `pareto.svg` from [`output::pareto_rows`]; `cargo xtask imports` keeps
+//! plotters, clap and indicatif out of the wheel.
 
 pub mod cost;
 pub mod evaluate;

@@ -1,19 +1,19 @@
 //! Files of a sweep in `--out DIR`: `results.json` (everything, re-readable by `tune
 //! merge`), `results.csv` (one row per measurement point), `force.csv` (one row per
-//! force-control gain point) and `pareto.svg` (diameter error against logic cells, each
-//! method's Pareto front highlighted).
+//! force-control gain point); `pareto.svg` (diameter error against logic cells, each
+//! method's Pareto front highlighted) is drawn by the command line from [`pareto_rows`]
+//! (`tooltouch-plot`): this crate draws nothing, so the Python package links no plotting.
 
 use super::{Results, Row};
 use anyhow::{Context, Result};
 use serde::Serialize;
 use std::path::Path;
-use tooltouch_plot::pareto::ParetoPoint;
 
 /// `results.json`.
 pub const JSON: &str = "results.json";
 /// `results.csv`.
 pub const CSV: &str = "results.csv";
-/// `pareto.svg`.
+/// `pareto.svg` (drawn by the command line).
 pub const SVG: &str = "pareto.svg";
 /// `force.csv`.
 pub const FORCE_CSV: &str = "force.csv";
@@ -38,7 +38,7 @@ pub fn csv_table<T: Serialize + Default>(rows: &[T]) -> Result<String> {
     String::from_utf8(bytes).context("CSV text")
 }
 
-/// Writes `results.json`, `results.csv` and (for a whole sweep) `pareto.svg` into `dir`.
+/// Writes `results.json`, `results.csv` and `force.csv` into `dir`.
 pub fn write(results: &Results, dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let json = serde_json::to_string_pretty(results).context("encoding results")?;
@@ -50,9 +50,6 @@ pub fn write(results: &Results, dir: &Path) -> Result<()> {
     let p = dir.join(FORCE_CSV);
     std::fs::write(&p, csv_table(&results.force)?)
         .with_context(|| format!("writing {}", p.display()))?;
-    if results.shard.is_none() {
-        tooltouch_plot::pareto::pareto(&pareto_points(&results.rows), &dir.join(SVG))?;
-    }
     Ok(())
 }
 
@@ -69,18 +66,16 @@ pub fn read(path: &Path) -> Result<Results> {
         .with_context(|| format!("{}: not a tune results file", file.display()))
 }
 
-/// The points `pareto.svg` draws: those that missed no decision and have an error (an error
-/// below 1 nm drawn at 1 nm, on the log axis).
-fn pareto_points(rows: &[Row]) -> Vec<ParetoPoint<'_>> {
-    rows.iter()
-        .filter(|r| r.misses == 0)
-        .filter_map(|r| {
-            r.diameter_error_um.map(|e| ParetoPoint {
-                method: r.method.as_str(),
-                logic_cells: r.logic_cells,
-                error_um: e.max(1e-3),
-                on_front: r.pareto,
-            })
-        })
-        .collect()
+/// The rows `pareto.svg` draws, each with its diameter error, µm (none for a slice of a
+/// sweep: its front is not the whole sweep's): those that missed no decision and have an
+/// error.
+pub fn pareto_rows(results: &Results) -> Option<Vec<(&Row, f64)>> {
+    results.shard.is_none().then(|| {
+        results
+            .rows
+            .iter()
+            .filter(|r| r.misses == 0)
+            .filter_map(|r| r.diameter_error_um.map(|e| (r, e)))
+            .collect()
+    })
 }

@@ -9,9 +9,10 @@
 //! short of the filter: rejected) or `glitch_cycles + 1` (just passing) between two
 //! changes. A bin that cannot be hit at this configuration says why instead of a count.
 
-use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
+use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
 use tooltouch_model::measure::events::MeasureEvent;
-use tooltouch_model::measure::frontend::{pin, Pins};
+use tooltouch_model::measure::frontend::{pin, Edges, Pins};
+use tooltouch_model::measure::outputs::MeasureOutputs as Outputs;
 use tooltouch_model::{FrontEnd, MeasureConfig, Measurement};
 use tooltouch_plant::stimulus::Stimulus;
 
@@ -94,481 +95,522 @@ impl Coverage {
     }
 }
 
-/// Bin indexes, in report order.
-#[derive(Clone, Copy)]
-enum B {
-    FirstPulseDecision,
-    LastPulseDecision,
-    EndBelow,
-    EndAt,
-    EndAbove,
-    CountSaturated,
-    StickyBetween,
-    StickyReloadDisarmed,
-    FesDisarmed,
-    FireMinus,
-    FireAt,
-    FirePlus,
-    RearmMinus,
-    RearmAt,
-    RearmPlus,
-    ChargeFull,
-    ChargeEmpty,
-    ExpStepFull,
-    ExpStepEmpty,
-    DensityDecision,
-    SinglePulseDecision,
-    FirstContact,
-    ArmClearsLatches,
-    ArmRiseMidWindow,
-    ArmFallMidWindow,
-    ScaleError,
-    ScaleErrorsSaturated,
-    PositionWrap,
-    PulsesWrap,
-    RevolutionsSaturated,
-    Reset,
+/// The figures of a configuration that bins are named and judged by.
+struct Figures {
+    /// The settings.
+    s: MeasureSettings,
+    /// Pulses per counting window.
+    window: u32,
+    /// Full-scale charge, LSBs.
+    full: u32,
+    /// Density fire threshold, LSBs.
+    fire: u32,
+    /// Density re-arm threshold, LSBs.
+    rearm: u32,
+    /// Glitch filter length, clocks.
+    g: u64,
+    /// The sticky contact rule.
+    sticky: bool,
+    /// The exponential charge law.
+    exp: bool,
+}
+
+impl Figures {
+    fn of(config: &MeasureConfig) -> Figures {
+        let s = *config.settings();
+        Figures {
+            s,
+            window: config.window_pulses(),
+            full: config.full_charge(),
+            fire: s.fire_threshold,
+            rearm: s.rearm_threshold,
+            g: u64::from(s.glitch_cycles),
+            sticky: s.contact_rule == ContactRule::Sticky,
+            exp: matches!(s.charge_law, ChargeLaw::Exponential { .. }),
+        }
+    }
+}
+
+/// A bin's applicability: applicable when `cond` holds, else not, for the reason `why`.
+fn needs(cond: bool, why: &'static str) -> Option<&'static str> {
+    (!cond).then_some(why)
+}
+
+/// One event bin, declared once: its group, its name and why it may not apply.
+struct BinSpec {
+    /// Its group.
+    group: &'static str,
+    /// Its name at a configuration.
+    name: fn(&Figures) -> String,
+    /// Why it cannot be hit at a configuration (`None`: it can).
+    not_applicable: fn(&Figures) -> Option<&'static str>,
+}
+
+/// Declares the event bins: the index enum `B` and the table [`EVENT_BINS`] in one order.
+macro_rules! event_bins {
+    ($($(#[$attr:meta])* $bin:ident: $group:expr, $name:expr, $na:expr;)*) => {
+        /// Event bin indexes, in report order (that of [`EVENT_BINS`]).
+        #[derive(Clone, Copy)]
+        enum B {
+            $($(#[$attr])* $bin,)*
+        }
+        /// The bins hit by the model's events, in report order.
+        const EVENT_BINS: &[BinSpec] = &[$(BinSpec {
+            group: $group,
+            name: $name,
+            not_applicable: $na,
+        },)*];
+    };
+}
+
+const PC: &str = "pulse counter";
+const CT: &str = "contact rule";
+const DD: &str = "density detector";
+const DE: &str = "decision";
+const AR: &str = "arm";
+const SC: &str = "scale and counters";
+
+event_bins! {
+    FirstPulseDecision: PC,
+        |_| "count exceeds i_def on the first pulse of a window".into(),
+        |f| needs(f.s.i_def == 0, "needs i_def = 0");
+    LastPulseDecision: PC,
+        |_| "count exceeds i_def on the last pulse of a window".into(),
+        |_| None;
+    EndBelow: PC,
+        |f| format!("window ends with count i_def - 1 = {}", f.s.i_def.wrapping_sub(1)),
+        |f| needs(f.s.i_def > 0, "i_def = 0");
+    EndAt: PC,
+        |f| format!("window ends with count i_def = {}", f.s.i_def),
+        |_| None;
+    EndAbove: PC,
+        |f| format!("window ends with count i_def + 1 = {}", f.s.i_def + 1),
+        |_| None;
+    CountSaturated: PC,
+        |f| format!("contact pulse with the count saturated at {}", f.window),
+        |_| None;
+    StickyBetween: CT,
+        |_| "pulse counts a contact seen only between pulses".into(),
+        |f| needs(f.sticky, "sampled rule");
+    StickyReloadDisarmed: CT,
+        |_| "sticky bit reloaded by a pulse while disarmed".into(),
+        |f| needs(f.sticky, "sampled rule");
+    FesDisarmed: CT, |_| "FES pulse while disarmed".into(), |_| None;
+    FireMinus: DD,
+        |f| format!("charge fire_threshold - 1 = {} while armed", f.fire - 1),
+        |f| needs(f.fire > 1 && f.fire - 1 > f.rearm, "fire_threshold - 1 is the re-arm level");
+    FireAt: DD,
+        |f| format!("charge reaches fire_threshold = {} while armed (fires)", f.fire),
+        |_| None;
+    FirePlus: DD,
+        |f| format!("charge fire_threshold + 1 = {}", f.fire + 1),
+        |f| needs(f.fire < f.full, "fire_threshold is full scale");
+    RearmMinus: DD,
+        |f| format!(
+            "charge rearm_threshold - 1 = {} while fired (re-arms)",
+            f.rearm.wrapping_sub(1)
+        ),
+        |f| needs(f.rearm > 0, "rearm_threshold = 0");
+    RearmAt: DD,
+        |f| format!("charge rearm_threshold = {} while fired (stays fired)", f.rearm),
+        |_| None;
+    RearmPlus: DD,
+        |f| format!("charge rearm_threshold + 1 = {}", f.rearm + 1),
+        |_| None;
+    ChargeFull: DD,
+        |f| format!("contact pulse with the charge at full scale {}", f.full),
+        |_| None;
+    ChargeEmpty: DD, |_| "pulse without contact with the charge at 0".into(), |_| None;
+    ExpStepFull: DD,
+        |_| "exponential charge step of 1 LSB near full scale".into(),
+        |f| needs(f.exp, "linear law");
+    ExpStepEmpty: DD,
+        |_| "exponential discharge step of 1 LSB near 0".into(),
+        |f| needs(f.exp, "linear law");
+    DensityDecision: DE,
+        |_| "decision when the charge fires".into(),
+        |f| needs(f.s.method == DecisionMethod::Density, "not the density method");
+    SinglePulseDecision: DE,
+        |_| "decision at the first contact".into(),
+        |f| needs(f.s.method == DecisionMethod::SinglePulse, "not the single-pulse method");
+    FirstContact: DE, |_| "first contact latched".into(), |_| None;
+    ArmClearsLatches: AR, |_| "arm rising edge clears held latches".into(), |_| None;
+    ArmRiseMidWindow: AR, |_| "arm rises mid-window (counts to clear)".into(), |_| None;
+    ArmFallMidWindow: AR, |_| "arm falls mid-window (retract)".into(), |_| None;
+    ScaleError: SC, |_| "scale error (double change)".into(), |_| None;
+    ScaleErrorsSaturated: SC,
+        |_| "scale error with the error count saturated at 255".into(),
+        |_| None;
+    PositionWrap: SC, |f| format!("position wraps at {} bits", f.s.scale_bits), |_| None;
+    PulsesWrap: SC, |_| "FES pulse count wraps past 2^32 - 1".into(), |_| None;
+    RevolutionsSaturated: SC, |_| "revolutions held at 65535".into(), |_| None;
+    #[allow(dead_code)] // never hit: its bin is always n/a
+    Reset: SC,
+        |_| "reset mid-measurement".into(),
+        |_| Some("a pin stimulus has no reset: it is the testbench's `rst`");
 }
 
 const PAIR_NAMES: [&str; 5] = ["arm", "contact", "index", "FES", "scale"];
 
-/// The coverage of `stimulus` at `config`.
-pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
-    let s = *config.settings();
-    let window = config.window_pulses();
-    let full = config.full_charge();
-    let (fire, rearm) = (s.fire_threshold, s.rearm_threshold);
-    let g = u64::from(s.glitch_cycles);
-    let sticky = s.contact_rule == ContactRule::Sticky;
-    let exp = matches!(s.charge_law, ChargeLaw::Exponential { .. });
-    let method = s.method;
-    let na = |cond: bool, why: &str| (!cond).then(|| why.to_string());
-    let mut bins: Vec<Bin> = Vec::new();
-    fn add(bins: &mut Vec<Bin>, group: &'static str, name: String, why: Option<String>) {
-        bins.push(Bin {
-            group,
-            name,
-            hits: 0,
-            not_applicable: why,
-        })
-    }
-    let pc = "pulse counter";
-    add(
-        &mut bins,
-        pc,
-        "count exceeds i_def on the first pulse of a window".into(),
-        na(s.i_def == 0, "needs i_def = 0"),
-    );
-    add(
-        &mut bins,
-        pc,
-        "count exceeds i_def on the last pulse of a window".into(),
-        None,
-    );
-    add(
-        &mut bins,
-        pc,
-        format!(
-            "window ends with count i_def - 1 = {}",
-            s.i_def.wrapping_sub(1)
-        ),
-        na(s.i_def > 0, "i_def = 0"),
-    );
-    add(
-        &mut bins,
-        pc,
-        format!("window ends with count i_def = {}", s.i_def),
-        None,
-    );
-    add(
-        &mut bins,
-        pc,
-        format!("window ends with count i_def + 1 = {}", s.i_def + 1),
-        None,
-    );
-    add(
-        &mut bins,
-        pc,
-        format!("contact pulse with the count saturated at {window}"),
-        None,
-    );
-    let ct = "contact rule";
-    add(
-        &mut bins,
-        ct,
-        "pulse counts a contact seen only between pulses".into(),
-        na(sticky, "sampled rule"),
-    );
-    add(
-        &mut bins,
-        ct,
-        "sticky bit reloaded by a pulse while disarmed".into(),
-        na(sticky, "sampled rule"),
-    );
-    add(&mut bins, ct, "FES pulse while disarmed".into(), None);
-    let dd = "density detector";
-    add(
-        &mut bins,
-        dd,
-        format!("charge fire_threshold - 1 = {} while armed", fire - 1),
-        na(
-            fire > 1 && fire - 1 > rearm,
-            "fire_threshold - 1 is the re-arm level",
-        ),
-    );
-    add(
-        &mut bins,
-        dd,
-        format!("charge reaches fire_threshold = {fire} while armed (fires)"),
-        None,
-    );
-    add(
-        &mut bins,
-        dd,
-        format!("charge fire_threshold + 1 = {}", fire + 1),
-        na(fire < full, "fire_threshold is full scale"),
-    );
-    add(
-        &mut bins,
-        dd,
-        format!(
-            "charge rearm_threshold - 1 = {} while fired (re-arms)",
-            rearm.wrapping_sub(1)
-        ),
-        na(rearm > 0, "rearm_threshold = 0"),
-    );
-    add(
-        &mut bins,
-        dd,
-        format!("charge rearm_threshold = {rearm} while fired (stays fired)"),
-        None,
-    );
-    add(
-        &mut bins,
-        dd,
-        format!("charge rearm_threshold + 1 = {}", rearm + 1),
-        None,
-    );
-    add(
-        &mut bins,
-        dd,
-        format!("contact pulse with the charge at full scale {full}"),
-        None,
-    );
-    add(
-        &mut bins,
-        dd,
-        "pulse without contact with the charge at 0".into(),
-        None,
-    );
-    add(
-        &mut bins,
-        dd,
-        "exponential charge step of 1 LSB near full scale".into(),
-        na(exp, "linear law"),
-    );
-    add(
-        &mut bins,
-        dd,
-        "exponential discharge step of 1 LSB near 0".into(),
-        na(exp, "linear law"),
-    );
-    let de = "decision";
-    add(
-        &mut bins,
-        de,
-        "decision when the charge fires".into(),
-        na(method == DecisionMethod::Density, "not the density method"),
-    );
-    add(
-        &mut bins,
-        de,
-        "decision at the first contact".into(),
-        na(
-            method == DecisionMethod::SinglePulse,
-            "not the single-pulse method",
-        ),
-    );
-    add(&mut bins, de, "first contact latched".into(), None);
-    let ar = "arm";
-    add(
-        &mut bins,
-        ar,
-        "arm rising edge clears held latches".into(),
-        None,
-    );
-    add(
-        &mut bins,
-        ar,
-        "arm rises mid-window (counts to clear)".into(),
-        None,
-    );
-    add(&mut bins, ar, "arm falls mid-window (retract)".into(), None);
-    let sc = "scale and counters";
-    add(&mut bins, sc, "scale error (double change)".into(), None);
-    add(
-        &mut bins,
-        sc,
-        "scale error with the error count saturated at 255".into(),
-        None,
-    );
-    add(
-        &mut bins,
-        sc,
-        format!("position wraps at {} bits", s.scale_bits),
-        None,
-    );
-    add(
-        &mut bins,
-        sc,
-        "FES pulse count wraps past 2^32 - 1".into(),
-        None,
-    );
-    add(&mut bins, sc, "revolutions held at 65535".into(), None);
-    add(
-        &mut bins,
-        sc,
-        "reset mid-measurement".into(),
-        Some("a pin stimulus has no reset: it is the testbench's `rst`".into()),
-    );
-    let pairs_at = bins.len();
+/// Same-clock edge bins, one per pair of [`PAIR_NAMES`].
+const PAIRS: usize = PAIR_NAMES.len() * (PAIR_NAMES.len() - 1) / 2;
+
+/// Every bin of `f` with no hits, in report order: the event bins ([`EVENT_BINS`]), the
+/// same-clock pairs, then two glitch bins per pin.
+fn bins_of(f: &Figures) -> Vec<Bin> {
+    let bin = |group: &'static str, name: String, why: Option<&str>| Bin {
+        group,
+        name,
+        hits: 0,
+        not_applicable: why.map(str::to_string),
+    };
+    let mut bins: Vec<Bin> = EVENT_BINS
+        .iter()
+        .map(|b| bin(b.group, (b.name)(f), (b.not_applicable)(f)))
+        .collect();
     for (i, first) in PAIR_NAMES.iter().enumerate() {
         for second in &PAIR_NAMES[i + 1..] {
-            add(
-                &mut bins,
-                "same-clock edges",
-                format!("{first} + {second}"),
-                None,
-            );
+            bins.push(bin("same-clock edges", format!("{first} + {second}"), None));
         }
     }
-    let glitch_at = bins.len();
+    let g = f.g;
     for name in pin::NAMES {
-        add(
-            &mut bins,
+        bins.push(bin(
             "glitch filter",
             format!("{name}: pulse of glitch_cycles = {g} clocks (rejected)"),
-            na(g > 0, "glitch_cycles = 0"),
-        );
-        add(
-            &mut bins,
+            needs(g > 0, "glitch_cycles = 0"),
+        ));
+        bins.push(bin(
             "glitch filter",
             format!(
                 "{name}: pulse of glitch_cycles + 1 = {} clocks (passes)",
                 g + 1
             ),
             None,
-        );
+        ));
     }
+    bins
+}
 
-    let mut hit = |b: B| bins[b as usize].hits += 1;
-    let mut pair_hits = [0u64; 10];
-    let mut glitch_hits = [0u64; 2 * pin::COUNT];
-    // Own bookkeeping: armed pulses since the window began, a decision on the last one.
-    let mut pulses_in_window = 0u64;
-    let mut decided_on_last = false;
+/// The coverage of `stimulus` at `config`.
+pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
+    let f = Figures::of(config);
+    let mut walk = Walk::new(&f);
+    let mut glitches = GlitchRuns::new(f.g);
     let mut fe = FrontEnd::new(config);
     let mut k = 0u64;
-    let mut last_pins: Option<Pins> = None;
-    let mut level_since = [0u64; pin::COUNT];
-    let mut have_run = [false; pin::COUNT];
     for seg in &stimulus.segments {
-        if let Some(before) = last_pins {
-            let changed = before.0 ^ seg.pins.0;
-            for p in 0..pin::COUNT {
-                if changed & (1 << p) != 0 {
-                    let run = k - level_since[p];
-                    if have_run[p] && g > 0 && run == g {
-                        glitch_hits[2 * p] += 1;
-                    }
-                    if have_run[p] && run == g + 1 {
-                        glitch_hits[2 * p + 1] += 1;
-                    }
-                    level_since[p] = k;
-                    have_run[p] = true;
-                }
-            }
-        }
-        last_pins = Some(seg.pins);
+        glitches.pins_from(seg.pins, k);
         let end = k + u64::from(seg.cycles);
         while k < end {
             if fe.is_settled(seg.pins) {
                 k = end;
                 break;
             }
-            let mut m: Measurement = *fe.measurement();
+            let m: Measurement = *fe.measurement();
             let edges = fe.clock(seg.pins);
             k += 1;
-            if edges.is_empty() {
-                continue;
-            }
-            let mut kinds = [false; 5];
-            let mut events = Vec::with_capacity(5);
-            edges.for_each_event(|e| events.push(e));
-            let double =
-                edges.changed & (pin::SCALE_A | pin::SCALE_B) == pin::SCALE_A | pin::SCALE_B;
-            for e in events {
-                let pre = m;
-                m.apply(e);
-                let (po, qo) = (pre.outputs(), m.outputs());
-                match e {
-                    MeasureEvent::Arm(level) => {
-                        kinds[0] = true;
-                        let mid = pre.counter().count() > 0 || pre.counter().revs_in_window() > 0;
-                        if level && !po.armed {
-                            if po.first_contact || po.register_now {
-                                hit(B::ArmClearsLatches);
-                            }
-                            if mid {
-                                hit(B::ArmRiseMidWindow);
-                            }
-                            pulses_in_window = 0;
-                            decided_on_last = false;
-                        } else if !level && po.armed && mid {
-                            hit(B::ArmFallMidWindow);
-                        }
-                    }
-                    MeasureEvent::Contact(level) => {
-                        kinds[1] = true;
-                        if level && po.armed && !po.first_contact && qo.first_contact {
-                            hit(B::FirstContact);
-                        }
-                        if !po.register_now && qo.register_now {
-                            hit(B::SinglePulseDecision);
-                        }
-                    }
-                    MeasureEvent::Index => {
-                        kinds[2] = true;
-                        if po.armed {
-                            if po.revolutions == u16::MAX {
-                                hit(B::RevolutionsSaturated);
-                            }
-                            let ends = m.counter().revs_in_window() == 0;
-                            if ends {
-                                let c = pre.counter().count();
-                                if s.i_def > 0 && c == s.i_def - 1 {
-                                    hit(B::EndBelow);
-                                }
-                                if c == s.i_def {
-                                    hit(B::EndAt);
-                                }
-                                if c == s.i_def + 1 {
-                                    hit(B::EndAbove);
-                                }
-                                if decided_on_last {
-                                    hit(B::LastPulseDecision);
-                                }
-                                pulses_in_window = 0;
-                                decided_on_last = false;
-                            }
-                        }
-                    }
-                    MeasureEvent::Fes => {
-                        kinds[3] = true;
-                        let bit = if sticky { pre.sticky() } else { po.contact };
-                        if !po.armed {
-                            hit(B::FesDisarmed);
-                            if sticky && pre.sticky() && !po.contact {
-                                hit(B::StickyReloadDisarmed);
-                            }
-                            continue;
-                        }
-                        pulses_in_window += 1;
-                        if sticky && pre.sticky() && !po.contact {
-                            hit(B::StickyBetween);
-                        }
-                        let decided = !pre.counter().reached() && m.counter().reached();
-                        if decided && pulses_in_window == 1 {
-                            hit(B::FirstPulseDecision);
-                        }
-                        decided_on_last = decided;
-                        if bit && po.count == window {
-                            hit(B::CountSaturated);
-                        }
-                        if po.pulses == u32::MAX {
-                            hit(B::PulsesWrap);
-                        }
-                        let (d0, d1) = (pre.density(), m.density());
-                        let c = d1.charge();
-                        if fire > 1 && c == fire - 1 && d0.armed() {
-                            hit(B::FireMinus);
-                        }
-                        if c == fire && d0.armed() {
-                            hit(B::FireAt);
-                        }
-                        if c == fire + 1 {
-                            hit(B::FirePlus);
-                        }
-                        if rearm > 0 && c == rearm - 1 && !d0.armed() {
-                            hit(B::RearmMinus);
-                        }
-                        if c == rearm && !d0.armed() {
-                            hit(B::RearmAt);
-                        }
-                        if c == rearm + 1 {
-                            hit(B::RearmPlus);
-                        }
-                        if bit && d0.charge() == full {
-                            hit(B::ChargeFull);
-                        }
-                        if !bit && d0.charge() == 0 {
-                            hit(B::ChargeEmpty);
-                        }
-                        if let ChargeLaw::Exponential {
-                            charge_shift,
-                            discharge_shift,
-                        } = s.charge_law
-                        {
-                            let q = d0.charge();
-                            if bit && q < full && (full - q) >> charge_shift == 0 {
-                                hit(B::ExpStepFull);
-                            }
-                            if !bit && q > 0 && q >> discharge_shift == 0 {
-                                hit(B::ExpStepEmpty);
-                            }
-                        }
-                        if method == DecisionMethod::Density && !po.register_now && qo.register_now
-                        {
-                            hit(B::DensityDecision);
-                        }
-                    }
-                    MeasureEvent::Scale { .. } => {
-                        kinds[4] = true;
-                        if double {
-                            hit(B::ScaleError);
-                            if po.scale_errors == u8::MAX {
-                                hit(B::ScaleErrorsSaturated);
-                            }
-                        }
-                        let half = 1i64 << (s.scale_bits - 1);
-                        let (a, b) = (i64::from(po.position), i64::from(qo.position));
-                        if (a == half - 1 && b == -half) || (a == -half && b == half - 1) {
-                            hit(B::PositionWrap);
-                        }
-                    }
-                    MeasureEvent::PresetPulses(_) => {}
-                }
-            }
-            let mut n = 0;
-            for i in 0..5 {
-                for j in i + 1..5 {
-                    if kinds[i] && kinds[j] {
-                        pair_hits[n] += 1;
-                    }
-                    n += 1;
-                }
+            if !edges.is_empty() {
+                walk.clock(m, &edges);
             }
         }
     }
-    let _ = B::Reset;
-    for (i, h) in pair_hits.iter().enumerate() {
-        bins[pairs_at + i].hits = *h;
-    }
-    for (i, h) in glitch_hits.iter().enumerate() {
-        bins[glitch_at + i].hits = *h;
+    let mut bins = bins_of(&f);
+    let hits = walk
+        .hits
+        .iter()
+        .chain(&walk.pair_hits)
+        .chain(&glitches.hits);
+    for (b, h) in bins.iter_mut().zip(hits) {
+        b.hits = *h;
     }
     Coverage {
         bins,
         cycles: stimulus.total_cycles(),
+    }
+}
+
+/// The glitch bins' bookkeeping over the raw pins: how long each pin held its level.
+struct GlitchRuns {
+    /// Glitch filter length, clocks.
+    g: u64,
+    /// The pins of the previous segment.
+    last: Option<Pins>,
+    /// The clock each pin's level began at.
+    level_since: [u64; pin::COUNT],
+    /// Whether each pin has changed once (its run has a start).
+    have_run: [bool; pin::COUNT],
+    /// Per pin: runs of exactly `g` clocks, then runs of `g + 1`.
+    hits: [u64; 2 * pin::COUNT],
+}
+
+impl GlitchRuns {
+    fn new(g: u64) -> GlitchRuns {
+        GlitchRuns {
+            g,
+            last: None,
+            level_since: [0; pin::COUNT],
+            have_run: [false; pin::COUNT],
+            hits: [0; 2 * pin::COUNT],
+        }
+    }
+
+    /// The pins become `pins` at clock `k`.
+    fn pins_from(&mut self, pins: Pins, k: u64) {
+        let g = self.g;
+        if let Some(before) = self.last {
+            let changed = before.0 ^ pins.0;
+            for p in 0..pin::COUNT {
+                if changed & (1 << p) != 0 {
+                    let run = k - self.level_since[p];
+                    if self.have_run[p] && g > 0 && run == g {
+                        self.hits[2 * p] += 1;
+                    }
+                    if self.have_run[p] && run == g + 1 {
+                        self.hits[2 * p + 1] += 1;
+                    }
+                    self.level_since[p] = k;
+                    self.have_run[p] = true;
+                }
+            }
+        }
+        self.last = Some(pins);
+    }
+}
+
+/// The event and same-clock bins' hits, and the bookkeeping they need.
+struct Walk<'a> {
+    f: &'a Figures,
+    /// Hits of each [`EVENT_BINS`] bin.
+    hits: Vec<u64>,
+    /// Hits of each same-clock pair.
+    pair_hits: [u64; PAIRS],
+    /// Armed pulses since the window began.
+    pulses_in_window: u64,
+    /// The last pulse of the window decided.
+    decided_on_last: bool,
+}
+
+/// One event of a clock: the measurement just before it (`pre`, with its outputs `po`)
+/// and just after (`m`, outputs `qo`).
+struct Step<'m> {
+    pre: &'m Measurement,
+    m: &'m Measurement,
+    po: Outputs,
+    qo: Outputs,
+}
+
+impl<'a> Walk<'a> {
+    fn new(f: &'a Figures) -> Walk<'a> {
+        Walk {
+            f,
+            hits: vec![0; EVENT_BINS.len()],
+            pair_hits: [0; PAIRS],
+            pulses_in_window: 0,
+            decided_on_last: false,
+        }
+    }
+
+    fn hit(&mut self, b: B) {
+        self.hits[b as usize] += 1;
+    }
+
+    /// One clock with edges: its events replayed one by one on a copy of the state `m`
+    /// before the clock.
+    fn clock(&mut self, mut m: Measurement, edges: &Edges) {
+        let mut kinds = [false; 5];
+        let mut events = Vec::with_capacity(5);
+        edges.for_each_event(|e| events.push(e));
+        let double = edges.changed & (pin::SCALE_A | pin::SCALE_B) == pin::SCALE_A | pin::SCALE_B;
+        for e in events {
+            let pre = m;
+            m.apply(e);
+            let step = Step {
+                pre: &pre,
+                m: &m,
+                po: pre.outputs(),
+                qo: m.outputs(),
+            };
+            match e {
+                MeasureEvent::Arm(level) => {
+                    kinds[0] = true;
+                    self.arm(level, &step);
+                }
+                MeasureEvent::Contact(level) => {
+                    kinds[1] = true;
+                    self.contact(level, &step);
+                }
+                MeasureEvent::Index => {
+                    kinds[2] = true;
+                    self.index(&step);
+                }
+                MeasureEvent::Fes => {
+                    kinds[3] = true;
+                    self.fes(&step);
+                }
+                MeasureEvent::Scale { .. } => {
+                    kinds[4] = true;
+                    self.scale(double, &step);
+                }
+                MeasureEvent::PresetPulses(_) => {}
+            }
+        }
+        let mut n = 0;
+        for i in 0..5 {
+            for j in i + 1..5 {
+                if kinds[i] && kinds[j] {
+                    self.pair_hits[n] += 1;
+                }
+                n += 1;
+            }
+        }
+    }
+
+    fn arm(&mut self, level: bool, st: &Step) {
+        let (pre, po) = (st.pre, &st.po);
+        let mid = pre.counter().count() > 0 || pre.counter().revs_in_window() > 0;
+        if level && !po.armed {
+            if po.first_contact || po.register_now {
+                self.hit(B::ArmClearsLatches);
+            }
+            if mid {
+                self.hit(B::ArmRiseMidWindow);
+            }
+            self.pulses_in_window = 0;
+            self.decided_on_last = false;
+        } else if !level && po.armed && mid {
+            self.hit(B::ArmFallMidWindow);
+        }
+    }
+
+    fn contact(&mut self, level: bool, st: &Step) {
+        let (po, qo) = (&st.po, &st.qo);
+        if level && po.armed && !po.first_contact && qo.first_contact {
+            self.hit(B::FirstContact);
+        }
+        if !po.register_now && qo.register_now {
+            self.hit(B::SinglePulseDecision);
+        }
+    }
+
+    fn index(&mut self, st: &Step) {
+        let (pre, m, po) = (st.pre, st.m, &st.po);
+        if !po.armed {
+            return;
+        }
+        if po.revolutions == u16::MAX {
+            self.hit(B::RevolutionsSaturated);
+        }
+        if m.counter().revs_in_window() != 0 {
+            return;
+        }
+        let i_def = self.f.s.i_def;
+        let c = pre.counter().count();
+        if i_def > 0 && c == i_def - 1 {
+            self.hit(B::EndBelow);
+        }
+        if c == i_def {
+            self.hit(B::EndAt);
+        }
+        if c == i_def + 1 {
+            self.hit(B::EndAbove);
+        }
+        if self.decided_on_last {
+            self.hit(B::LastPulseDecision);
+        }
+        self.pulses_in_window = 0;
+        self.decided_on_last = false;
+    }
+
+    fn fes(&mut self, st: &Step) {
+        let f = self.f;
+        let (pre, m, po, qo) = (st.pre, st.m, &st.po, &st.qo);
+        let bit = if f.sticky { pre.sticky() } else { po.contact };
+        if !po.armed {
+            self.hit(B::FesDisarmed);
+            if f.sticky && pre.sticky() && !po.contact {
+                self.hit(B::StickyReloadDisarmed);
+            }
+            return;
+        }
+        self.pulses_in_window += 1;
+        if f.sticky && pre.sticky() && !po.contact {
+            self.hit(B::StickyBetween);
+        }
+        let decided = !pre.counter().reached() && m.counter().reached();
+        if decided && self.pulses_in_window == 1 {
+            self.hit(B::FirstPulseDecision);
+        }
+        self.decided_on_last = decided;
+        if bit && po.count == f.window {
+            self.hit(B::CountSaturated);
+        }
+        if po.pulses == u32::MAX {
+            self.hit(B::PulsesWrap);
+        }
+        self.density(bit, st);
+        if f.s.method == DecisionMethod::Density && !po.register_now && qo.register_now {
+            self.hit(B::DensityDecision);
+        }
+    }
+
+    /// The density detector's bins at an armed FES pulse that saw contact `bit`.
+    fn density(&mut self, bit: bool, st: &Step) {
+        let f = self.f;
+        let (fire, rearm, full) = (f.fire, f.rearm, f.full);
+        let (d0, d1) = (st.pre.density(), st.m.density());
+        let c = d1.charge();
+        if fire > 1 && c == fire - 1 && d0.armed() {
+            self.hit(B::FireMinus);
+        }
+        if c == fire && d0.armed() {
+            self.hit(B::FireAt);
+        }
+        if c == fire + 1 {
+            self.hit(B::FirePlus);
+        }
+        if rearm > 0 && c == rearm - 1 && !d0.armed() {
+            self.hit(B::RearmMinus);
+        }
+        if c == rearm && !d0.armed() {
+            self.hit(B::RearmAt);
+        }
+        if c == rearm + 1 {
+            self.hit(B::RearmPlus);
+        }
+        if bit && d0.charge() == full {
+            self.hit(B::ChargeFull);
+        }
+        if !bit && d0.charge() == 0 {
+            self.hit(B::ChargeEmpty);
+        }
+        if let ChargeLaw::Exponential {
+            charge_shift,
+            discharge_shift,
+        } = f.s.charge_law
+        {
+            let q = d0.charge();
+            if bit && q < full && (full - q) >> charge_shift == 0 {
+                self.hit(B::ExpStepFull);
+            }
+            if !bit && q > 0 && q >> discharge_shift == 0 {
+                self.hit(B::ExpStepEmpty);
+            }
+        }
+    }
+
+    fn scale(&mut self, double: bool, st: &Step) {
+        let (po, qo) = (&st.po, &st.qo);
+        if double {
+            self.hit(B::ScaleError);
+            if po.scale_errors == u8::MAX {
+                self.hit(B::ScaleErrorsSaturated);
+            }
+        }
+        let half = 1i64 << (self.f.s.scale_bits - 1);
+        let (a, b) = (i64::from(po.position), i64::from(qo.position));
+        if (a == half - 1 && b == -half) || (a == -half && b == half - 1) {
+            self.hit(B::PositionWrap);
+        }
     }
 }

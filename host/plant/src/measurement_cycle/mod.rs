@@ -20,7 +20,9 @@ pub use report::MeasurementReport;
 pub use run_size::{check_run_size, RunTooLarge, BYTES_PER_EVENT, MAX_EVENTS};
 pub use stats::{Spread, Summary};
 
-use crate::lathe::{Chunk, Lathe, LatheScenario, Motion, RetractAt, ScenarioError};
+use crate::lathe::{
+    Chunk, CycleSettings, Lathe, LatheScenario, Motion, RetractAt, ScenarioError, Spindle,
+};
 use crate::stimulus::{Segment, Stimulus};
 use tooltouch_model::measure::frontend::Edges;
 use tooltouch_model::{FrontEnd, MeasureConfig};
@@ -139,6 +141,123 @@ pub fn unwrap_position(position: i32, bits: u8, reference: i64) -> i64 {
     p + k * modulus
 }
 
+/// What one approach saw.
+struct ApproachSeen {
+    /// First clock of the run of contact that became permanent (a whole revolution).
+    permanent: Option<u64>,
+    /// Fraction of each revolution in contact.
+    contact_fraction: Vec<f64>,
+    /// The lathe's scale count at the decision's latch, and at the first contact's.
+    decision_count: Option<i64>,
+    first_contact_count: Option<i64>,
+}
+
+impl Driver {
+    /// Feeds in along `approach` one revolution at a time from revolution `r0`, watching
+    /// with `watch`, until the CNC stops the feed (at `cycle.retract_at`) or
+    /// `cycle.max_approach_revs` pass.
+    fn approach(
+        &mut self,
+        spindle: &Spindle,
+        cycle: &CycleSettings,
+        approach: &Motion,
+        r0: u64,
+        watch: &mut Watch,
+    ) -> ApproachSeen {
+        let mut contact_since: Option<u64> = None;
+        let mut permanent: Option<u64> = None;
+        let mut contact_fraction = Vec::new();
+        let mut decision_count: Option<i64> = None;
+        let mut first_contact_count: Option<i64> = None;
+        let mut r = r0;
+        loop {
+            let (a, b) = (spindle.index_rise(r), spindle.index_rise(r + 1));
+            let chunk = self.lathe.chunk(a, b, approach, true, true);
+            let count_before = self.lathe.count();
+            let used = self.run(&chunk, watch);
+            // The lathe's scale count at the latching clocks, to unwrap the latched
+            // `scale_bits`-wide positions.
+            let count_at = |k: u64| {
+                chunk
+                    .count_changes
+                    .iter()
+                    .rev()
+                    .find(|c| c.0 <= k)
+                    .map_or(count_before, |c| c.1)
+            };
+            for (event, count) in [
+                (watch.decision, &mut decision_count),
+                (watch.first_contact, &mut first_contact_count),
+            ] {
+                if let Some(k) = event.filter(|&k| k >= a && k < used) {
+                    count.get_or_insert(count_at(k));
+                }
+            }
+            contact_fraction.push(
+                crate::lathe::electrics::covered(&chunk.contact, a, used) as f64 / (b - a) as f64,
+            );
+            if used < b || watch.stop_after.is_some_and(|s| s < used) {
+                break;
+            }
+            // Track the current run of contact across revolutions.
+            let mut since =
+                contact_since.filter(|_| chunk.contact.first().is_some_and(|&(s, _)| s == a));
+            for &(s, e) in &chunk.contact {
+                if !(s == a && since.is_some()) {
+                    since = Some(s);
+                }
+                if e < b {
+                    since = None;
+                }
+            }
+            contact_since = since;
+            if permanent.is_none() && chunk.contact == [(a, b)] {
+                permanent = contact_since;
+                if cycle.retract_at == RetractAt::PermanentContact {
+                    watch.stop_on_decision = true;
+                }
+            }
+            if let (Some(_), Some(k_d), RetractAt::PermanentContact) =
+                (permanent, watch.decision, cycle.retract_at)
+            {
+                if k_d + watch.reaction < b {
+                    break;
+                }
+                watch.stop_after = Some(k_d + watch.reaction);
+            }
+            r += 1;
+            if r - r0 >= u64::from(cycle.max_approach_revs) {
+                break;
+            }
+        }
+        ApproachSeen {
+            permanent,
+            contact_fraction,
+            decision_count,
+            first_contact_count,
+        }
+    }
+
+    /// Retracts from where `approach` stopped to `home` µm at `retract` µm per clock, then
+    /// holds the arm low for the Z step, `dwell` clocks (at least 64).
+    fn retract_and_dwell(&mut self, approach: &Motion, home: f64, retract: f64, dwell: u64) {
+        let stop = self.now;
+        // Retract to the start point, then lower the arm and step in Z.
+        let x_stop = approach.at(stop as f64);
+        let retract_cycles = ((home - x_stop).max(0.0) / retract).ceil() as u64 + 1;
+        let retract_motion = Motion {
+            t0: stop as f64,
+            start_um: x_stop,
+            speed_um_per_cycle: retract,
+        };
+        let chunk = self
+            .lathe
+            .chunk(stop, stop + retract_cycles, &retract_motion, true, false);
+        self.run(&chunk, &mut Watch::default());
+        self.hold(self.now + dwell.max(64), home, false);
+    }
+}
+
 /// Runs the whole measurement cycle of `scenario` on the golden model configured by
 /// `config`. `progress` is called with the number of measurements done after each one.
 pub fn run(
@@ -195,86 +314,14 @@ pub fn run(
             stop_on_decision: cycle.retract_at == RetractAt::Decision,
             ..Default::default()
         };
-        let mut contact_since: Option<u64> = None;
-        let mut permanent: Option<u64> = None;
-        let mut contact_fraction = Vec::new();
-        let mut decision_count: Option<i64> = None;
-        let mut first_contact_count: Option<i64> = None;
-        let mut r = r0;
-        loop {
-            let (a, b) = (spindle.index_rise(r), spindle.index_rise(r + 1));
-            let chunk = d.lathe.chunk(a, b, &approach, true, true);
-            let count_before = d.lathe.count();
-            let used = d.run(&chunk, &mut watch);
-            // The lathe's scale count at the latching clocks, to unwrap the latched
-            // `scale_bits`-wide positions.
-            let count_at = |k: u64| {
-                chunk
-                    .count_changes
-                    .iter()
-                    .rev()
-                    .find(|c| c.0 <= k)
-                    .map_or(count_before, |c| c.1)
-            };
-            for (event, count) in [
-                (watch.decision, &mut decision_count),
-                (watch.first_contact, &mut first_contact_count),
-            ] {
-                if let Some(k) = event.filter(|&k| k >= a && k < used) {
-                    count.get_or_insert(count_at(k));
-                }
-            }
-            contact_fraction.push(
-                crate::lathe::electrics::covered(&chunk.contact, a, used) as f64 / (b - a) as f64,
-            );
-            if used < b || watch.stop_after.is_some_and(|s| s < used) {
-                break;
-            }
-            // Track the current run of contact across revolutions.
-            let mut since =
-                contact_since.filter(|_| chunk.contact.first().is_some_and(|&(s, _)| s == a));
-            for &(s, e) in &chunk.contact {
-                if !(s == a && since.is_some()) {
-                    since = Some(s);
-                }
-                if e < b {
-                    since = None;
-                }
-            }
-            contact_since = since;
-            if permanent.is_none() && chunk.contact == [(a, b)] {
-                permanent = contact_since;
-                if cycle.retract_at == RetractAt::PermanentContact {
-                    watch.stop_on_decision = true;
-                }
-            }
-            if let (Some(_), Some(k_d), RetractAt::PermanentContact) =
-                (permanent, watch.decision, cycle.retract_at)
-            {
-                if k_d + reaction < b {
-                    break;
-                }
-                watch.stop_after = Some(k_d + reaction);
-            }
-            r += 1;
-            if r - r0 >= u64::from(cycle.max_approach_revs) {
-                break;
-            }
-        }
+        let ApproachSeen {
+            permanent,
+            contact_fraction,
+            decision_count,
+            first_contact_count,
+        } = d.approach(&spindle, &cycle, &approach, r0, &mut watch);
         let stop = d.now;
-        // Retract to the start point, then lower the arm and step in Z.
-        let x_stop = approach.at(stop as f64);
-        let retract_cycles = ((home - x_stop).max(0.0) / retract).ceil() as u64 + 1;
-        let retract_motion = Motion {
-            t0: stop as f64,
-            start_um: x_stop,
-            speed_um_per_cycle: retract,
-        };
-        let chunk = d
-            .lathe
-            .chunk(stop, stop + retract_cycles, &retract_motion, true, false);
-        d.run(&chunk, &mut Watch::default());
-        d.hold(d.now + dwell.max(64), home, false);
+        d.retract_and_dwell(&approach, home, retract, dwell);
 
         let out = d.fe.outputs();
         let decision_position =

@@ -225,25 +225,7 @@ pub fn compare_vcd_sides_with(
             )));
         }
     }
-    let half = period_fs / 2;
-    let outputs: Vec<Compared> = e
-        .declarations
-        .signals
-        .iter()
-        .filter(|s| s.scope.last().is_some_and(|l| l == "outputs"))
-        .map(|s| {
-            if s.width == 0 {
-                return Err(BadInput(format!(
-                    "{en}: line {}: golden signal `{}` is 0 bits wide",
-                    s.line, s.name
-                )));
-            }
-            Ok(Compared { golden: s })
-        })
-        .collect::<Result<_, _>>()?;
-    if outputs.is_empty() {
-        return Err(BadInput(format!("{en}: no `outputs` scope")));
-    }
+    let outputs = golden_outputs(e.declarations, &en)?;
     // Slots per code index, on each side.
     let mut e_slots: Vec<Vec<usize>> = vec![Vec::new(); e.declarations.codes().len()];
     let mut d_slots: Vec<Vec<usize>> = vec![Vec::new(); d.declarations.codes().len()];
@@ -271,13 +253,6 @@ pub fn compare_vcd_sides_with(
     e.changes.select(&wanted(&e_slots));
     d.changes.select(&wanted(&d_slots));
     let n = outputs.len();
-    let mut ev: Vec<Option<Value>> = vec![None; n];
-    let mut dv: Vec<Option<Value>> = vec![None; n];
-    let mut differs = vec![true; n];
-    let mut differing = n;
-    let mut first: Option<(u64, Vec<Difference>)> = None;
-    let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
-
     let mut ec = Cursor {
         side: e,
         next: None,
@@ -288,73 +263,7 @@ pub fn compare_vcd_sides_with(
         next: None,
         done: false,
     };
-    ec.advance()?;
-    dc.advance()?;
-    let mut now = 0u64;
-    loop {
-        let next_time = match (&ec.next, &dc.next) {
-            (Some(a), Some(b)) => Some(a.0.min(b.0)),
-            (Some(a), None) => Some(a.0),
-            (None, Some(b)) => Some(b.0),
-            (None, None) => None,
-        };
-        // The values are constant over [now, next_time): look at its first sample.
-        if first.is_none() && differing > 0 {
-            let mut limit = u64::MAX;
-            if ec.done {
-                limit = limit.min(ec.side.changes.end_fs() / period_fs);
-            }
-            if dc.done {
-                limit = limit.min(dc.side.changes.end_fs() / period_fs);
-            }
-            let k = now.saturating_sub(half).div_ceil(period_fs);
-            let inside = next_time.is_none_or(|t| k * period_fs + half < t);
-            if inside && k <= limit {
-                let all: Vec<_> = (0..n)
-                    .filter(|&slot| differs[slot])
-                    .map(|slot| (slot, ev[slot].clone(), dv[slot].clone()))
-                    .collect();
-                if !all.is_empty() {
-                    first = Some((k, all));
-                }
-            }
-        }
-        let Some(t) = next_time else { break };
-        // Apply every change at `t` of both sides (after a mismatch: only read on, so a
-        // malformed or cut file is still reported).
-        let record = first.is_none();
-        touched.clear();
-        apply_at(
-            &mut ec,
-            t,
-            record.then_some(&mut ev),
-            &mut touched,
-            &e_slots,
-        )?;
-        apply_at(
-            &mut dc,
-            t,
-            record.then_some(&mut dv),
-            &mut touched,
-            &d_slots,
-        )?;
-        if first.is_none() {
-            for &slot in &touched {
-                // Exact, at any width: a DUT value with a 1 above the golden width differs
-                // (the reader refuses a value wider than its own signal).
-                let same = matches!((&ev[slot], &dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a == b);
-                if differs[slot] == same {
-                    differs[slot] = !same;
-                    if same {
-                        differing -= 1;
-                    } else {
-                        differing += 1;
-                    }
-                }
-            }
-        }
-        now = t;
-    }
+    let first = first_mismatch(&mut ec, &mut dc, (&e_slots, &d_slots), n, period_fs)?;
     let e_end = ec.side.changes.end_fs();
     let d_end = dc.side.changes.end_fs();
     let mut comments = ec.side.declarations.comments.clone();
@@ -422,6 +331,107 @@ pub fn compare_vcd_sides_with(
         )),
         None,
     ))
+}
+
+/// The golden file's compared outputs: its signals in an `outputs` scope (`en` names it).
+fn golden_outputs<'a>(
+    declarations: &'a Declarations,
+    en: &str,
+) -> Result<Vec<Compared<'a>>, BadInput> {
+    let outputs: Vec<Compared> = declarations
+        .signals
+        .iter()
+        .filter(|s| s.scope.last().is_some_and(|l| l == "outputs"))
+        .map(|s| {
+            if s.width == 0 {
+                return Err(BadInput(format!(
+                    "{en}: line {}: golden signal `{}` is 0 bits wide",
+                    s.line, s.name
+                )));
+            }
+            Ok(Compared { golden: s })
+        })
+        .collect::<Result<_, _>>()?;
+    if outputs.is_empty() {
+        return Err(BadInput(format!("{en}: no `outputs` scope")));
+    }
+    Ok(outputs)
+}
+
+/// Reads both sides to their ends (`ec` golden, `dc` DUT; `slots`: each side's compared
+/// slots per code index, `n` slots) and returns the first clock at which a compared output
+/// differs, with every differing output there.
+fn first_mismatch(
+    ec: &mut Cursor,
+    dc: &mut Cursor,
+    (e_slots, d_slots): (&[Vec<usize>], &[Vec<usize>]),
+    n: usize,
+    period_fs: u64,
+) -> Result<Option<(u64, Vec<Difference>)>, BadInput> {
+    let half = period_fs / 2;
+    let mut ev: Vec<Option<Value>> = vec![None; n];
+    let mut dv: Vec<Option<Value>> = vec![None; n];
+    let mut differs = vec![true; n];
+    let mut differing = n;
+    let mut first: Option<(u64, Vec<Difference>)> = None;
+    let mut touched: Vec<usize> = Vec::with_capacity(2 * n);
+
+    ec.advance()?;
+    dc.advance()?;
+    let mut now = 0u64;
+    loop {
+        let next_time = match (&ec.next, &dc.next) {
+            (Some(a), Some(b)) => Some(a.0.min(b.0)),
+            (Some(a), None) => Some(a.0),
+            (None, Some(b)) => Some(b.0),
+            (None, None) => None,
+        };
+        // The values are constant over [now, next_time): look at its first sample.
+        if first.is_none() && differing > 0 {
+            let mut limit = u64::MAX;
+            if ec.done {
+                limit = limit.min(ec.side.changes.end_fs() / period_fs);
+            }
+            if dc.done {
+                limit = limit.min(dc.side.changes.end_fs() / period_fs);
+            }
+            let k = now.saturating_sub(half).div_ceil(period_fs);
+            let inside = next_time.is_none_or(|t| k * period_fs + half < t);
+            if inside && k <= limit {
+                let all: Vec<_> = (0..n)
+                    .filter(|&slot| differs[slot])
+                    .map(|slot| (slot, ev[slot].clone(), dv[slot].clone()))
+                    .collect();
+                if !all.is_empty() {
+                    first = Some((k, all));
+                }
+            }
+        }
+        let Some(t) = next_time else { break };
+        // Apply every change at `t` of both sides (after a mismatch: only read on, so a
+        // malformed or cut file is still reported).
+        let record = first.is_none();
+        touched.clear();
+        apply_at(ec, t, record.then_some(&mut ev), &mut touched, e_slots)?;
+        apply_at(dc, t, record.then_some(&mut dv), &mut touched, d_slots)?;
+        if first.is_none() {
+            for &slot in &touched {
+                // Exact, at any width: a DUT value with a 1 above the golden width differs
+                // (the reader refuses a value wider than its own signal).
+                let same = matches!((&ev[slot], &dv[slot]), (Some(a), Some(b)) if !a.unknown && !b.unknown && a == b);
+                if differs[slot] == same {
+                    differs[slot] = !same;
+                    if same {
+                        differing -= 1;
+                    } else {
+                        differing += 1;
+                    }
+                }
+            }
+        }
+        now = t;
+    }
+    Ok(first)
 }
 
 /// Compares two parsed dumps (see [`compare_vcd_sides`]).
