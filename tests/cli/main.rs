@@ -22,5 +22,6 @@ mod plots;
 mod readme_recipes;
 mod run_files;
 mod scaleout;
+mod slurm_cluster;
 mod spelling;
 mod vectors;

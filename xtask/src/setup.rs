@@ -31,12 +31,20 @@ const TOOLS: &[(&str, &str)] = &[
     ("halrun", "linuxcnc-uspace"),
     // halcompile and the rtapi headers build the HAL component over the C ABI.
     ("halcompile", "linuxcnc-uspace-dev"),
+    // The one-node Slurm cluster that runs the scale-out recipe (tests/cli/slurm_cluster.rs).
+    ("munged", "munge"),
+    ("slurmctld", "slurmctld"),
+    ("slurmd", "slurmd"),
+    ("sbatch", "slurm-client"),
 ];
 
+/// Whether `program` is on PATH or in an sbin folder (the Slurm and munge daemons live in
+/// `/usr/sbin`, which a non-root PATH may lack).
 fn on_path(program: &str) -> bool {
-    std::env::var_os("PATH")
-        .map(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
-        .unwrap_or(false)
+    let paths = std::env::var_os("PATH").unwrap_or_default();
+    std::env::split_paths(&paths)
+        .chain(["/usr/sbin", "/sbin"].map(std::path::PathBuf::from))
+        .any(|dir| dir.join(program).is_file())
 }
 
 fn is_root() -> bool {
