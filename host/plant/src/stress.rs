@@ -293,6 +293,197 @@ pub fn stress_stimulus(
     generate(config, seed, clock_hz, size).0
 }
 
+/// The directed sections of the stress stimulus, in order.
+impl Gen<'_> {
+    /// The pulse counter: windows ending one below, at and one above `i_def`, decisions
+    /// on a window's last and first pulse, a saturating count.
+    fn counter_windows(&mut self) {
+        let s = *self.config.settings();
+        let window = self.config.window_pulses();
+        // Windows ending one below, at and one above i_def (the last decides).
+        for target in [s.i_def.checked_sub(1), Some(s.i_def), Some(s.i_def + 1)]
+            .into_iter()
+            .flatten()
+            .filter(|&t| t <= window)
+        {
+            self.rearm();
+            self.scale_step(true);
+            self.pulses(target, true);
+            self.contact(false);
+            for _ in 0..s.window_revs {
+                self.index();
+            }
+        }
+        // A decision on the last pulse of a full window, then on the first pulse of the next
+        // (reached only when i_def = 0).
+        self.rearm();
+        self.pulses(window - (s.i_def + 1), false);
+        self.pulses(s.i_def + 1, true);
+        self.contact(false);
+        for _ in 0..s.window_revs {
+            self.index();
+        }
+        self.rearm();
+        self.pulses(1, true);
+        self.contact(false);
+        // A count saturating: more contact pulses than a window holds, no index.
+        self.rearm();
+        self.pulses(window + 2, true);
+        self.contact(false);
+    }
+
+    /// The sticky bit set between pulses and reloaded while disarmed; the arm falling and
+    /// rising mid-window.
+    fn contact_rule_and_arm(&mut self) {
+        // The sticky bit: set by a contact between pulses, reloaded by a pulse while disarmed.
+        self.rearm();
+        self.glitch(pin::CONTACT, self.pass);
+        self.fes();
+        self.arm(false);
+        self.glitch(pin::CONTACT, self.pass);
+        self.fes(); // disarmed: reloads the sticky bit with contact 0
+        self.arm(true);
+        self.fes(); // counts only if the sticky bit was not reloaded
+        self.index();
+        // Arm falling and rising mid-window, with latches held.
+        self.scale_step(false);
+        self.pulses(2, true);
+        self.arm(false);
+        self.pulses(2, true);
+        self.scale_step(true);
+        self.arm(true);
+        self.pulses(1, true);
+        self.contact(false);
+    }
+
+    /// Glitches one clock short of the filter and just long enough, on every pin.
+    fn glitches(&mut self) {
+        // Glitches one clock short of the filter and just long enough, on every pin.
+        for bit in [pin::ARM, pin::CONTACT, pin::INDEX, pin::FES] {
+            for clocks in [self.pass - 1, self.pass] {
+                self.glitch(bit, clocks);
+                self.glitch(bit, clocks);
+            }
+        }
+        for clocks in [self.pass - 1, self.pass] {
+            for bit in [pin::SCALE_A, pin::SCALE_B] {
+                // A glitch on one scale line is a step and its reverse when it passes.
+                if clocks >= self.pass {
+                    let back = self.pins;
+                    let phase = self.phase;
+                    let new = self.pins ^ bit;
+                    self.phase = SCALE_PHASES
+                        .iter()
+                        .position(|&p| p == new & (pin::SCALE_A | pin::SCALE_B))
+                        .unwrap_or(phase);
+                    self.set(new);
+                    let last = self.s.segments.len() - 1;
+                    self.s.segments[last].cycles = u32::try_from(clocks).unwrap_or(u32::MAX);
+                    self.phase = phase;
+                    self.set(back);
+                } else {
+                    self.glitch(bit, clocks);
+                }
+            }
+        }
+    }
+
+    /// Edges in the same clock for each pair of the canonical order.
+    fn same_clock_pairs(&mut self) {
+        // Edges in the same clock, for each pair of the canonical order (rising edges; the
+        // scale a step), twice each, with the other lines at random levels.
+        let kinds: [u8; 5] = [pin::ARM, pin::CONTACT, pin::INDEX, pin::FES, 0];
+        for i in 0..kinds.len() {
+            for j in i + 1..kinds.len() {
+                for _ in 0..2 {
+                    let pair = [kinds[i], kinds[j]];
+                    self.level(pin::INDEX, false);
+                    self.level(pin::FES, false);
+                    let arm_on = !pair.contains(&pin::ARM);
+                    self.arm(arm_on);
+                    let contact_on = !pair.contains(&pin::CONTACT) && self.rng.random_bool(0.5);
+                    self.contact(contact_on);
+                    let mut new = self.pins;
+                    for k in pair {
+                        new = if k == 0 {
+                            let stepped = self.scale_bits_after(true);
+                            (new & !(pin::SCALE_A | pin::SCALE_B))
+                                | (stepped & (pin::SCALE_A | pin::SCALE_B))
+                        } else {
+                            new | k
+                        };
+                    }
+                    self.set(new);
+                }
+            }
+        }
+        self.level(pin::INDEX, false);
+        self.level(pin::FES, false);
+        self.arm(true);
+        self.contact(false);
+    }
+
+    /// The density detector's thresholds and full scale (`steer_pulses`: the most pulses
+    /// spent steering the charge onto one).
+    fn density_thresholds(&mut self, steer_pulses: u32) {
+        let s = *self.config.settings();
+        let config = self.config;
+        // The density detector: the charge steered onto each threshold and one LSB around
+        // it, in the armed state where a threshold one off would act differently, chained from
+        // one measurement cycle; then held at full scale and at 0.
+        let (fire, rearm, full) = (s.fire_threshold, s.rearm_threshold, config.full_charge());
+        self.rearm();
+        // (charge, armed before the pulse that brings it there)
+        let mut targets: Vec<(u32, bool)> = vec![(fire, true), (rearm, false)];
+        if rearm > 0 {
+            targets.push((rearm - 1, false));
+        }
+        if fire - 1 > rearm {
+            targets.push((fire - 1, true));
+        }
+        if fire < full {
+            targets.push((fire + 1, false));
+        }
+        targets.push((rearm + 1, false));
+        for (target, armed) in targets {
+            self.steer(target, armed, steer_pulses);
+        }
+        while self.kernel.density().charge() < full {
+            self.pulses(1, true);
+        }
+        self.pulses(2, true);
+        while self.kernel.density().charge() > 0 {
+            self.pulses(1, false);
+        }
+        self.pulses(2, false);
+    }
+
+    /// The scale both ways, errors to saturation, a wrap within `wrap_steps` steps.
+    fn scale_and_wrap(&mut self, wrap_steps: u64) {
+        let s = *self.config.settings();
+        // The scale: both ways, errors until their count saturates, a wrap if it fits.
+        for _ in 0..6 {
+            self.scale_step(false);
+        }
+        for _ in 0..=u32::from(u8::MAX) {
+            self.scale_error();
+        }
+        let half = 1u64 << (s.scale_bits - 1);
+        let position = i64::from(self.kernel.scale().position());
+        let to_wrap = (half as i64 - position).unsigned_abs();
+        if to_wrap <= wrap_steps {
+            for _ in 0..=to_wrap {
+                self.scale_step(true);
+            }
+        }
+        self.arm(false);
+        self.contact(false);
+        self.level(pin::FES, false);
+        self.level(pin::INDEX, false);
+        self.hold();
+    }
+}
+
 /// [`stress_stimulus`] and the kernel state its directed part ends in.
 fn generate(
     config: &MeasureConfig,
@@ -310,7 +501,6 @@ fn generate(
         rng: ChaCha8Rng::seed_from_u64(seed),
         pass: u64::from(s.glitch_cycles) + 1,
     };
-    let window = config.window_pulses();
     // Power-on, then a measurement cycle with the scale away from 0 (so a latch that is
     // not cleared shows).
     g.s.push(Pins(0), 4);
@@ -319,167 +509,12 @@ fn generate(
         g.scale_step(true);
     }
 
-    // Windows ending one below, at and one above i_def (the last decides).
-    for target in [s.i_def.checked_sub(1), Some(s.i_def), Some(s.i_def + 1)]
-        .into_iter()
-        .flatten()
-        .filter(|&t| t <= window)
-    {
-        g.rearm();
-        g.scale_step(true);
-        g.pulses(target, true);
-        g.contact(false);
-        for _ in 0..s.window_revs {
-            g.index();
-        }
-    }
-    // A decision on the last pulse of a full window, then on the first pulse of the next
-    // (reached only when i_def = 0).
-    g.rearm();
-    g.pulses(window - (s.i_def + 1), false);
-    g.pulses(s.i_def + 1, true);
-    g.contact(false);
-    for _ in 0..s.window_revs {
-        g.index();
-    }
-    g.rearm();
-    g.pulses(1, true);
-    g.contact(false);
-    // A count saturating: more contact pulses than a window holds, no index.
-    g.rearm();
-    g.pulses(window + 2, true);
-    g.contact(false);
-
-    // The sticky bit: set by a contact between pulses, reloaded by a pulse while disarmed.
-    g.rearm();
-    g.glitch(pin::CONTACT, g.pass);
-    g.fes();
-    g.arm(false);
-    g.glitch(pin::CONTACT, g.pass);
-    g.fes(); // disarmed: reloads the sticky bit with contact 0
-    g.arm(true);
-    g.fes(); // counts only if the sticky bit was not reloaded
-    g.index();
-    // Arm falling and rising mid-window, with latches held.
-    g.scale_step(false);
-    g.pulses(2, true);
-    g.arm(false);
-    g.pulses(2, true);
-    g.scale_step(true);
-    g.arm(true);
-    g.pulses(1, true);
-    g.contact(false);
-
-    // Glitches one clock short of the filter and just long enough, on every pin.
-    for bit in [pin::ARM, pin::CONTACT, pin::INDEX, pin::FES] {
-        for clocks in [g.pass - 1, g.pass] {
-            g.glitch(bit, clocks);
-            g.glitch(bit, clocks);
-        }
-    }
-    for clocks in [g.pass - 1, g.pass] {
-        for bit in [pin::SCALE_A, pin::SCALE_B] {
-            // A glitch on one scale line is a step and its reverse when it passes.
-            if clocks >= g.pass {
-                let back = g.pins;
-                let phase = g.phase;
-                let new = g.pins ^ bit;
-                g.phase = SCALE_PHASES
-                    .iter()
-                    .position(|&p| p == new & (pin::SCALE_A | pin::SCALE_B))
-                    .unwrap_or(phase);
-                g.set(new);
-                let last = g.s.segments.len() - 1;
-                g.s.segments[last].cycles = u32::try_from(clocks).unwrap_or(u32::MAX);
-                g.phase = phase;
-                g.set(back);
-            } else {
-                g.glitch(bit, clocks);
-            }
-        }
-    }
-
-    // Edges in the same clock, for each pair of the canonical order (rising edges; the
-    // scale a step), twice each, with the other lines at random levels.
-    let kinds: [u8; 5] = [pin::ARM, pin::CONTACT, pin::INDEX, pin::FES, 0];
-    for i in 0..kinds.len() {
-        for j in i + 1..kinds.len() {
-            for _ in 0..2 {
-                let pair = [kinds[i], kinds[j]];
-                g.level(pin::INDEX, false);
-                g.level(pin::FES, false);
-                let arm_on = !pair.contains(&pin::ARM);
-                g.arm(arm_on);
-                let contact_on = !pair.contains(&pin::CONTACT) && g.rng.random_bool(0.5);
-                g.contact(contact_on);
-                let mut new = g.pins;
-                for k in pair {
-                    new = if k == 0 {
-                        let stepped = g.scale_bits_after(true);
-                        (new & !(pin::SCALE_A | pin::SCALE_B))
-                            | (stepped & (pin::SCALE_A | pin::SCALE_B))
-                    } else {
-                        new | k
-                    };
-                }
-                g.set(new);
-            }
-        }
-    }
-    g.level(pin::INDEX, false);
-    g.level(pin::FES, false);
-    g.arm(true);
-    g.contact(false);
-
-    // The density detector: the charge steered onto each threshold and one LSB around
-    // it, in the armed state where a threshold one off would act differently, chained from
-    // one measurement cycle; then held at full scale and at 0.
-    let (fire, rearm, full) = (s.fire_threshold, s.rearm_threshold, config.full_charge());
-    g.rearm();
-    // (charge, armed before the pulse that brings it there)
-    let mut targets: Vec<(u32, bool)> = vec![(fire, true), (rearm, false)];
-    if rearm > 0 {
-        targets.push((rearm - 1, false));
-    }
-    if fire - 1 > rearm {
-        targets.push((fire - 1, true));
-    }
-    if fire < full {
-        targets.push((fire + 1, false));
-    }
-    targets.push((rearm + 1, false));
-    for (target, armed) in targets {
-        g.steer(target, armed, size.steer_pulses);
-    }
-    while g.kernel.density().charge() < full {
-        g.pulses(1, true);
-    }
-    g.pulses(2, true);
-    while g.kernel.density().charge() > 0 {
-        g.pulses(1, false);
-    }
-    g.pulses(2, false);
-
-    // The scale: both ways, errors until their count saturates, a wrap if it fits.
-    for _ in 0..6 {
-        g.scale_step(false);
-    }
-    for _ in 0..=u32::from(u8::MAX) {
-        g.scale_error();
-    }
-    let half = 1u64 << (s.scale_bits - 1);
-    let position = i64::from(g.kernel.scale().position());
-    let to_wrap = (half as i64 - position).unsigned_abs();
-    if to_wrap <= size.wrap_steps {
-        for _ in 0..=to_wrap {
-            g.scale_step(true);
-        }
-    }
-    g.arm(false);
-    g.contact(false);
-    g.level(pin::FES, false);
-    g.level(pin::INDEX, false);
-    g.hold();
+    g.counter_windows();
+    g.contact_rule_and_arm();
+    g.glitches();
+    g.same_clock_pairs();
+    g.density_thresholds(size.steer_pulses);
+    g.scale_and_wrap(size.wrap_steps);
     let directed_end = g.kernel;
 
     // The constrained-random tail.
