@@ -18,7 +18,6 @@
 
 pub mod bench;
 pub mod error;
-pub mod force_scenario;
 pub mod formal;
 pub mod hal;
 pub mod hdl;
@@ -26,7 +25,6 @@ pub mod nucleo;
 pub mod on_target;
 pub mod player;
 pub mod qemu;
-pub mod scenario;
 pub mod speed;
 pub mod trace;
 
@@ -45,7 +43,8 @@ use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 use tooltouch_vectors::signals::force_signals;
 
 pub use error::{CosimError, Mismatch};
-pub use scenario::{generate, Case, Fault};
+pub use tooltouch_stimuli::{force_scenario, scenario};
+pub use tooltouch_stimuli::{generate, Case, Fault};
 
 /// Which measurement events the firmware writes an outputs record after.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

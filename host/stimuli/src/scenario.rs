@@ -6,7 +6,7 @@
 //! after "register now" and re-arming for the next Z step (docs/domain.md §2.5) — plus the fault
 //! cases: missing index pulses, a spindle that stops (the CNC times out and aborts, no
 //! decision), encoder glitches, contact chatter, a broken FES line (revolution counter
-//! saturates). Beside it runs the force path ([`super::force_scenario`]): a random
+//! saturates). Beside it runs the force path ([`crate::force_scenario`]): a random
 //! spindle-drive plant from [`tooltouch_plant::drive`] closed around the golden force kernel under
 //! a random force configuration (controller kind and gains, set point, filters, estimator,
 //! wear thresholds), with ADC saturation as its fault.
@@ -359,8 +359,8 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
     // s, at most 8000 ADC samples so the broken-FES case stays short): a random plant
     // from tooltouch_plant::drive closed around the golden kernel under a random force
     // configuration fitted to it.
-    let plant = super::force_scenario::random_plant(&mut rng);
-    let settings = super::force_scenario::random_force_settings(&mut rng, &plant);
+    let plant = crate::force_scenario::random_plant(&mut rng);
+    let settings = crate::force_scenario::random_force_settings(&mut rng, &plant);
     // random_force_settings draws every field inside its range (a unit test checks it);
     // fall back to the defaults if a future range change makes that false.
     let fc = settings
@@ -371,7 +371,7 @@ pub fn generate(seed: u64, fault: Fault) -> Case {
             let span = events.last().map_or(0, |e| e.time) as f64 / f64::from(TICK_HZ);
             let max_s = 8000.0 / f64::from(fc.settings().sample_hz.max(1));
             let duration = span.clamp(2.0, 5.0).min(max_s);
-            let fe = super::force_scenario::force_events(
+            let fe = crate::force_scenario::force_events(
                 &mut rng,
                 &fc,
                 &plant,
