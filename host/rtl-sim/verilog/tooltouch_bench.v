@@ -1,5 +1,5 @@
 // tooltouch_bench: a stimulus-only bench for tt_frontend under tooltouch_scoreboard (the
-// DPI-C one, host/abi/sv, under Verilator; the VPI one, tooltouch_scoreboard.v here, under
+// DPI-C one, host/rtl-sim/sv, under Verilator; the VPI one, tooltouch_scoreboard.v here, under
 // Icarus): Verilog-2005, no expected vectors, the scoreboard computes them as it goes.
 //
 // Reads the run-length pins of stim.hex (`tooltouch hdl --vectors` or `tooltouch vectors`

@@ -1,5 +1,5 @@
 //! Timing the HDL simulators on a stimulus, through the co-simulation runner of
-//! [`crate::hdl::cosim`] (no runner of our own): the generated design and its
+//! [`crate::cosim`] (no runner of our own): the generated design and its
 //! self-checking testbench, Verilator's C++ at `-O3` (docs/architecture.md, pitfalls),
 //! Icarus as is.
 //!
@@ -7,8 +7,8 @@
 //! start, `$readmemh` of the vectors, and every clock with the testbench's compare of every
 //! output. The run must pass (bit for bit with the model), or the timing is an error.
 
-use crate::hdl::cosim::{cosim, CosimPlan};
-use crate::hdl::runner::{CxxOpt, SimRun, Simulator};
+use crate::cosim::{cosim, CosimPlan};
+use crate::runner::{CxxOpt, SimRun, Simulator};
 use anyhow::{bail, Result};
 use std::path::Path;
 use tooltouch_model::MeasureConfig;

@@ -1,8 +1,8 @@
 /* tooltouch_vpi.c: the golden model as Icarus system functions (VPI), for the Verilog-2005
- * scoreboard host/abi/verilog/tooltouch_scoreboard.v. Build it with Icarus's tool, linking
+ * scoreboard host/rtl-sim/verilog/tooltouch_scoreboard.v. Build it with Icarus's tool, linking
  * the static library of the C ABI:
  *
- *   iverilog-vpi --name=tooltouch -I<repo>/host/abi/include <repo>/host/abi/c/tooltouch_vpi.c \
+ *   iverilog-vpi --name=tooltouch -I<repo>/host/abi/include <repo>/host/rtl-sim/c/tooltouch_vpi.c \
  *                <target>/release/libtooltouch_abi.a -lpthread -ldl -lm
  *   vvp -M . -m tooltouch sim +tooltouch_config=FILE
  *

@@ -1,8 +1,8 @@
 /* tooltouch_dpi.c: the DPI-C functions the SystemVerilog package `tooltouch_dpi`
- * (host/abi/sv/tooltouch_dpi.sv) imports, over the C ABI of tooltouch.h. Compile it with
+ * (host/rtl-sim/sv/tooltouch_dpi.sv) imports, over the C ABI of tooltouch.h. Compile it with
  * the simulator's C compiler and link libtooltouch_abi.a, e.g. with Verilator:
  *
- *   verilator --binary ... host/abi/c/tooltouch_dpi.c -CFLAGS -I<repo>/host/abi/include \
+ *   verilator --binary ... host/rtl-sim/c/tooltouch_dpi.c -CFLAGS -I<repo>/host/abi/include \
  *             <target>/release/libtooltouch_abi.a -LDFLAGS "-lpthread -ldl -lm"
  *
  * Valid C and C++ (Verilator compiles it as C++; the functions have C linkage).

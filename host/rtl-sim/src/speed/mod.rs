@@ -7,7 +7,7 @@
 //! - the **event level**: the events the cycle level's kernel acted on, replayed with
 //!   [`Measurement::apply`] ([`run_events`]);
 //! - the **Verilator** and **Icarus** models of the generated Verilog, through the
-//!   co-simulation runner of [`crate::hdl`] ([`hdl`]: its self-checking testbench), and
+//!   co-simulation runner of [`crate`] ([`hdl`]: its self-checking testbench), and
 //!   Verilator once more as a bare C++ clock loop without a testbench ([`verilator`]).
 //!
 //! Every model run returns a [`Trace`] (a digest of every clock's detected edges and the

@@ -1,16 +1,16 @@
 //! Verilator with nothing around it: the generated design (written by
-//! [`crate::hdl::write_design`] from `tooltouch_hdl_gen::generate`) compiled with a minimal
+//! [`crate::write_design`] from `tooltouch_hdl_gen::generate`) compiled with a minimal
 //! C++ loop that sets the pins of each stimulus segment and toggles the clock, no
 //! testbench, no per-cycle compare, no timing scheduler — the fastest Verilator can clock
 //! this design, so the fairest yardstick for "cycles per second". C++ at `-O3`
 //! (docs/architecture.md, pitfalls). The loop alone is timed (in C++, `steady_clock`); correctness
 //! is checked on the outputs after the last clock, against the model's.
 //!
-//! The co-simulation runner ([`crate::hdl::runner`]) has no such mode (its testbench
+//! The co-simulation runner ([`crate::runner`]) has no such mode (its testbench
 //! always compares), hence this one build function; everything else is the runner's.
 
 use super::hdl::HdlSpeed;
-use crate::hdl::runner::{find_tool, Simulator};
+use crate::runner::{find_tool, Simulator};
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -87,7 +87,7 @@ pub fn time_bare_verilator(
     find_tool("verilator")?;
     let rtl = work.join("rtl");
     let design = generate(config, &Options::default());
-    let files = crate::hdl::write_design(&rtl, &design, None)?;
+    let files = crate::write_design(&rtl, &design, None)?;
     let main = work.join("bare_main.cpp");
     std::fs::write(&main, main_cpp(config)).with_context(|| format!("{}", main.display()))?;
     let mut segs = String::new();

@@ -1,7 +1,7 @@
 // tooltouch_scoreboard (VPI): the golden model beside your tt_frontend, every clock, under
 // Icarus (which has no DPI): Verilog-2005 over the system functions of
-// host/abi/c/tooltouch_vpi.c (vvp -M DIR -m tooltouch). The same module, ports,
-// parameters, plusargs, checks and messages as the DPI-C scoreboard host/abi/sv/
+// host/rtl-sim/c/tooltouch_vpi.c (vvp -M DIR -m tooltouch). The same module, ports,
+// parameters, plusargs, checks and messages as the DPI-C scoreboard host/rtl-sim/sv/
 // tooltouch_scoreboard.sv:
 //
 //   tooltouch_scoreboard #(.SCALE_BITS(24), .COUNT_BITS(11), .CHARGE_BITS(16)) sb (

@@ -3,12 +3,19 @@
 //! ([`runner`]), the cosim comparison of both simulators with the model ([`cosim`]), the random stimuli of its property
 //! tests being `tooltouch_plant::random`.
 //!
-//! The Verilog itself comes from `tooltouch-hdl-gen`.
+//! The Verilog itself comes from `tooltouch-hdl-gen`. Their speed is timed in [`speed`].
+//! Beside the code, the simulator glue over the C ABI (`tooltouch-abi`): `c/tooltouch_dpi.c`
+//! + `sv/` (the DPI-C package and scoreboard), `c/tooltouch_vpi.c` + `verilog/` (the VPI
+//! scoreboard for Icarus, the stimulus-only bench).
+//!
+//! Depends on the golden model, hdl-gen, the plants and the vector formats; must not depend
+//! on the firmware runners, the formal proof, LinuxCNC, tuning, plots or the command line.
 //!
 //! [`Stimulus`]: tooltouch_plant::stimulus::Stimulus
 
 pub mod cosim;
 pub mod runner;
+pub mod speed;
 
 use std::path::PathBuf;
 

@@ -1,4 +1,4 @@
-// tooltouch_dpi: the golden model's DPI-C imports (host/abi/c/tooltouch_dpi.c over the C
+// tooltouch_dpi: the golden model's DPI-C imports (host/rtl-sim/c/tooltouch_dpi.c over the C
 // ABI of libtooltouch_abi). tooltouch_scoreboard uses them; a UVM predictor can too.
 //
 // Signal indexes (tooltouch_compare, tooltouch_expected): 0..14 the outputs in the order
