@@ -22,6 +22,10 @@
 //! `rst` is a free input, the same for both designs every clock: the proof covers a
 //! synchronous reset at any clock (the contract's: every register 0 but `density_armed`
 //! after a clock with `rst` high), so a register `rst` leaves is a difference.
+//!
+//! Depends on the golden model, hdl-gen (the reference, the contract's ports), the plants,
+//! the vector formats and the RTL runners of `tooltouch-rtl-sim` (the replays); must not
+//! depend on the firmware runners, LinuxCNC, tuning, plots or the command line.
 
 pub mod assertions;
 pub mod clocked;

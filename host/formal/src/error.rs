@@ -42,7 +42,7 @@ pub(super) fn io(path: &Path) -> impl FnOnce(std::io::Error) -> FormalError + '_
 }
 
 pub(super) fn find(tool: &str) -> Result<(), FormalError> {
-    crate::hdl::runner::find_tool(tool)
+    tooltouch_rtl_sim::runner::find_tool(tool)
         .map(|_| ())
         .map_err(|_| FormalError::ToolMissing(tool.to_string()))
 }

@@ -15,7 +15,7 @@
 use super::error::FormalError;
 use super::inputs::Counterexample;
 use super::miter::map_inputs;
-use crate::hdl::runner::{build, run, CxxOpt, Simulator};
+use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tooltouch_hdl_gen::{testbench, TestbenchSpec, TESTBENCH, TOP};
@@ -240,9 +240,9 @@ pub fn replay(
     })
 }
 
-fn hdl_error(e: crate::hdl::HdlError) -> FormalError {
+fn hdl_error(e: tooltouch_rtl_sim::HdlError) -> FormalError {
     match e {
-        crate::hdl::HdlError::ToolMissing { tool } => FormalError::ToolMissing(tool),
+        tooltouch_rtl_sim::HdlError::ToolMissing { tool } => FormalError::ToolMissing(tool),
         other => FormalError::Tool(format!("replaying the counterexample: {other}")),
     }
 }

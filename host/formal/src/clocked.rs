@@ -12,7 +12,7 @@
 
 use super::error::{io, FormalError};
 use super::inputs::Counterexample;
-use crate::hdl::runner::{build, run, CxxOpt, Simulator};
+use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use tooltouch_hdl_gen::{mask, output_fields, MCU_REGISTERS, TESTBENCH};
@@ -267,9 +267,9 @@ pub fn compare(
     Ok(None)
 }
 
-fn hdl_error(e: crate::hdl::HdlError) -> FormalError {
+fn hdl_error(e: tooltouch_rtl_sim::HdlError) -> FormalError {
     match e {
-        crate::hdl::HdlError::ToolMissing { tool } => FormalError::ToolMissing(tool),
+        tooltouch_rtl_sim::HdlError::ToolMissing { tool } => FormalError::ToolMissing(tool),
         other => FormalError::Tool(format!(
             "replaying the counterexample clock by clock: {other}"
         )),
