@@ -16,7 +16,7 @@
 //!   when the device's feed override equals the model's.
 
 use super::period::{adc_pins, PeriodInputs};
-use crate::force_scenario::random_plant;
+use tooltouch_stimuli::force_scenario::random_plant;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tooltouch_model::force::config::ForceConfig;

@@ -1,4 +1,4 @@
-//! The HAL component's period semantics (`host/abi/hal/tooltouch.comp`) over the golden
+//! The HAL component's period semantics (`host/linuxcnc/hal/tooltouch.comp`) over the golden
 //! model: what one call of `tooltouch.0.update` does with the pins it reads, as events in the
 //! model's canonical order. The component is the device; this is the golden side the HAL
 //! test checks it against, field by field and period by period.
