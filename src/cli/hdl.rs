@@ -20,7 +20,7 @@ use super::vectors::CLOCK_RULE;
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use tooltouch_cosim::hdl::write_design;
+use tooltouch_rtl_sim::write_design;
 use tooltouch_hdl_gen::{
     generate, testbench, Fault, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX, TESTBENCH,
 };

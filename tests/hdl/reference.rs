@@ -12,7 +12,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::path::Path;
 use std::process::Command;
-use tooltouch_cosim::hdl::runner::{build, run, CxxOpt, Simulator};
+use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use tooltouch_hdl_gen::{
     reference, testbench, verilator_main, Options, TestbenchSpec, REFERENCE_TOP, TOP,
 };

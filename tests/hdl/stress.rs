@@ -10,8 +10,8 @@
 //! `TOOLTOUCH_STRESS_RANDOM=<clocks>` run more.
 
 use crate::faults::{assert_mismatch_report, check_with_reports};
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::Simulator;
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};

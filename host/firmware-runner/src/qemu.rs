@@ -77,7 +77,7 @@ impl Drop for TempDir {
 
 /// The firmware/ folder of this repository.
 pub fn firmware_dir() -> PathBuf {
-    // This crate is host/cosim/ in the workspace.
+    // This crate is host/firmware-runner/ in the workspace.
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../firmware")
 }
 

@@ -1,9 +1,11 @@
-//! tooltouch's co-simulation runners: the RTIC firmware under QEMU against the event-level
-//! golden model (this page), and the generated Verilog under Verilator and Icarus against the
-//! cycle level ([`hdl`], timed in [`speed`]).
+//! tooltouch's firmware runners: the RTIC firmware under QEMU against the event-level
+//! golden model (this page, [`qemu`], [`trace`]), the Nucleo image under QEMU's
+//! netduinoplus2 ([`nucleo`], [`on_target`]), the lathe player's image ([`player`]) and the
+//! two-board bench over probe-rs ([`bench`]). The cases are `tooltouch-stimuli`'s.
 //!
-//! Depends on the golden model, hdl-gen, the plants, the vector formats and the settings;
-//! must not depend on tuning, plots or the command line.
+//! Depends on the golden model, the vector formats, the settings and the random streams of
+//! `tooltouch-stimuli`; must not depend on the RTL runners, the formal proof, LinuxCNC,
+//! tuning, plots or the command line.
 //!
 //! ## The firmware under QEMU
 //!
@@ -18,14 +20,10 @@
 
 pub mod bench;
 pub mod error;
-pub mod formal;
-pub mod hal;
-pub mod hdl;
 pub mod nucleo;
 pub mod on_target;
 pub mod player;
 pub mod qemu;
-pub mod speed;
 pub mod trace;
 
 use std::time::Duration;
@@ -43,7 +41,6 @@ use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 use tooltouch_vectors::signals::force_signals;
 
 pub use error::{CosimError, Mismatch};
-pub use tooltouch_stimuli::{force_scenario, scenario};
 pub use tooltouch_stimuli::{generate, Case, Fault};
 
 /// Which measurement events the firmware writes an outputs record after.
