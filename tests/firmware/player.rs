@@ -12,7 +12,9 @@
 //! Needs qemu-system-arm and the thumbv7em-none-eabihf target: without them the test
 //! fails with a message naming `cargo xtask setup`.
 
-use tooltouch_firmware_runner::player::firmware_player::{Schedule, Step, NUCLEO_PINS, WRAP_AHEAD_TICKS};
+use tooltouch_firmware_runner::player::firmware_player::{
+    Schedule, Step, NUCLEO_PINS, WRAP_AHEAD_TICKS,
+};
 use tooltouch_firmware_runner::player::{self, exit_code, EMULATED_TIMER_HZ};
 
 /// Ticks of 500 MHz (2 instructions each under `-icount shift=0`) the loop may take to
@@ -37,7 +39,8 @@ fn the_player_image_plays_the_host_schedule_under_netduinoplus2() {
     );
 
     let stream =
-        std::fs::read(tooltouch_firmware_runner::qemu::firmware_dir().join("tooltouch-events.bin")).unwrap();
+        std::fs::read(tooltouch_firmware_runner::qemu::firmware_dir().join("tooltouch-events.bin"))
+            .unwrap();
     let (header, summary, schedule) =
         Schedule::new(&stream, EMULATED_TIMER_HZ, NUCLEO_PINS).unwrap();
     let steps: Vec<Step> = schedule.collect();

@@ -17,11 +17,11 @@ use crate::common::{s, text, tooltouch, FAST_LATHE};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
-use tooltouch_rtl_sim::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::stress::{stress_stimulus, StressSize};
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::Simulator;
 use tooltouch_settings::firmware_config::FirmwareConfig;
 use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 

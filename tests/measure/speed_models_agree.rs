@@ -2,8 +2,8 @@
 //! event level give identical results on the realistic stimulus and on the tuning
 //! scenarios, and the HDL timing path runs the runner's bit-for-bit testbench.
 
-use tooltouch_rtl_sim::speed;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_rtl_sim::speed;
 use tooltouch_tune::scenario::{approach, ApproachSettings};
 
 #[test]

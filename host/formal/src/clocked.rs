@@ -12,12 +12,12 @@
 
 use super::error::{io, FormalError};
 use super::inputs::Counterexample;
-use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use tooltouch_hdl_gen::{mask, output_fields, MCU_REGISTERS, TESTBENCH};
 use tooltouch_model::measure::frontend::{FrontEnd, Pins};
 use tooltouch_model::MeasureConfig;
+use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 
 /// File the replay testbench prints to: per clock `frame mcu_rdata output…` in hex.
 pub const REPLAY_TEXT: &str = "replay.txt";

@@ -15,12 +15,12 @@
 use super::error::FormalError;
 use super::inputs::Counterexample;
 use super::miter::map_inputs;
-use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use tooltouch_hdl_gen::{testbench, TestbenchSpec, TESTBENCH, TOP};
 use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureConfig;
+use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use tooltouch_vectors::check::Verdict;
 use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 

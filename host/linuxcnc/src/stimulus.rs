@@ -16,7 +16,6 @@
 //!   when the device's feed override equals the model's.
 
 use super::period::{adc_pins, PeriodInputs};
-use tooltouch_stimuli::force_scenario::random_plant;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tooltouch_model::force::config::ForceConfig;
@@ -24,6 +23,7 @@ use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::drive::scenario::ClosedLoop;
 use tooltouch_plant::drive::Plant;
+use tooltouch_stimuli::force_scenario::random_plant;
 
 /// Spindle speeds of the stimulus' three segments, rpm.
 pub const SEGMENT_RPM: [f64; 3] = [800.0, 3000.0, 12_000.0];

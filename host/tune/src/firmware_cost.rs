@@ -21,11 +21,11 @@
 
 use std::path::{Path, PathBuf};
 use tooltouch_firmware_runner::nucleo;
-use tooltouch_stimuli::scenario::TICK_HZ;
 use tooltouch_firmware_runner::{Case, CosimError, Observe, Profile};
 use tooltouch_model::force::config::ForceConfig;
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::drive::scenario::{run, ControlScenario, Engine};
+use tooltouch_stimuli::scenario::TICK_HZ;
 
 /// Index of the ADC-sample interrupts in [`Profile::per_kind`].
 const ADC_SAMPLE: usize = 5;
