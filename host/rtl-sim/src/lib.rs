@@ -5,8 +5,8 @@
 //!
 //! The Verilog itself comes from `tooltouch-hdl-gen`. Their speed is timed in [`speed`].
 //! Beside the code, the simulator glue over the C ABI (`tooltouch-abi`): `c/tooltouch_dpi.c`
-//! + `sv/` (the DPI-C package and scoreboard), `c/tooltouch_vpi.c` + `verilog/` (the VPI
-//! scoreboard for Icarus, the stimulus-only bench).
+//! with `sv/` (the DPI-C package and scoreboard), `c/tooltouch_vpi.c` with `verilog/` (the
+//! VPI scoreboard for Icarus, the stimulus-only bench).
 //!
 //! Depends on the golden model, hdl-gen, the plants and the vector formats; must not depend
 //! on the firmware runners, the formal proof, LinuxCNC, tuning, plots or the command line.
