@@ -15,11 +15,9 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// The firmware's own player module (`tooltouch_firmware::player`: the schedule, the pin
-/// map, the emulated build's rate, recording format and exit statuses), compiled here for
-/// the host from firmware/src/player.rs: the firmware crate is a workspace of its own, so
-/// it cannot be a dependency, and this keeps one definition of each.
-#[path = "../../../firmware/src/player.rs"]
-pub mod firmware_player;
+/// map, the emulated build's rate, recording format and exit statuses): the no_std crate
+/// `tooltouch-player` both workspaces depend on, so each is defined once.
+pub use tooltouch_player as firmware_player;
 
 pub use firmware_player::emulated::{exit_code, TIMER_HZ as EMULATED_TIMER_HZ, WRITE_BYTES};
 

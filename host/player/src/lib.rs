@@ -20,8 +20,14 @@
 //! `PRESET_PULSES` test event) is an error. [`Schedule::new`] checks the whole stream before
 //! the first step, so a bad stream is refused before any pin moves.
 //!
-//! Board-independent and allocation-free: the host tests (tests/handlers/player.rs) check it, the
-//! `player` image plays it.
+//! Board-independent and allocation-free: the host tests (firmware/tests/handlers/player.rs)
+//! check it, the `player` image plays it (as `tooltouch_firmware::player`), and the host
+//! reads the emulated image's recording with the same definitions (`tooltouch-firmware-runner`).
+//!
+//! `no_std`; depends on the golden model only (firmware and host workspaces both use it by
+//! path); must not depend on any board crate or host library.
+
+#![no_std]
 
 use tooltouch_model::wire::measure_event::decode_event;
 use tooltouch_model::wire::{kind, Header, Records, StreamKind, WireError};
@@ -68,7 +74,7 @@ pub const MAX_PULSE_TICKS: u64 = 84_000;
 pub const WRAP_AHEAD_TICKS: u32 = 500_000;
 
 /// The player image under QEMU's `netduinoplus2` (its `emulated` build) and the host that
-/// reads its recording (`tooltouch_cosim::player`): one definition of the rate, the
+/// reads its recording (`tooltouch_firmware_runner::player`): one definition of the rate, the
 /// recording's format and the exit statuses.
 pub mod emulated {
     /// TIM2's prescaler: QEMU's timers count at 1 GHz/(PSC+1) whatever RCC says.
