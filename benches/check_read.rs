@@ -17,9 +17,9 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::{CxxOpt, Simulator, Trace};
 use tooltouch_model::MeasureConfig;
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::{CxxOpt, Simulator, Trace};
 use tooltouch_vectors::check::{check_files, CheckOptions, Verdict};
 use tooltouch_vectors::vcd::{output_signals, Changes, Declarations, VcdReader};
 

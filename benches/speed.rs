@@ -1,5 +1,5 @@
 //! Speed of the golden model against Verilator and Icarus on one realistic measurement
-//! stimulus (see `tooltouch_cosim::speed`).
+//! stimulus (see `tooltouch_rtl_sim::speed`).
 //!
 //! `cargo bench --bench speed` runs the criterion benches (model plain, fast-forward,
 //! event level, controllers). `cargo bench --bench speed -- --table` (what
@@ -8,11 +8,11 @@
 use criterion::{criterion_group, Criterion, Throughput};
 use std::path::PathBuf;
 use std::time::Instant;
-use tooltouch_cosim::hdl::runner::Simulator;
-use tooltouch_cosim::speed::{self, hdl::time_simulator, verilator::time_bare_verilator};
 use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_rtl_sim::runner::Simulator;
+use tooltouch_rtl_sim::speed::{self, hdl::time_simulator, verilator::time_bare_verilator};
 
 /// Measurements of the closed-loop cycle in the realistic stimulus.
 const REPEATS: u32 = 2;

@@ -30,7 +30,7 @@ pub mod nucleo;
 mod panic;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
 pub mod pend;
-pub mod player;
+pub use tooltouch_player as player;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]
 pub mod semihosting;
 #[cfg(all(any(feature = "qemu", feature = "emulated"), target_os = "none"))]

@@ -1,8 +1,8 @@
 //! The simulator glue's lists of the front end's outputs, generated from [`output_ports`]:
 //! the ports, names, width checks and comparisons of the DPI-C scoreboard
-//! (`host/abi/sv/`, `host/abi/c/tooltouch_dpi.c`), the VPI scoreboard
-//! (`host/abi/verilog/tooltouch_scoreboard.v`, `host/abi/c/tooltouch_vpi.c`) and the
-//! stimulus-only bench (`host/abi/verilog/tooltouch_bench.v`).
+//! (`host/rtl-sim/sv/`, `host/rtl-sim/c/tooltouch_dpi.c`), the VPI scoreboard
+//! (`host/rtl-sim/verilog/tooltouch_scoreboard.v`, `host/rtl-sim/c/tooltouch_vpi.c`) and the
+//! stimulus-only bench (`host/rtl-sim/verilog/tooltouch_bench.v`).
 //!
 //! Those files are written by hand except for *generated regions*: the lines between a
 //! comment line holding `BEGIN GENERATED <name>` and the next holding
@@ -20,17 +20,17 @@ use crate::outputs::{output_ports, OutputPort, IRQ_SOURCE};
 use tooltouch_model::{MeasureOutputs, OutputWidth};
 
 /// The DPI-C package (repository-relative path).
-pub const DPI_PACKAGE: &str = "host/abi/sv/tooltouch_dpi.sv";
+pub const DPI_PACKAGE: &str = "host/rtl-sim/sv/tooltouch_dpi.sv";
 /// The DPI-C scoreboard.
-pub const DPI_SCOREBOARD: &str = "host/abi/sv/tooltouch_scoreboard.sv";
+pub const DPI_SCOREBOARD: &str = "host/rtl-sim/sv/tooltouch_scoreboard.sv";
 /// The DPI-C functions over the C ABI.
-pub const DPI_C: &str = "host/abi/c/tooltouch_dpi.c";
+pub const DPI_C: &str = "host/rtl-sim/c/tooltouch_dpi.c";
 /// The VPI scoreboard for Icarus.
-pub const VPI_SCOREBOARD: &str = "host/abi/verilog/tooltouch_scoreboard.v";
+pub const VPI_SCOREBOARD: &str = "host/rtl-sim/verilog/tooltouch_scoreboard.v";
 /// The VPI system functions over the C ABI.
-pub const VPI_C: &str = "host/abi/c/tooltouch_vpi.c";
+pub const VPI_C: &str = "host/rtl-sim/c/tooltouch_vpi.c";
 /// The stimulus-only bench of both scoreboards.
-pub const BENCH: &str = "host/abi/verilog/tooltouch_bench.v";
+pub const BENCH: &str = "host/rtl-sim/verilog/tooltouch_bench.v";
 
 /// Every file holding generated regions.
 pub const SCOREBOARD_FILES: [&str; 6] = [

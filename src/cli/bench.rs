@@ -1,7 +1,7 @@
 //! `tooltouch bench`: the two-board bench from the command line (docs/firmware.md, "The
 //! bench"). The lathe player board replays an event stream on its pins; the controller
 //! board logs a decision line at each change of "register now"; these commands compare
-//! those lines with the golden model's for the same stream ([`tooltouch_cosim::bench`]).
+//! those lines with the golden model's for the same stream ([`tooltouch_firmware_runner::bench`]).
 //!
 //! - `bench expect` writes the decision lines the controller must log for a stream.
 //! - `bench check` compares a log saved earlier (probe-rs's output) with them.
@@ -21,7 +21,7 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Duration;
-use tooltouch_cosim::bench;
+use tooltouch_firmware_runner::bench;
 use tooltouch_model::wire::Header;
 use tooltouch_settings::firmware_config::FirmwareConfig;
 

@@ -11,7 +11,7 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use tooltouch_cosim::{qemu, trace, CosimError};
+use tooltouch_firmware_runner::{qemu, trace, CosimError};
 use tooltouch_settings::firmware_config::{FirmwareConfig, CONFIG_VAR};
 use tooltouch_settings::load::{golden_set_of, load_settings};
 use tooltouch_vectors::binary;
@@ -130,7 +130,7 @@ pub fn with_calibration(
 }
 
 /// Compares the decisions the firmware reported in `trace` with the golden model's
-/// ([`tooltouch_cosim::DecisionReporter`] over `set`'s expected outputs) for an image
+/// ([`tooltouch_firmware_runner::DecisionReporter`] over `set`'s expected outputs) for an image
 /// built with `calibration`: the first difference (time, field, both values) as the
 /// error; with a calibration, a line saying what was compared.
 fn check_decisions(
@@ -141,8 +141,8 @@ fn check_decisions(
     let Some(config) = set.inputs.measure else {
         return Ok(None);
     };
-    let mut reporter = tooltouch_cosim::DecisionReporter::new(&config, calibration);
-    let want: Vec<(u64, tooltouch_cosim::ReportedDecision)> = set
+    let mut reporter = tooltouch_firmware_runner::DecisionReporter::new(&config, calibration);
+    let want: Vec<(u64, tooltouch_firmware_runner::ReportedDecision)> = set
         .outputs
         .iter()
         .filter_map(|(t, o)| match o {

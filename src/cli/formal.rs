@@ -10,8 +10,8 @@
 use anyhow::Context;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use tooltouch_cosim::formal::engines::{Engine, PORTFOLIO};
-use tooltouch_cosim::formal::{prove, FormalError, Outcome, Request, DEFAULT_SECONDS};
+use tooltouch_formal::engines::{Engine, PORTFOLIO};
+use tooltouch_formal::{prove, FormalError, Outcome, Request, DEFAULT_SECONDS};
 use tooltouch_settings::load::load_settings;
 use tooltouch_vectors::output::OutputFolder;
 
@@ -143,8 +143,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     text.push('\n');
     out.write("report.txt", &text)?;
     out.write(
-        tooltouch_cosim::formal::assertions::PROPS_FILE,
-        tooltouch_cosim::formal::assertions::bind_file(&request.config),
+        tooltouch_formal::assertions::PROPS_FILE,
+        tooltouch_formal::assertions::bind_file(&request.config),
     )?;
     out.commit()?;
     super::write_stdout(format_args!("{text}"));

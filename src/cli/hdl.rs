@@ -20,12 +20,12 @@ use super::vectors::CLOCK_RULE;
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use tooltouch_cosim::hdl::write_design;
 use tooltouch_hdl_gen::{
     generate, testbench, Fault, Options, TestbenchSpec, EXPECT_HEX, STIM_HEX, TESTBENCH,
 };
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_rtl_sim::write_design;
 use tooltouch_settings::load::{golden_set_of, load_settings, LoadedSettings};
 use tooltouch_vectors::hex::{self, Vectors};
 use tooltouch_vectors::output::OutputFolder;

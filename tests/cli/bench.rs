@@ -66,7 +66,7 @@ fn collect(stream: &Path, config: &Path, elf: &Path, probe_rs: &Path, extra: &[&
 #[test]
 fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let (stream, config) = demo();
-    let elf = tooltouch_cosim::nucleo::build_emulated().unwrap_or_else(|e| panic!("{e}"));
+    let elf = tooltouch_firmware_runner::nucleo::build_emulated().unwrap_or_else(|e| panic!("{e}"));
     let w = tempfile::tempdir().unwrap();
 
     // The expected lines: the documented line of the demo stream.

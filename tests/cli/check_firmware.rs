@@ -9,7 +9,7 @@
 
 use std::path::Path;
 use std::process::Output;
-use tooltouch_cosim::{self as cosim, Fault};
+use tooltouch_firmware_runner::{self as cosim, Fault};
 
 use crate::common;
 use common::{s, text, tooltouch};

@@ -33,7 +33,7 @@ pub const FAST_LATHE: &str = include_str!("../../firmware/demo-lathe.toml");
 /// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.
 pub fn icarus(dir: &Path, plusargs: &[&str]) -> String {
     for tool in ["iverilog", "vvp"] {
-        if let Err(e) = tooltouch_cosim::hdl::runner::find_tool(tool) {
+        if let Err(e) = tooltouch_rtl_sim::runner::find_tool(tool) {
             panic!("{e}");
         }
     }

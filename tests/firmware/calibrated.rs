@@ -14,7 +14,7 @@ use crate::common::{s, text, tooltouch, FAST_LATHE};
 use crate::cosim::{lathe_cases, print_report, proptest_seeds};
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use tooltouch_cosim::{self as cosim, nucleo, Case, CosimError, Fault, Observe};
+use tooltouch_firmware_runner::{self as cosim, nucleo, Case, CosimError, Fault, Observe};
 use tooltouch_model::measure::calibration::CalibrationRecord;
 use tooltouch_model::MeasureConfig;
 use tooltouch_settings::firmware_config::FirmwareConfig;

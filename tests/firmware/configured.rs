@@ -168,7 +168,7 @@ fn a_tuned_point_runs_in_the_model_the_rtl_and_the_firmware() {
         text(&o)
     );
     let bytes = std::fs::read(&trace).unwrap();
-    let streams = tooltouch_cosim::trace::parse(&bytes).unwrap();
+    let streams = tooltouch_firmware_runner::trace::parse(&bytes).unwrap();
     assert_eq!(
         streams[0].profile.image_hashes,
         Some((config.measure.hash(), config.force.hash())),
@@ -184,7 +184,8 @@ fn a_tuned_point_runs_in_the_model_the_rtl_and_the_firmware() {
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
 
     // The default image is not the point's: refused as bad input, naming both.
-    let default_image = tooltouch_cosim::qemu::build_firmware().unwrap_or_else(|e| panic!("{e}"));
+    let default_image =
+        tooltouch_firmware_runner::qemu::build_firmware().unwrap_or_else(|e| panic!("{e}"));
     let o = tooltouch(&[
         "cosim",
         "firmware",

@@ -10,7 +10,7 @@
 
 use std::path::Path;
 use std::process::{Command, Output};
-use tooltouch_cosim::qemu::{self, exit_code};
+use tooltouch_firmware_runner::qemu::{self, exit_code};
 
 use crate::common;
 use common::{s, text, tooltouch};
@@ -117,7 +117,7 @@ fn a_missing_or_malformed_events_file_has_its_message_and_exit_status() {
     );
     // The trace ends with the error record, which the host explains.
     let trace = std::fs::read(w.path().join(qemu::OUTPUTS_FILE)).unwrap();
-    let e = tooltouch_cosim::trace::parse(&trace)
+    let e = tooltouch_firmware_runner::trace::parse(&trace)
         .unwrap_err()
         .to_string();
     assert!(e.contains("truncated record"), "{e}");

@@ -12,7 +12,9 @@ use proptest::strategy::{Strategy, ValueTree};
 use proptest::test_runner::{Config, TestRunner};
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use tooltouch_cosim::{self as cosim, trace::EVENT_KIND_NAMES, Case, CosimError, Fault, Observe};
+use tooltouch_firmware_runner::{
+    self as cosim, trace::EVENT_KIND_NAMES, Case, CosimError, Fault, Observe,
+};
 use tooltouch_model::force::config::ForceSettings;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::wire::force_chunks::{

@@ -14,8 +14,8 @@ use crate::common::{s, text, tooltouch};
 use crate::cosim::{case_count, lathe_cases, print_report, proptest_seeds};
 use std::path::PathBuf;
 use std::sync::OnceLock;
-use tooltouch_cosim::nucleo::{self, NucleoRun};
-use tooltouch_cosim::{self as cosim, Case, Fault, Observe};
+use tooltouch_firmware_runner::nucleo::{self, NucleoRun};
+use tooltouch_firmware_runner::{self as cosim, Case, Fault, Observe};
 use tooltouch_model::measure::calibration::{applied_offset, CalibrationRecord};
 use tooltouch_settings::firmware_config::FirmwareConfig;
 
@@ -75,7 +75,7 @@ pub(crate) fn expected_log(cases: &[Case], calibration: Option<&CalibrationRecor
             on = o.register_now;
             log.push(format!(
                 "{}; 0 ADC samples dropped",
-                tooltouch_cosim::bench::decision_line(&o, offset, bits)
+                tooltouch_firmware_runner::bench::decision_line(&o, offset, bits)
             ));
         }
     }

@@ -7,7 +7,7 @@
 //! Needs qemu-system-arm and the thumbv7em-none-eabihf target: without them the test
 //! fails with a message naming `cargo xtask setup`.
 
-use tooltouch_cosim::on_target::{self, OnTargetRun, ALL_PASSED};
+use tooltouch_firmware_runner::on_target::{self, OnTargetRun, ALL_PASSED};
 
 /// Every on-target test in the image's order, and why it cannot run under QEMU (`None`:
 /// it runs there).

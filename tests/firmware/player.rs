@@ -1,8 +1,8 @@
 //! The lathe player's image executed: its `emulated` build under QEMU's netduinoplus2
 //! plays the demo stream once and records every GPIOC_BSRR write with the TIM2 tick its
-//! loop saw (`tooltouch_cosim::player`). The recording must be the schedule the host makes
+//! loop saw (`tooltouch_firmware_runner::player`). The recording must be the schedule the host makes
 //! for the same stream and rate (`tooltouch_firmware::player::Schedule`, its source compiled
-//! into `tooltouch_cosim::player`; the firmware's host tests check it against the stream's events), word for word
+//! into `tooltouch_firmware_runner::player`; the firmware's host tests check it against the stream's events), word for word
 //! and in order,
 //! each write at or after its tick, within [`SPIN_TICKS`] of it when the loop was free and
 //! within [`STEP_TICKS`] of the write before it when that one was still going out; the run
@@ -12,8 +12,10 @@
 //! Needs qemu-system-arm and the thumbv7em-none-eabihf target: without them the test
 //! fails with a message naming `cargo xtask setup`.
 
-use tooltouch_cosim::player::firmware_player::{Schedule, Step, NUCLEO_PINS, WRAP_AHEAD_TICKS};
-use tooltouch_cosim::player::{self, exit_code, EMULATED_TIMER_HZ};
+use tooltouch_firmware_runner::player::firmware_player::{
+    Schedule, Step, NUCLEO_PINS, WRAP_AHEAD_TICKS,
+};
+use tooltouch_firmware_runner::player::{self, exit_code, EMULATED_TIMER_HZ};
 
 /// Ticks of 500 MHz (2 instructions each under `-icount shift=0`) the loop may take to
 /// see a step due once it spins for it: one spin iteration, measured 0–3 ticks.
@@ -37,7 +39,8 @@ fn the_player_image_plays_the_host_schedule_under_netduinoplus2() {
     );
 
     let stream =
-        std::fs::read(tooltouch_cosim::qemu::firmware_dir().join("tooltouch-events.bin")).unwrap();
+        std::fs::read(tooltouch_firmware_runner::qemu::firmware_dir().join("tooltouch-events.bin"))
+            .unwrap();
     let (header, summary, schedule) =
         Schedule::new(&stream, EMULATED_TIMER_HZ, NUCLEO_PINS).unwrap();
     let steps: Vec<Step> = schedule.collect();

@@ -45,7 +45,7 @@ pub const RUST_STATIC_LIBS: [&str; 3] = ["-lpthread", "-ldl", "-lm"];
 
 /// `tool` on the PATH, or a panic naming `cargo xtask setup`.
 pub fn require(tool: &str) {
-    if let Err(e) = tooltouch_cosim::hdl::runner::find_tool(tool) {
+    if let Err(e) = tooltouch_rtl_sim::runner::find_tool(tool) {
         panic!("{e}");
     }
 }

@@ -7,8 +7,8 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
 use tooltouch_plant::random::{random_config, random_stimulus};
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
 
 /// Stimuli per configuration and their length, clocks.
 const STIMULI: usize = 2;
@@ -61,8 +61,8 @@ fn hdl_random_configs_match_the_model_in_verilator_and_icarus() {
 /// windows of one and several revolutions, tiny windows that saturate), in Icarus.
 #[test]
 fn hdl_counter_corner_configs_match_the_model_in_icarus() {
-    use tooltouch_cosim::hdl::runner::Simulator;
     use tooltouch_model::MeasureSettings;
+    use tooltouch_rtl_sim::runner::Simulator;
     let work = tempfile::tempdir().expect("temporary folder");
     let mut rng = ChaCha8Rng::seed_from_u64(0xc0de);
     for (i, (i_def, window_revs, glitch)) in

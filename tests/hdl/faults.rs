@@ -7,12 +7,12 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 use std::process::Command;
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::random::random_stimulus;
 use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::Simulator;
 
 pub(crate) fn stimulus(config: &MeasureConfig) -> Stimulus {
     let mut rng = ChaCha8Rng::seed_from_u64(0xfa17);

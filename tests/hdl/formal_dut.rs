@@ -22,7 +22,7 @@
 
 use crate::common::{s, text, tooltouch};
 use std::path::{Path, PathBuf};
-use tooltouch_cosim::formal::{prove, Outcome, Request};
+use tooltouch_formal::{prove, Outcome, Request};
 use tooltouch_hdl_gen::{output_fields, Options};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
@@ -220,7 +220,7 @@ fn formal_dut_the_generated_design_is_proven_in_the_default_configuration() {
     let work = tempfile::tempdir().expect("temporary folder");
     let config = MeasureConfig::default();
     let rtl = work.path().join("rtl");
-    let paths = tooltouch_cosim::hdl::write_design(
+    let paths = tooltouch_rtl_sim::write_design(
         &rtl,
         &tooltouch_hdl_gen::generate(&config, &Options::default()),
         None,
@@ -465,7 +465,7 @@ fn formal_dut_generated_variants_are_proven_without_invariants() {
     let mut failed = Vec::new();
     for (i, (name, config, options)) in tooltouch_hdl_gen::formal::variants().iter().enumerate() {
         let dir = work.path().join(format!("variant{i}"));
-        let files: Vec<PathBuf> = tooltouch_cosim::hdl::write_design(
+        let files: Vec<PathBuf> = tooltouch_rtl_sim::write_design(
             &dir.join("rtl"),
             &tooltouch_hdl_gen::generate(config, options),
             None,
@@ -506,8 +506,8 @@ fn formal_dut_generated_variants_are_proven_without_invariants() {
 /// clock early fails, so it is not vacuous.
 #[test]
 fn formal_dut_the_contract_assertions_hold_on_the_generated_design() {
-    use tooltouch_cosim::formal::assertions::{bind_file, prove_assertions};
-    use tooltouch_cosim::formal::engines::EngineResult;
+    use tooltouch_formal::assertions::{bind_file, prove_assertions};
+    use tooltouch_formal::engines::EngineResult;
     let work = tempfile::tempdir().expect("temporary folder");
     for (name, settings) in [
         ("default", MeasureSettings::default()),
@@ -515,7 +515,7 @@ fn formal_dut_the_contract_assertions_hold_on_the_generated_design() {
     ] {
         let config = settings.validate().expect("valid");
         let rtl = work.path().join(name).join("rtl");
-        let files: Vec<PathBuf> = tooltouch_cosim::hdl::write_design(
+        let files: Vec<PathBuf> = tooltouch_rtl_sim::write_design(
             &rtl,
             &tooltouch_hdl_gen::generate(&config, &Options::default()),
             None,

@@ -7,11 +7,11 @@
 
 use super::faults::{check_with, check_with_reports, golden_vcd, observable_config, stimulus};
 use std::path::{Path, PathBuf};
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::{Simulator, Trace};
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::{Simulator, Trace};
 
 /// Runs the testbench of `fault` under `sim` in `dir` with a `+nostop` dump of `trace`
 /// (`Trace::Vcd` under Icarus: its plain `+vcd`), returning the dump's path and whether the

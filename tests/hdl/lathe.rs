@@ -4,11 +4,11 @@
 //! golden cycle model on every cycle. Prints both simulators' speeds (cycles/s; not
 //! asserted).
 
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::CxxOpt;
 use tooltouch_model::{FrontEnd, MeasureConfig};
 use tooltouch_plant::lathe::LatheScenario;
 use tooltouch_plant::measurement_cycle::closed_loop_stimulus;
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::CxxOpt;
 
 fn scenario() -> LatheScenario {
     let mut s = LatheScenario {

@@ -5,11 +5,11 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use tooltouch_cosim::hdl::runner::{lint_verilator, yosys_check};
-use tooltouch_cosim::hdl::write_design;
 use tooltouch_hdl_gen::{generate, Options};
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::random::random_config;
+use tooltouch_rtl_sim::runner::{lint_verilator, yosys_check};
+use tooltouch_rtl_sim::write_design;
 
 /// The structural variants the formal proof also covers (`tooltouch_hdl_gen::formal::variants`:
 /// the default, the MCU diagnostics, each decision method under three charge laws, glitch

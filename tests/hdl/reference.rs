@@ -12,13 +12,13 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use std::path::Path;
 use std::process::Command;
-use tooltouch_cosim::hdl::runner::{build, run, CxxOpt, Simulator};
 use tooltouch_hdl_gen::{
     reference, testbench, verilator_main, Options, TestbenchSpec, REFERENCE_TOP, TOP,
 };
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::random::{random_config, random_stimulus};
 use tooltouch_plant::stimulus::Stimulus;
+use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
 use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 
 /// Stimuli per configuration and their length, clocks.

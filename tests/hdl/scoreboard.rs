@@ -1,8 +1,8 @@
 //! The golden model inside the testbench, as a user runs it: the generated `tt_frontend`
 //! beside `tooltouch_scoreboard`, driven by the stimulus-only bench
-//! `host/abi/verilog/tooltouch_bench.v` — under Verilator 5 (`--binary`, the DPI-C
-//! scoreboard of `host/abi/sv` over `libtooltouch_abi.a`) and under Icarus 11 (the VPI
-//! scoreboard `host/abi/verilog/tooltouch_scoreboard.v`, `tooltouch.vpi` built with
+//! `host/rtl-sim/verilog/tooltouch_bench.v` — under Verilator 5 (`--binary`, the DPI-C
+//! scoreboard of `host/rtl-sim/sv` over `libtooltouch_abi.a`) and under Icarus 11 (the VPI
+//! scoreboard `host/rtl-sim/verilog/tooltouch_scoreboard.v`, `tooltouch.vpi` built with
 //! `iverilog-vpi`). The lathe run passes with every clock compared; every
 //! `hdl_gen::Fault` is caught with the same first mismatch (cycle, signal, both values) as
 //! the vector-file testbench reports; a configuration of another hash is refused at time 0.
@@ -17,11 +17,11 @@ use crate::common::{s, text, tooltouch, FAST_LATHE};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::stress::{stress_stimulus, StressSize};
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::Simulator;
 use tooltouch_settings::firmware_config::FirmwareConfig;
 use tooltouch_vectors::hex::{golden_vectors, write_vectors};
 
@@ -47,7 +47,7 @@ fn design_files(rtl: &Path) -> Vec<PathBuf> {
 /// `verilator --binary` of the DPI bench over the design in `rtl`: the executable.
 fn build_dpi(rtl: &Path, work: &Path, opt: &str) -> (PathBuf, f64) {
     require("verilator");
-    let abi = root().join("host/abi");
+    let glue = root().join("host/rtl-sim");
     let t = Instant::now();
     let mdir = work.join("obj_dpi");
     run_ok(
@@ -62,11 +62,11 @@ fn build_dpi(rtl: &Path, work: &Path, opt: &str) -> (PathBuf, f64) {
                 "-Mdir",
             ])
             .arg(&mdir)
-            .arg(abi.join("sv/tooltouch_dpi.sv"))
-            .arg(abi.join("sv/tooltouch_scoreboard.sv"))
-            .arg(abi.join("verilog/tooltouch_bench.v"))
+            .arg(glue.join("sv/tooltouch_dpi.sv"))
+            .arg(glue.join("sv/tooltouch_scoreboard.sv"))
+            .arg(glue.join("verilog/tooltouch_bench.v"))
             .args(design_files(rtl))
-            .arg(abi.join("c/tooltouch_dpi.c"))
+            .arg(glue.join("c/tooltouch_dpi.c"))
             .arg("-CFLAGS")
             .arg(format!("-I{}", include_dir().display()))
             .arg(static_library())
@@ -88,7 +88,7 @@ fn build_vpi_module(work: &Path) -> PathBuf {
         Command::new("iverilog-vpi")
             .arg("--name=tooltouch")
             .arg(format!("-I{}", include_dir().display()))
-            .arg(root().join("host/abi/c/tooltouch_vpi.c"))
+            .arg(root().join("host/rtl-sim/c/tooltouch_vpi.c"))
             .arg(format!("-L{}", lib.parent().unwrap().display()))
             .arg("-l:libtooltouch_abi.a")
             .args(RUST_STATIC_LIBS)
@@ -104,15 +104,15 @@ fn build_vpi_module(work: &Path) -> PathBuf {
 /// `iverilog -g2005` of the VPI bench over the design in `rtl`: the vvp image.
 fn build_icarus(rtl: &Path, work: &Path) -> PathBuf {
     require("iverilog");
-    let abi = root().join("host/abi");
+    let glue = root().join("host/rtl-sim");
     let image = work.join("icarus.vvp");
     run_ok(
         "iverilog (VPI bench)",
         Command::new("iverilog")
             .args(["-g2005", "-s", "tooltouch_bench", "-o"])
             .arg(&image)
-            .arg(abi.join("verilog/tooltouch_scoreboard.v"))
-            .arg(abi.join("verilog/tooltouch_bench.v"))
+            .arg(glue.join("verilog/tooltouch_scoreboard.v"))
+            .arg(glue.join("verilog/tooltouch_bench.v"))
             .args(design_files(rtl)),
     );
     image
@@ -426,8 +426,8 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
                 .arg(format!("tooltouch_bench.MCU_DIAGNOSTICS={diagnostics}"))
                 .arg("-o")
                 .arg(&image)
-                .arg(root().join("host/abi/verilog/tooltouch_scoreboard.v"))
-                .arg(root().join("host/abi/verilog/tooltouch_bench.v"))
+                .arg(root().join("host/rtl-sim/verilog/tooltouch_scoreboard.v"))
+                .arg(root().join("host/rtl-sim/verilog/tooltouch_bench.v"))
                 .args(design_files(&diag)),
         );
         let r = run_vpi(&vpi, &image, &diag, Some(&config));

@@ -10,12 +10,12 @@
 //! `TOOLTOUCH_STRESS_RANDOM=<clocks>` run more.
 
 use crate::faults::{assert_mismatch_report, check_with_reports};
-use tooltouch_cosim::hdl::cosim::{cosim, CosimPlan};
-use tooltouch_cosim::hdl::runner::Simulator;
 use tooltouch_hdl_gen::{Fault, Options};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 use tooltouch_plant::stress::{stress_stimulus, StressSize};
+use tooltouch_rtl_sim::cosim::{cosim, CosimPlan};
+use tooltouch_rtl_sim::runner::Simulator;
 use tooltouch_vectors::coverage::coverage;
 
 /// The two configurations of the acceptance: the default (pulse counter, linear law) and a

@@ -28,7 +28,7 @@ const CYCLES: &str = "83701";
 /// Fails naming `cargo xtask setup` when a tool is not installed.
 fn require(tools: &[&str]) {
     for tool in tools {
-        if let Err(e) = tooltouch_cosim::hdl::runner::find_tool(tool) {
+        if let Err(e) = tooltouch_rtl_sim::runner::find_tool(tool) {
             panic!("{e}");
         }
     }

@@ -4,10 +4,10 @@
 
 use crate::common::{s, text, tooltouch};
 use crate::hal::{halrun, stream_hal_file, work_dir, write_config};
-use tooltouch_cosim::hal::files::{
+use tooltouch_linuxcnc::files::{
     dut_outputs, golden_outputs, header, outputs_stream, streamer_text,
 };
-use tooltouch_cosim::hal::stimulus::golden_stimulus;
+use tooltouch_linuxcnc::stimulus::golden_stimulus;
 use tooltouch_settings::firmware_config::FirmwareConfig;
 
 /// The settings of the run: 1024 ppr, the counter method, a PI force controller.

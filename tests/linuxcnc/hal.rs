@@ -21,7 +21,7 @@ pub fn root() -> PathBuf {
 
 /// `tool` on the PATH, or a panic naming `cargo xtask setup`.
 pub fn require(tool: &str) {
-    if let Err(e) = tooltouch_cosim::hdl::runner::find_tool(tool) {
+    if let Err(e) = tooltouch_rtl_sim::runner::find_tool(tool) {
         panic!("{e} (the LinuxCNC tests need linuxcnc-uspace and linuxcnc-uspace-dev)");
     }
 }
@@ -59,7 +59,7 @@ pub fn installed_component() -> &'static Path {
             .arg("-C")
             .arg(&dir)
             .arg("-f")
-            .arg(root().join("host/abi/hal/Makefile"))
+            .arg(root().join("host/linuxcnc/hal/Makefile"))
             .arg(format!("ABI_LIB={}", static_library().display()))
             .arg("modules")
             .output()
@@ -157,8 +157,8 @@ pub fn stream_hal_file(
     periods: usize,
     period_ns: u32,
 ) -> String {
-    use tooltouch_cosim::hal::files::{sampler_cfg, FORCE_PINS, MEASURE_PINS};
-    use tooltouch_cosim::hal::period::PeriodInputs;
+    use tooltouch_linuxcnc::files::{sampler_cfg, FORCE_PINS, MEASURE_PINS};
+    use tooltouch_linuxcnc::period::PeriodInputs;
     let depth = periods + 16;
     let mut h = format!(
         "loadrt threads name1=servo period1={period_ns}\n\

@@ -1,4 +1,4 @@
-//! Integration tests of the LinuxCNC HAL component (`host/abi/hal/tooltouch.comp`) under
+//! Integration tests of the LinuxCNC HAL component (`host/linuxcnc/hal/tooltouch.comp`) under
 //! `halrun` (docs/linuxcnc.md): the component bit for bit against the golden model through
 //! LinuxCNC's `streamer` and `sampler`, its refusals, and the measure-then-correct size
 //! loop with its measurements made in HAL.

@@ -8,10 +8,10 @@
 use crate::common::{s, text, tooltouch};
 use crate::hal::{halrun, stream_hal_file, work_dir, write_config};
 use std::path::PathBuf;
-use tooltouch_cosim::hal::files::{
+use tooltouch_linuxcnc::files::{
     dut_outputs, golden_outputs, header, outputs_stream, streamer_text,
 };
-use tooltouch_cosim::hal::size_loop::{latched_um, replay_with, run, table, SizeLoopSettings};
+use tooltouch_linuxcnc::size_loop::{latched_um, replay_with, run, table, SizeLoopSettings};
 use tooltouch_settings::firmware_config::FirmwareConfig;
 use tooltouch_vectors::output::write_file;
 
@@ -95,7 +95,7 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
         csv.serialize(r).unwrap();
     }
     write_file(&out.join("size_loop.csv"), &csv.into_inner().unwrap()).unwrap();
-    let col = |f: fn(&tooltouch_cosim::hal::size_loop::PartRow) -> f64| {
+    let col = |f: fn(&tooltouch_linuxcnc::size_loop::PartRow) -> f64| {
         golden.rows.iter().map(f).collect::<Vec<_>>()
     };
     tooltouch_plot::size_loop::size_loop(

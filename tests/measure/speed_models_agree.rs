@@ -2,8 +2,8 @@
 //! event level give identical results on the realistic stimulus and on the tuning
 //! scenarios, and the HDL timing path runs the runner's bit-for-bit testbench.
 
-use tooltouch_cosim::speed;
 use tooltouch_model::{MeasureConfig, MeasureSettings};
+use tooltouch_rtl_sim::speed;
 use tooltouch_tune::scenario::{approach, ApproachSettings};
 
 #[test]
@@ -77,7 +77,7 @@ fn the_hdl_timing_path_runs_the_bit_for_bit_testbench() {
     let stim = speed::prefix(&speed::realistic_stimulus(&config, 1).unwrap(), 200_000);
     let dir = tempfile::tempdir().unwrap();
     let t = speed::hdl::time_simulator(
-        tooltouch_cosim::hdl::runner::Simulator::Icarus,
+        tooltouch_rtl_sim::runner::Simulator::Icarus,
         &config,
         &stim,
         dir.path(),

@@ -53,7 +53,7 @@ fn the_recorded_scenario_is_the_one_the_iae_comes_from() {
     assert!(case.events.is_empty());
     // Replaying the recorded events through the golden kernel gives the run's overrides:
     // the firmware that agrees bit for bit has run the closed loop.
-    let golden = tooltouch_cosim::golden_force(&case);
+    let golden = tooltouch_firmware_runner::golden_force(&case);
     assert_eq!(golden.len(), 260 + 3);
 }
 

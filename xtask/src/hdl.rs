@@ -41,7 +41,7 @@ fn cargo_blessing(args: &[&str]) -> Result<()> {
 }
 
 /// The folders `cargo xtask bless-hdl` rewrites files in.
-const BLESSED_HDL: [&str; 2] = ["hdl-gen/snapshots", "host/abi"];
+const BLESSED_HDL: [&str; 2] = ["hdl-gen/snapshots", "host/rtl-sim"];
 
 /// `cargo xtask bless-hdl`: rewrites `hdl-gen/snapshots/` and the scoreboards' generated
 /// regions, and lists what changed.

@@ -5,7 +5,7 @@
 //! [`tooltouch_plant::drive::scenario`]) is recorded with the golden kernel in the loop and
 //! replayed to the Nucleo-F446RE image's emulated build on QEMU's `netduinoplus2`
 //! (Cortex-M4F, `-icount shift=0`: one nanosecond of virtual time per instruction, SysTick
-//! calibrated against a loop of known length; [`tooltouch_cosim::nucleo`]). The image
+//! calibrated against a loop of known length; [`tooltouch_firmware_runner::nucleo`]). The image
 //! configures its kernels from the stream's force configuration records, so one image
 //! measures every point; its force outputs are checked bit for bit against the golden model
 //! on every control period and command (a mismatch is an error, not a cost).
@@ -20,12 +20,12 @@
 //! (docs/firmware.md, "FES cost"), so cycles are about 1.4–1.8 times these figures.
 
 use std::path::{Path, PathBuf};
-use tooltouch_cosim::nucleo;
-use tooltouch_cosim::scenario::TICK_HZ;
-use tooltouch_cosim::{Case, CosimError, Observe, Profile};
+use tooltouch_firmware_runner::nucleo;
+use tooltouch_firmware_runner::{Case, CosimError, Observe, Profile};
 use tooltouch_model::force::config::ForceConfig;
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::drive::scenario::{run, ControlScenario, Engine};
+use tooltouch_stimuli::scenario::TICK_HZ;
 
 /// Index of the ADC-sample interrupts in [`Profile::per_kind`].
 const ADC_SAMPLE: usize = 5;

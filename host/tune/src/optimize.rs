@@ -44,7 +44,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, HashMap};
 use std::time::Instant;
-use tooltouch_cosim::CosimError;
+use tooltouch_firmware_runner::CosimError;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_plant::drive::scenario::{run, ControlScenario, Engine};
 use tooltouch_settings::force_design::{ForcePoint, ForceSpec};

@@ -9,9 +9,9 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;
-use tooltouch_cosim::hdl::runner::find_tool;
-use tooltouch_cosim::hdl::{io_err, write_design, HdlError, Result};
 use tooltouch_hdl_gen::{generate, Options, FPGA_TOP};
+use tooltouch_rtl_sim::runner::find_tool;
+use tooltouch_rtl_sim::{io_err, write_design, HdlError, Result};
 
 /// The yosys script, after the `read_verilog` of the design files.
 pub const SYNTH_SCRIPT: &str = "synth_ice40 -top tt_frontend; stat";
