@@ -65,6 +65,7 @@ fn sigma_of_the_mean_falls_as_one_over_root_m() {
             "m = {m}: σ of the mean {sigma_mean:.3} µm, σ of one {sigma_1:.3} µm, \
              ratio {ratio:.3} against S8's 1/√m = {s8:.3}"
         );
+        eprintln!("{found}");
         assert!(ratio <= s8 * (1.0 + BAND), "{found}: scatters more than S8");
         if m <= 4 {
             assert!(
