@@ -10,6 +10,8 @@ mod bench;
 mod check_firmware;
 mod check_inputs;
 mod check_truncated;
+mod doc_figures;
+mod docs_index;
 mod examples;
 mod golden_fst;
 mod hdl_clock;

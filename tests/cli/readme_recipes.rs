@@ -1,4 +1,4 @@
-//! The README's "Use tooltouch in your CI" recipes, run as written.
+//! The recipes of docs/ci.md ("Use tooltouch in your CI", once the README's), run as written.
 //!
 //! Each recipe is the fenced block after a `<!-- recipe: NAME -->` marker. The RTL and
 //! firmware recipes run under `bash -eu` in a fresh folder holding the settings recipe, with
@@ -9,8 +9,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// docs/ci.md, the page that holds the recipes.
 fn readme() -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/ci.md");
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -19,7 +20,7 @@ fn recipe(readme: &str, name: &str) -> String {
     let marker = format!("<!-- recipe: {name} -->");
     let after = readme
         .split_once(&marker)
-        .unwrap_or_else(|| panic!("README.md has no `{marker}`"))
+        .unwrap_or_else(|| panic!("docs/ci.md has no `{marker}`"))
         .1;
     let mut lines = after.lines().skip_while(|l| l.trim().is_empty());
     let fence = lines.next().unwrap_or_default();
@@ -114,7 +115,7 @@ fn run_recipe(name: &str, script: &str, dir: &Path) -> String {
     );
     assert!(
         out.status.success(),
-        "README recipe `{name}` failed ({}; missing tools come from `cargo xtask setup`):\n{text}",
+        "docs/ci.md recipe `{name}` failed ({}; missing tools come from `cargo xtask setup`):\n{text}",
         out.status
     );
     text
@@ -148,7 +149,7 @@ fn ci_job_steps_are_the_recipes() {
         assert_eq!(
             job_script(&yaml, job),
             recipe(&readme, job),
-            "the CI job `{job}` in README.md runs other commands than the `{job}` recipe"
+            "the CI job `{job}` in docs/ci.md runs other commands than the `{job}` recipe"
         );
     }
 }

@@ -116,7 +116,7 @@ ALL_FAULTS = [
     "latch-not-cleared-by-arm",
 ]
 STRESS_FAULTS = ALL_FAULTS if cocotb_compat.COCOTB_MAJOR < 2 else ALL_FAULTS[:3]
-# The default configuration (its 50 MHz clock) and the stress stimulus the README's RTL
+# The default configuration (its 50 MHz clock) and the stress stimulus docs/ci.md's RTL
 # recipe uses: directed sequences onto every threshold, then 2 000 random clocks.
 STRESS_CONFIGURATION = Configuration(
     toml="[measure]\n\n[lathe]\nclock_hz = 50000000\n", mcu_diagnostics=False

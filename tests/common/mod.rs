@@ -26,7 +26,7 @@ pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// The fast lathe of the README's verification quick start and of the firmware's demo
+/// The fast lathe of docs/quickstart.md's verification quick start and of the firmware's demo
 /// stream: 1 MHz clock, 6000 rpm, one measurement in about 84 000 clocks.
 pub const FAST_LATHE: &str = include_str!("../../firmware/demo-lathe.toml");
 
