@@ -20,8 +20,9 @@
 //! `TOOLTOUCH_BLESS_FIGURES=1 cargo test --release --test cli doc_figures` rewrites every
 //! figure from the outputs instead of failing; review the result with `git diff`.
 
+use crate::common;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const OPEN: &str = "<!-- figure: ";
 const CLOSE: &str = "<!-- /figure -->";
@@ -183,27 +184,10 @@ fn run(command: &str, dir: &Path) -> String {
         Some(args) => format!("tooltouch {args}"),
         None => command.to_string(),
     };
-    let bin = Path::new(env!("CARGO_BIN_EXE_tooltouch")).parent().unwrap();
-    let path = format!(
-        "{}:{}",
-        bin.display(),
-        std::env::var("PATH").unwrap_or_default()
-    );
-    let out = Command::new("bash")
-        .args(["-euo", "pipefail", "-c", &script])
-        .env("PATH", path)
-        .current_dir(dir)
-        .output()
-        .expect("bash");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (status, text) = common::bash_with_tooltouch(&script, dir);
     assert!(
-        out.status.success(),
-        "figure command `{command}` failed ({}):\n{text}",
-        out.status
+        status.success(),
+        "figure command `{command}` failed ({status}):\n{text}"
     );
     text
 }

@@ -6,7 +6,9 @@
 //! `rtl/` standing in for the user's design. The CI job's `run: |` steps must be those two
 //! recipes, line for line, so the job file cannot drift either.
 
-use std::path::{Path, PathBuf};
+use crate::common;
+
+use std::path::Path;
 use std::process::Command;
 
 /// docs/ci.md, the page that holds the recipes.
@@ -93,30 +95,10 @@ fn workspace(readme: &str) -> tempfile::TempDir {
 
 /// Runs `script` under `bash -eu` in `dir` with the built `tooltouch` first on PATH.
 fn run_recipe(name: &str, script: &str, dir: &Path) -> String {
-    let bin: PathBuf = Path::new(env!("CARGO_BIN_EXE_tooltouch"))
-        .parent()
-        .unwrap()
-        .to_path_buf();
-    let path = format!(
-        "{}:{}",
-        bin.display(),
-        std::env::var("PATH").unwrap_or_default()
-    );
-    let out = Command::new("bash")
-        .args(["-euo", "pipefail", "-c", script])
-        .env("PATH", path)
-        .current_dir(dir)
-        .output()
-        .expect("bash");
-    let text = format!(
-        "{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (status, text) = common::bash_with_tooltouch(script, dir);
     assert!(
-        out.status.success(),
-        "docs/ci.md recipe `{name}` failed ({}; missing tools come from `cargo xtask setup`):\n{text}",
-        out.status
+        status.success(),
+        "docs/ci.md recipe `{name}` failed ({status}; missing tools come from `cargo xtask setup`):\n{text}"
     );
     text
 }

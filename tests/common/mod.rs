@@ -21,6 +21,25 @@ pub fn text(o: &Output) -> String {
     )
 }
 
+/// Runs `script` under `bash -euo pipefail` in `dir` with the built `tooltouch` first on
+/// PATH, as a user's shell runs a documented recipe; its exit status and its stdout then
+/// stderr as text.
+pub fn bash_with_tooltouch(script: &str, dir: &Path) -> (std::process::ExitStatus, String) {
+    let bin = Path::new(env!("CARGO_BIN_EXE_tooltouch")).parent().unwrap();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let out = Command::new("bash")
+        .args(["-euo", "pipefail", "-c", script])
+        .env("PATH", path)
+        .current_dir(dir)
+        .output()
+        .expect("bash runs");
+    (out.status, text(&out))
+}
+
 /// A path as an argument.
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
