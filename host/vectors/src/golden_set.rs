@@ -80,7 +80,7 @@ pub struct GoldenSet {
 }
 
 /// The outputs a device must write after each event of `stream`: measurement outputs
-/// after every measurement event (but FES pulses when the stream's `FIRMWARE_OBSERVE`
+/// after every measurement event (each applied at its time, the FES watchdog's clock) (but FES pulses when the stream's `FIRMWARE_OBSERVE`
 /// says so), force outputs after every force event but ADC samples.
 pub fn expected_outputs(stream: &InputStream) -> Vec<(u64, Output)> {
     let mut measure = stream.measure.as_ref().map(Measurement::new);
@@ -89,7 +89,7 @@ pub fn expected_outputs(stream: &InputStream) -> Vec<(u64, Output)> {
     for &(time, e) in &stream.events {
         match (e, measure.as_mut(), force.as_mut()) {
             (Input::Measure(e), Some(m), _) => {
-                m.apply(e);
+                m.apply_at(time, e);
                 if stream.observe_fes || e != MeasureEvent::Fes {
                     out.push((time, Output::Measure(m.outputs())));
                 }
