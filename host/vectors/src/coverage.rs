@@ -283,7 +283,11 @@ event_bins! {
         |f| needs(f.s.checks.fes_timeout_cycles != 0, "checks.fes_timeout_cycles = 0");
     FaultUnconfirmed: ST,
         |f| format!("unconfirmed: a window after the decision below {} contact pulses", f.confirm),
-        |f| needs(f.s.checks.confirm_windows != 0, "checks.confirm_windows = 0");
+        |f| match (f.s.checks.confirm_windows, f.confirm) {
+            (0, _) => Some("checks.confirm_windows = 0"),
+            (_, 0) => Some("a confirmation level of 0 contact pulses"),
+            _ => None,
+        };
     Confirmed: ST,
         |f| format!("decision confirmed ({} windows)", f.s.checks.confirm_windows),
         |_| None;
@@ -683,5 +687,87 @@ impl<'a> Walk<'a> {
         if (a == half - 1 && b == -half) || (a == -half && b == half - 1) {
             self.hit(B::PositionWrap);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::measure::config::DecisionMethod;
+    use tooltouch_model::MeasureSettings;
+    use tooltouch_plant::stress::{stress_stimulus, StressSize};
+
+    /// The default stress run (`vectors --stress 1`) reaches every fault condition and a
+    /// confirmed decision, at the default configuration and at a density-method,
+    /// exponential-law, single-pulse one with other thresholds.
+    #[test]
+    fn the_default_stress_run_reaches_every_measurement_status_bin() {
+        let density = MeasureSettings {
+            method: DecisionMethod::Density,
+            charge_law: ChargeLaw::Exponential {
+                charge_shift: 3,
+                discharge_shift: 4,
+            },
+            ..MeasureSettings::default()
+        };
+        let mut single = MeasureSettings {
+            pulses_per_rev: 64,
+            window_revs: 2,
+            i_def: 10,
+            glitch_cycles: 0,
+            method: DecisionMethod::SinglePulse,
+            contact_rule: ContactRule::Sampled,
+            ..MeasureSettings::default()
+        };
+        single.checks.pulse_tolerance = 5;
+        single.checks.probe_revs = 7;
+        single.checks.fes_timeout_cycles = 300;
+        single.checks.confirm_windows = 2;
+        for settings in [MeasureSettings::default(), density, single] {
+            let config = settings.validate().unwrap();
+            let s = stress_stimulus(&config, 1, 50_000_000, &StressSize::default());
+            let cov = coverage(&s, &config);
+            let status: Vec<&Bin> = cov.bins.iter().filter(|b| b.group == ST).collect();
+            assert_eq!(status.len(), fault::COUNT + 1, "{}", cov.table());
+            for (bin, name) in status.iter().zip(fault::NAMES) {
+                assert!(bin.name.starts_with(name), "{}", bin.name);
+            }
+            for bin in status {
+                assert!(
+                    bin.not_applicable.is_none() && bin.hits > 0,
+                    "{settings:?}: `{}` not reached:\n{}",
+                    bin.name,
+                    cov.table()
+                );
+            }
+        }
+    }
+
+    /// A check turned off makes its bin not applicable, with the setting named.
+    #[test]
+    fn a_check_turned_off_has_no_bin_to_reach() {
+        let mut settings = MeasureSettings::default();
+        settings.checks = tooltouch_model::MeasureChecks::OFF;
+        let config = settings.validate().unwrap();
+        let cov = coverage(&Stimulus::new(50_000_000), &config);
+        let why: Vec<Option<&str>> = cov
+            .bins
+            .iter()
+            .filter(|b| b.group == ST)
+            .map(|b| b.not_applicable.as_deref())
+            .collect();
+        assert_eq!(
+            why,
+            [
+                Some("checks.contact_at_arm = false"),
+                Some("checks.revolutions = false"),
+                Some("checks.revolutions = false"),
+                Some("checks.scale_errors = false"),
+                Some("checks.probe_revs = 0"),
+                Some("checks.fes_timeout_cycles = 0"),
+                Some("checks.confirm_windows = 0"),
+                None,
+            ]
+        );
     }
 }
