@@ -18,10 +18,9 @@
 //! - the measurement status at each threshold (`tooltouch_model::measure::checks`): the
 //!   contact closed at arm; revolutions of `pulses_per_rev − pulse_tolerance` FES pulses
 //!   and one fewer, `pulses_per_rev + pulse_tolerance` and one more without an index;
-//!   `probe_revs` revolutions without a decision; an FES pulse `fes_timeout_cycles − 1`
-//!   clocks after the last, then none for `fes_timeout_cycles` (when at most
-//!   [`WATCHDOG_STRESS_MAX`]); a decision confirmed by its windows and one the contact
-//!   does not confirm;
+//!   `probe_revs` revolutions without a decision; no FES pulse for `fes_timeout_cycles`
+//!   clocks (when at most [`WATCHDOG_STRESS_MAX`]); a decision confirmed by its windows
+//!   and one the contact does not confirm;
 //! - scale moves both ways, double changes (errors) until the error count saturates, and a
 //!   position wrap when `2^scale_bits` steps fit the budget;
 //! - then a constrained-random tail ([`crate::random::random_stimulus`]) from the seed.
@@ -513,8 +512,7 @@ impl Gen<'_> {
     }
 }
 
-/// Longest FES watchdog the stress drives to expiry, clocks (twice: one tick short of it,
-/// then past it).
+/// Longest FES watchdog the stress drives to expiry, clocks.
 pub const WATCHDOG_STRESS_MAX: u64 = 1 << 17;
 
 /// Most contact pulses the stress spends bringing about a decision.
@@ -577,9 +575,10 @@ impl Gen<'_> {
         }
     }
 
-    /// An FES pulse `fes_timeout_cycles − 1` clocks after the previous one (no fault), then
-    /// none for `fes_timeout_cycles` clocks (`fes_timeout`), when it is at most
-    /// [`WATCHDOG_STRESS_MAX`].
+    /// No FES pulse for `fes_timeout_cycles` clocks after one (`fes_timeout`), when that
+    /// is at most [`WATCHDOG_STRESS_MAX`]. The golden trace shows the fault from exactly
+    /// the clock it expires at, so one long gap checks the threshold both ways: a watchdog
+    /// a clock early or late differs there.
     fn fes_watchdog(&mut self) {
         let timeout = u64::from(self.config.settings().checks.fes_timeout_cycles);
         if timeout == 0 || timeout > WATCHDOG_STRESS_MAX {
@@ -587,18 +586,7 @@ impl Gen<'_> {
         }
         self.rearm();
         self.contact(false);
-        // The FES rising edge, then its falling edge and the low level held so that the
-        // next rising edge comes `timeout − 1` clocks after it (at least the filter's
-        // `pass` clocks each level).
-        self.level(pin::FES, true);
-        let high = self.pass;
-        self.set_last_len(high);
-        self.level(pin::FES, false);
-        let low = (timeout - 1).saturating_sub(high).max(self.pass);
-        self.set_last_len(low);
-        self.level(pin::FES, true);
-        self.set_last_len(self.pass);
-        self.level(pin::FES, false);
+        self.fes();
         self.push(self.pins, timeout);
         self.fes();
     }

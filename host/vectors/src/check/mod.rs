@@ -234,6 +234,7 @@ pub fn compare_vcd_sides_with(
 ) -> Result<Report, BadInput> {
     let (en, dn) = (e.name.to_string(), d.name.to_string());
     let (hash, clock_hz, period_fs) = golden_period_fs(e.declarations, &en)?;
+    let outputs = golden_outputs(e.declarations, &en)?;
     if let Some((dut_hash, dut_hz)) = d.declarations.golden_stamp() {
         if dut_hash != hash || dut_hz != clock_hz {
             return Err(BadInput(format!(
@@ -241,7 +242,6 @@ pub fn compare_vcd_sides_with(
             )));
         }
     }
-    let outputs = golden_outputs(e.declarations, &en)?;
     // Slots per code index, on each side.
     let mut e_slots: Vec<Vec<usize>> = vec![Vec::new(); e.declarations.codes().len()];
     let mut d_slots: Vec<Vec<usize>> = vec![Vec::new(); d.declarations.codes().len()];
