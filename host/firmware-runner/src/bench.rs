@@ -90,7 +90,7 @@ pub fn expected_lines(
                 "record {i}: a measurement event before the MEASURE_CONFIG record"
             )));
         };
-        m.apply(event);
+        m.apply_at(record.time, event);
         let o = m.outputs();
         if o.register_now != on {
             on = o.register_now;

@@ -143,13 +143,13 @@ pub fn encode_case_observing(case: &Case, observe: Observe, out: &mut Vec<u8>) {
     put(&Record::new(wire::kind::END, last, &[]), out);
 }
 
-/// The golden model's outputs after each event of `case`.
+/// The golden model's outputs after each event of `case` (each applied at its time).
 pub fn golden(case: &Case) -> Vec<MeasureOutputs> {
     let mut m = Measurement::new(&case.config);
     case.events
         .iter()
         .map(|e| {
-            m.apply(e.event);
+            m.apply_at(e.time, e.event);
             m.outputs()
         })
         .collect()

@@ -15,14 +15,21 @@
 //! - the charge steered onto `fire_threshold − 1`, `fire_threshold` (armed) and
 //!   `rearm_threshold`, `rearm_threshold − 1` (fired), and ± 1 around them, saturated at
 //!   full scale and at 0 (which reaches the exponential law's one-LSB steps at both ends);
+//! - the measurement status at each threshold (`tooltouch_model::measure::checks`): the
+//!   contact closed at arm; revolutions of `pulses_per_rev − pulse_tolerance` FES pulses
+//!   and one fewer, `pulses_per_rev + pulse_tolerance` and one more without an index;
+//!   `probe_revs` revolutions without a decision; no FES pulse for `fes_timeout_cycles`
+//!   clocks (when at most [`WATCHDOG_STRESS_MAX`]); a decision confirmed by its windows
+//!   and one the contact does not confirm;
 //! - scale moves both ways, double changes (errors) until the error count saturates, and a
 //!   position wrap when `2^scale_bits` steps fit the budget;
 //! - then a constrained-random tail ([`crate::random::random_stimulus`]) from the seed.
 //!
 //! Every level of the directed part is held at least `glitch_cycles + 1` clocks (but for
 //! the deliberate glitches), so it makes exactly the kernel events the generator applies to
-//! its own event-level copy of the model, which steers it (e.g. towards a charge value);
-//! `tests` checks that the cycle level ends in the same state.
+//! its own event-level copy of the model, at the clocks the cycle level applies them
+//! (which steers it, e.g. towards a charge value, and times the FES watchdog); `tests`
+//! checks that the cycle level ends in the same state.
 
 use crate::random::random_stimulus;
 use crate::stimulus::Stimulus;
@@ -69,6 +76,10 @@ struct Gen<'a> {
     rng: ChaCha8Rng,
     /// Clocks a level must be held to pass the glitch filter.
     pass: u64,
+    /// Clocks of the stimulus so far: the clock the next segment starts at.
+    clock: u64,
+    /// Clocks from a pin change to the kernel's event ([`MeasureConfig::latency_cycles`]).
+    latency: u64,
 }
 
 impl Gen<'_> {
@@ -80,18 +91,37 @@ impl Gen<'_> {
             0
         };
         let n = self.pass + extra;
-        self.s.push(Pins(self.pins), n);
+        self.push(self.pins, n);
+    }
+
+    /// Appends `n` clocks of `pins`.
+    fn push(&mut self, pins: u8, n: u64) {
+        self.s.push(Pins(pins), n);
+        self.clock += n;
+    }
+
+    /// Makes the last segment `clocks` clocks long.
+    fn set_last_len(&mut self, clocks: u64) {
+        let last = self.s.segments.len() - 1;
+        let len = u32::try_from(clocks).unwrap_or(u32::MAX);
+        self.clock = self.clock - u64::from(self.s.segments[last].cycles) + u64::from(len);
+        self.s.segments[last].cycles = len;
     }
 
     /// Changes the pins to `new` (in one clock) and holds them: the kernel sees the edges
-    /// in canonical order.
+    /// in canonical order, `latency` clocks after the change (the time it is told, as the
+    /// cycle level tells it at every clock with edges).
     fn set(&mut self, new: u8) {
         let edges = Edges {
             changed: self.pins ^ new,
             levels: new,
         };
         let kernel = &mut self.kernel;
-        edges.for_each_event(|e| kernel.apply(e));
+        let time = self.clock + self.latency;
+        if edges.changed != 0 {
+            kernel.observe(time);
+        }
+        edges.for_each_event(|e| kernel.apply_at(time, e));
         self.pins = new;
         self.hold();
     }
@@ -169,11 +199,10 @@ impl Gen<'_> {
             let back = self.pins;
             self.set(self.pins ^ bit);
             // `set` held it `pass..=pass + 2` clocks; a pulse of exactly `clocks` clocks:
-            let last = self.s.segments.len() - 1;
-            self.s.segments[last].cycles = u32::try_from(clocks).unwrap_or(u32::MAX);
+            self.set_last_len(clocks);
             self.set(back);
         } else if clocks > 0 {
-            self.s.push(Pins(self.pins ^ bit), clocks);
+            self.push(self.pins ^ bit, clocks);
             self.hold();
         }
     }
@@ -377,8 +406,7 @@ impl Gen<'_> {
                         .position(|&p| p == new & (pin::SCALE_A | pin::SCALE_B))
                         .unwrap_or(phase);
                     self.set(new);
-                    let last = self.s.segments.len() - 1;
-                    self.s.segments[last].cycles = u32::try_from(clocks).unwrap_or(u32::MAX);
+                    self.set_last_len(clocks);
                     self.phase = phase;
                     self.set(back);
                 } else {
@@ -484,6 +512,122 @@ impl Gen<'_> {
     }
 }
 
+/// Longest FES watchdog the stress drives to expiry, clocks.
+pub const WATCHDOG_STRESS_MAX: u64 = 1 << 17;
+
+/// Most contact pulses the stress spends bringing about a decision.
+const DECISION_PULSES_MAX: u32 = 1 << 16;
+
+/// The measurement status's fault conditions (module `tooltouch_model::measure::checks`),
+/// each at its threshold: one short of it (no fault) and at it (the fault).
+impl Gen<'_> {
+    /// Every fault condition the configuration checks, and a confirmed decision.
+    fn measurement_status(&mut self) {
+        self.contact_at_arm();
+        self.revolution_lengths();
+        self.probe_fail();
+        self.fes_watchdog();
+        self.confirmation();
+        // Leave a clean measurement cycle running (the scale section errs while armed).
+        self.rearm();
+    }
+
+    /// The contact closed at the arm's rising edge (`contact_at_arm`).
+    fn contact_at_arm(&mut self) {
+        self.arm(false);
+        self.contact(true);
+        self.arm(true);
+        self.contact(false);
+    }
+
+    /// Revolutions of `pulses_per_rev − pulse_tolerance` FES pulses (no fault), one fewer
+    /// (`pulses_lost`), `pulses_per_rev + pulse_tolerance` (no fault) and one more without
+    /// an index (`index_missing`).
+    fn revolution_lengths(&mut self) {
+        let s = self.config.settings();
+        let ppr = u32::from(s.pulses_per_rev);
+        let tolerance = u32::from(s.checks.pulse_tolerance);
+        let (fewest, most) = (ppr - tolerance, ppr + tolerance);
+        self.rearm();
+        self.index();
+        self.pulses(fewest, false);
+        self.index();
+        self.pulses(fewest - 1, false);
+        self.index();
+        self.rearm();
+        self.index();
+        self.pulses(most, false);
+        self.index();
+        self.pulses(most + 1, false);
+        self.index();
+    }
+
+    /// `probe_revs − 1` revolutions without a decision (no fault), then one more
+    /// (`no_decision`); index pulses only (so the revolutions are short too).
+    fn probe_fail(&mut self) {
+        let revs = self.config.settings().checks.probe_revs;
+        if revs == 0 {
+            return;
+        }
+        self.rearm();
+        for _ in 0..revs {
+            self.index();
+        }
+    }
+
+    /// No FES pulse for `fes_timeout_cycles` clocks after one (`fes_timeout`), when that
+    /// is at most [`WATCHDOG_STRESS_MAX`]. The golden trace shows the fault from exactly
+    /// the clock it expires at, so one long gap checks the threshold both ways: a watchdog
+    /// a clock early or late differs there.
+    fn fes_watchdog(&mut self) {
+        let timeout = u64::from(self.config.settings().checks.fes_timeout_cycles);
+        if timeout == 0 || timeout > WATCHDOG_STRESS_MAX {
+            return;
+        }
+        self.rearm();
+        self.contact(false);
+        self.fes();
+        self.push(self.pins, timeout);
+        self.fes();
+    }
+
+    /// A decision confirmed by every window after it, then one the contact does not
+    /// confirm (`unconfirmed`: the contact falls back after the decision, as after a chip).
+    fn confirmation(&mut self) {
+        let windows = self.config.settings().checks.confirm_windows;
+        let level = self.config.confirm_count();
+        for confirmed in [true, false] {
+            self.rearm();
+            if !self.decide() {
+                return;
+            }
+            for _ in 0..windows.max(1) {
+                if confirmed {
+                    while self.kernel.outputs().count < level {
+                        self.pulses(1, true);
+                    }
+                }
+                self.contact(false);
+                for _ in 0..self.config.settings().window_revs {
+                    self.index();
+                }
+            }
+        }
+    }
+
+    /// Contact pulses until the configured method decides (at most
+    /// [`DECISION_PULSES_MAX`]); whether it did.
+    fn decide(&mut self) -> bool {
+        self.contact(true);
+        let mut n = 0;
+        while !self.kernel.register_now() && n < DECISION_PULSES_MAX {
+            self.fes();
+            n += 1;
+        }
+        self.kernel.register_now()
+    }
+}
+
 /// [`stress_stimulus`] and the kernel state its directed part ends in.
 fn generate(
     config: &MeasureConfig,
@@ -500,10 +644,12 @@ fn generate(
         kernel: Measurement::new(config),
         rng: ChaCha8Rng::seed_from_u64(seed),
         pass: u64::from(s.glitch_cycles) + 1,
+        clock: 0,
+        latency: config.latency_cycles().into(),
     };
     // Power-on, then a measurement cycle with the scale away from 0 (so a latch that is
     // not cleared shows).
-    g.s.push(Pins(0), 4);
+    g.push(0, 4);
     g.arm(true);
     for _ in 0..5 {
         g.scale_step(true);
@@ -514,6 +660,7 @@ fn generate(
     g.glitches();
     g.same_clock_pairs();
     g.density_thresholds(size.steer_pulses);
+    g.measurement_status();
     g.scale_and_wrap(size.wrap_steps);
     let directed_end = g.kernel;
 

@@ -31,6 +31,21 @@ use tooltouch_model::wire::force_outputs::decode_force_outputs;
 use tooltouch_model::wire::{self, kind, Header, Record, StreamKind, WireError};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, TimedEvent};
 
+/// A wire problem as told to a user: an older stream format version names what changed
+/// and how to make the file again.
+fn explain_wire(problem: &WireError) -> String {
+    match problem {
+        WireError::BadVersion(v) if *v < wire::FORMAT_VERSION => format!(
+            "{problem}: written by an older tooltouch (stream format version {v}; version 2 \
+             added the measurement status: outputs `confirmed` and `faults`, configuration \
+             format 2). Regenerate it with the command that made it: `tooltouch vectors` or \
+             `tooltouch measure` for golden streams, `tooltouch control` for force streams, \
+             the device's run again for a trace"
+        ),
+        _ => problem.to_string(),
+    }
+}
+
 /// A bad binary vector file.
 #[derive(Debug, thiserror::Error)]
 pub enum BinaryError {
@@ -43,7 +58,7 @@ pub enum BinaryError {
         source: std::io::Error,
     },
     /// The stream is malformed.
-    #[error("{file}: {problem}")]
+    #[error("{file}: {}", explain_wire(problem))]
     Wire {
         /// The file.
         file: String,
@@ -895,5 +910,29 @@ mod tests {
         let e = w.write(&Record::new(kind::END, 9, &[])).unwrap_err();
         assert!(e.to_string().contains("record 3 (kind 0x7f)"), "{e}");
         assert_eq!(w.finish().unwrap(), encode_event_stream(&stream));
+    }
+
+    #[test]
+    fn a_stream_of_format_version_1_names_its_version_and_how_to_regenerate_it() {
+        let c = MeasureConfig::default();
+        let mut bytes = encode_event_stream(&InputStream::of_measure_events(&c, 1000, &events()));
+        bytes[4..6].copy_from_slice(&1u16.to_le_bytes());
+        let e = decode_event_stream(&bytes, "old.ttv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "old.ttv: unsupported format version 1, expected 2: written by an older tooltouch"
+            ) && e.contains("`confirmed` and `faults`")
+                && e.contains("Regenerate it with the command that made it: `tooltouch vectors`"),
+            "{e}"
+        );
+        let header = InputStream::of_measure_events(&c, 1000, &events()).header;
+        let mut old = encode_output_stream::<[(u64, Output); 0]>(header, []);
+        old[4..6].copy_from_slice(&1u16.to_le_bytes());
+        let e = decode_output_stream(&old, "old.ttv")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("stream format version 1"), "{e}");
     }
 }

@@ -5,6 +5,8 @@
 //! The cycle-level model runs over the stimulus (settled clocks skipped, as for the golden
 //! files); in every clock with edges, the kernel's events are replayed one by one on a copy
 //! of its state, so each bin sees the state just before and after the event that hit it.
+//! The measurement status's bins count each fault's latching and the decision's
+//! confirmation, seen after every event and at the FES watchdog's expiry.
 //! The glitch bins look at the raw pins: a pin held for exactly `glitch_cycles` clocks (one
 //! short of the filter: rejected) or `glitch_cycles + 1` (just passing) between two
 //! changes. A bin that cannot be hit at this configuration says why instead of a count.
@@ -13,7 +15,7 @@ use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, M
 use tooltouch_model::measure::events::MeasureEvent;
 use tooltouch_model::measure::frontend::{pin, Edges, Pins};
 use tooltouch_model::measure::outputs::MeasureOutputs as Outputs;
-use tooltouch_model::{FrontEnd, MeasureConfig, Measurement};
+use tooltouch_model::{fault, MeasureConfig, Measurement};
 use tooltouch_plant::stimulus::Stimulus;
 
 /// One coverage bin.
@@ -113,6 +115,8 @@ struct Figures {
     sticky: bool,
     /// The exponential charge law.
     exp: bool,
+    /// Contact pulses a confirming window must count.
+    confirm: u32,
 }
 
 impl Figures {
@@ -127,6 +131,7 @@ impl Figures {
             g: u64::from(s.glitch_cycles),
             sticky: s.contact_rule == ContactRule::Sticky,
             exp: matches!(s.charge_law, ChargeLaw::Exponential { .. }),
+            confirm: config.confirm_count(),
         }
     }
 }
@@ -169,6 +174,7 @@ const DD: &str = "density detector";
 const DE: &str = "decision";
 const AR: &str = "arm";
 const SC: &str = "scale and counters";
+const ST: &str = "measurement status";
 
 event_bins! {
     FirstPulseDecision: PC,
@@ -248,7 +254,55 @@ event_bins! {
     Reset: SC,
         |_| "reset mid-measurement".into(),
         |_| Some("a pin stimulus has no reset: it is the testbench's `rst`");
+    FaultContactAtArm: ST,
+        |_| "contact_at_arm: contact closed when the arm rises".into(),
+        |f| needs(f.s.checks.contact_at_arm, "checks.contact_at_arm = false");
+    FaultPulsesLost: ST,
+        |f| format!(
+            "pulses_lost: a revolution of fewer than pulses_per_rev - pulse_tolerance = {} FES pulses",
+            f.s.pulses_per_rev - f.s.checks.pulse_tolerance
+        ),
+        |f| needs(f.s.checks.revolutions, "checks.revolutions = false");
+    FaultIndexMissing: ST,
+        |f| format!(
+            "index_missing: more than pulses_per_rev + pulse_tolerance = {} FES pulses without an index",
+            u32::from(f.s.pulses_per_rev) + u32::from(f.s.checks.pulse_tolerance)
+        ),
+        |f| needs(f.s.checks.revolutions, "checks.revolutions = false");
+    FaultScaleError: ST,
+        |_| "scale_error: an illegal scale transition while armed".into(),
+        |f| needs(f.s.checks.scale_errors, "checks.scale_errors = false");
+    FaultNoDecision: ST,
+        |f| format!("no_decision: probe_revs = {} revolutions without a decision", f.s.checks.probe_revs),
+        |f| needs(f.s.checks.probe_revs != 0, "checks.probe_revs = 0");
+    FaultFesTimeout: ST,
+        |f| format!(
+            "fes_timeout: fes_timeout_cycles = {} clocks without an FES pulse",
+            f.s.checks.fes_timeout_cycles
+        ),
+        |f| needs(f.s.checks.fes_timeout_cycles != 0, "checks.fes_timeout_cycles = 0");
+    FaultUnconfirmed: ST,
+        |f| format!("unconfirmed: a window after the decision below {} contact pulses", f.confirm),
+        |f| match (f.s.checks.confirm_windows, f.confirm) {
+            (0, _) => Some("checks.confirm_windows = 0"),
+            (_, 0) => Some("a confirmation level of 0 contact pulses"),
+            _ => None,
+        };
+    Confirmed: ST,
+        |f| format!("decision confirmed ({} windows)", f.s.checks.confirm_windows),
+        |_| None;
 }
+
+/// The fault bins, by fault bit position ([`fault::NAMES`] order).
+const FAULT_BINS: [B; fault::COUNT] = [
+    B::FaultContactAtArm,
+    B::FaultPulsesLost,
+    B::FaultIndexMissing,
+    B::FaultScaleError,
+    B::FaultNoDecision,
+    B::FaultFesTimeout,
+    B::FaultUnconfirmed,
+];
 
 const PAIR_NAMES: [&str; 5] = ["arm", "contact", "index", "FES", "scale"];
 
@@ -297,24 +351,23 @@ pub fn coverage(stimulus: &Stimulus, config: &MeasureConfig) -> Coverage {
     let f = Figures::of(config);
     let mut walk = Walk::new(&f);
     let mut glitches = GlitchRuns::new(f.g);
-    let mut fe = FrontEnd::new(config);
     let mut k = 0u64;
     for seg in &stimulus.segments {
         glitches.pins_from(seg.pins, k);
-        let end = k + u64::from(seg.cycles);
-        while k < end {
-            if fe.is_settled(seg.pins) {
-                k = end;
-                break;
-            }
-            let m: Measurement = *fe.measurement();
-            let edges = fe.clock(seg.pins);
-            k += 1;
-            if !edges.is_empty() {
-                walk.clock(m, &edges);
-            }
-        }
+        k += u64::from(seg.cycles);
     }
+    // The kernel before each clocked clock: settled and edgeless clocks change it not.
+    let mut before: Option<Measurement> = None;
+    let (fe, _) = crate::clock_through_to_end(stimulus, config, |k, _, fe, edges| {
+        let pre = before.unwrap_or_else(|| Measurement::new(config));
+        if !edges.is_empty() {
+            walk.clock(k, pre, &edges);
+        } else if crate::watchdog_expires_at(fe, k) {
+            walk.status(&fe.outputs());
+        }
+        before = Some(*fe.measurement());
+    });
+    walk.status(&fe.outputs());
     let mut bins = bins_of(&f);
     let hits = walk
         .hits
@@ -389,6 +442,8 @@ struct Walk<'a> {
     pulses_in_window: u64,
     /// The last pulse of the window decided.
     decided_on_last: bool,
+    /// The `faults` word and `confirmed` last seen (a bin counts their rises).
+    status: (u8, bool),
 }
 
 /// One event of a clock: the measurement just before it (`pre`, with its outputs `po`)
@@ -408,23 +463,42 @@ impl<'a> Walk<'a> {
             pair_hits: [0; PAIRS],
             pulses_in_window: 0,
             decided_on_last: false,
+            status: (0, false),
         }
+    }
+
+    /// The measurement status seen in `o`: a hit for each fault newly latched and for the
+    /// decision's confirmation.
+    fn status(&mut self, o: &Outputs) {
+        let (faults, confirmed) = self.status;
+        let risen = o.faults & !faults;
+        for (bit, bin) in FAULT_BINS.iter().enumerate() {
+            if risen & (1 << bit) != 0 {
+                self.hit(*bin);
+            }
+        }
+        if o.confirmed && !confirmed {
+            self.hit(B::Confirmed);
+        }
+        self.status = (o.faults, o.confirmed);
     }
 
     fn hit(&mut self, b: B) {
         self.hits[b as usize] += 1;
     }
 
-    /// One clock with edges: its events replayed one by one on a copy of the state `m`
-    /// before the clock.
-    fn clock(&mut self, mut m: Measurement, edges: &Edges) {
+    /// One clock `k` with edges: its events replayed one by one on a copy of the state `m`
+    /// before the clock, at time `k` (the FES watchdog's verdict first).
+    fn clock(&mut self, k: u64, mut m: Measurement, edges: &Edges) {
         let mut kinds = [false; 5];
         let mut events = Vec::with_capacity(5);
         edges.for_each_event(|e| events.push(e));
         let double = edges.changed & (pin::SCALE_A | pin::SCALE_B) == pin::SCALE_A | pin::SCALE_B;
+        m.observe(k);
+        self.status(&m.outputs());
         for e in events {
             let pre = m;
-            m.apply(e);
+            m.apply_at(k, e);
             let step = Step {
                 pre: &pre,
                 m: &m,
@@ -454,6 +528,7 @@ impl<'a> Walk<'a> {
                 }
                 MeasureEvent::PresetPulses(_) => {}
             }
+            self.status(&step.qo);
         }
         let mut n = 0;
         for i in 0..5 {
@@ -612,5 +687,87 @@ impl<'a> Walk<'a> {
         if (a == half - 1 && b == -half) || (a == -half && b == half - 1) {
             self.hit(B::PositionWrap);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::measure::config::DecisionMethod;
+    use tooltouch_model::MeasureSettings;
+    use tooltouch_plant::stress::{stress_stimulus, StressSize};
+
+    /// The default stress run (`vectors --stress 1`) reaches every fault condition and a
+    /// confirmed decision, at the default configuration and at a density-method,
+    /// exponential-law, single-pulse one with other thresholds.
+    #[test]
+    fn the_default_stress_run_reaches_every_measurement_status_bin() {
+        let density = MeasureSettings {
+            method: DecisionMethod::Density,
+            charge_law: ChargeLaw::Exponential {
+                charge_shift: 3,
+                discharge_shift: 4,
+            },
+            ..MeasureSettings::default()
+        };
+        let mut single = MeasureSettings {
+            pulses_per_rev: 64,
+            window_revs: 2,
+            i_def: 10,
+            glitch_cycles: 0,
+            method: DecisionMethod::SinglePulse,
+            contact_rule: ContactRule::Sampled,
+            ..MeasureSettings::default()
+        };
+        single.checks.pulse_tolerance = 5;
+        single.checks.probe_revs = 7;
+        single.checks.fes_timeout_cycles = 300;
+        single.checks.confirm_windows = 2;
+        for settings in [MeasureSettings::default(), density, single] {
+            let config = settings.validate().unwrap();
+            let s = stress_stimulus(&config, 1, 50_000_000, &StressSize::default());
+            let cov = coverage(&s, &config);
+            let status: Vec<&Bin> = cov.bins.iter().filter(|b| b.group == ST).collect();
+            assert_eq!(status.len(), fault::COUNT + 1, "{}", cov.table());
+            for (bin, name) in status.iter().zip(fault::NAMES) {
+                assert!(bin.name.starts_with(name), "{}", bin.name);
+            }
+            for bin in status {
+                assert!(
+                    bin.not_applicable.is_none() && bin.hits > 0,
+                    "{settings:?}: `{}` not reached:\n{}",
+                    bin.name,
+                    cov.table()
+                );
+            }
+        }
+    }
+
+    /// A check turned off makes its bin not applicable, with the setting named.
+    #[test]
+    fn a_check_turned_off_has_no_bin_to_reach() {
+        let mut settings = MeasureSettings::default();
+        settings.checks = tooltouch_model::MeasureChecks::OFF;
+        let config = settings.validate().unwrap();
+        let cov = coverage(&Stimulus::new(50_000_000), &config);
+        let why: Vec<Option<&str>> = cov
+            .bins
+            .iter()
+            .filter(|b| b.group == ST)
+            .map(|b| b.not_applicable.as_deref())
+            .collect();
+        assert_eq!(
+            why,
+            [
+                Some("checks.contact_at_arm = false"),
+                Some("checks.revolutions = false"),
+                Some("checks.revolutions = false"),
+                Some("checks.scale_errors = false"),
+                Some("checks.probe_revs = 0"),
+                Some("checks.fes_timeout_cycles = 0"),
+                Some("checks.confirm_windows = 0"),
+                None,
+            ]
+        );
     }
 }

@@ -508,7 +508,7 @@ mod tests {
             "{:?}",
             d.comments
         );
-        assert_eq!(d.signals.len(), 21);
+        assert_eq!(d.signals.len(), 23);
         assert_eq!(value_of(b"0101"), Value::known(5));
         let wide = value_of(format!("1{}1", "0".repeat(70)).as_bytes());
         assert!(wide.bit(71) && wide.bit(0) && wide.bits.count_ones() == 2 && !wide.unknown);
@@ -524,7 +524,7 @@ mod tests {
             let Verdict::Match(line) = &r.verdict else {
                 panic!("{} against {}: {:?}", e.display(), dut.display(), r.verdict);
             };
-            let whole = format!("{} cycles × 15 signals", s.total_cycles());
+            let whole = format!("{} cycles × 17 signals", s.total_cycles());
             assert!(line.contains(&whole), "{line}");
         }
     }

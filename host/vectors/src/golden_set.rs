@@ -18,7 +18,7 @@ use anyhow::Context;
 use std::io::Write;
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
-use tooltouch_model::{MeasureConfig, MeasureEvent, Measurement};
+use tooltouch_model::{Faults, MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 use tooltouch_plant::stimulus::Stimulus;
 
 /// The golden VCD's file name.
@@ -80,7 +80,7 @@ pub struct GoldenSet {
 }
 
 /// The outputs a device must write after each event of `stream`: measurement outputs
-/// after every measurement event (but FES pulses when the stream's `FIRMWARE_OBSERVE`
+/// after every measurement event (each applied at its time, the FES watchdog's clock) (but FES pulses when the stream's `FIRMWARE_OBSERVE`
 /// says so), force outputs after every force event but ADC samples.
 pub fn expected_outputs(stream: &InputStream) -> Vec<(u64, Output)> {
     let mut measure = stream.measure.as_ref().map(Measurement::new);
@@ -89,7 +89,7 @@ pub fn expected_outputs(stream: &InputStream) -> Vec<(u64, Output)> {
     for &(time, e) in &stream.events {
         match (e, measure.as_mut(), force.as_mut()) {
             (Input::Measure(e), Some(m), _) => {
-                m.apply(e);
+                m.apply_at(time, e);
                 if stream.observe_fes || e != MeasureEvent::Fes {
                     out.push((time, Output::Measure(m.outputs())));
                 }
@@ -169,19 +169,31 @@ impl GoldenSet {
         }
     }
 
-    /// The summary: hashes, counts and the decisions (`register_now` rising: its clock
-    /// and the latched position). `source` describes the stimulus.
+    /// The summary: hashes, counts, the decisions (`register_now` rising: its clock and
+    /// the latched position) and the measurement cycles (from each arm rise: its time and
+    /// its status as the cycle's last outputs show it — decided, confirmed, the faults by
+    /// name; the CNC accepts a cycle decided, confirmed and without fault). `source`
+    /// describes the stimulus.
     pub fn summary(&self, source: serde_json::Value) -> serde_json::Value {
         let h = self.inputs.header;
         let mut measure_records = 0usize;
         let mut force_records = 0usize;
         let mut decisions = Vec::new();
         let mut deciding = false;
+        // Per measurement cycle (arm rise to the next): its arm time and its last outputs.
+        let mut cycles: Vec<(u64, MeasureOutputs)> = Vec::new();
+        let mut armed = false;
         let mut last_force = None;
         for (time, o) in &self.outputs {
             match o {
                 Output::Measure(o) => {
                     measure_records += 1;
+                    if o.armed && !armed {
+                        cycles.push((*time, *o));
+                    } else if let Some(c) = cycles.last_mut() {
+                        c.1 = *o;
+                    }
+                    armed = o.armed;
                     if o.register_now && !deciding {
                         decisions.push(serde_json::json!({
                             "clock": time,
@@ -216,6 +228,12 @@ impl GoldenSet {
             "output_records": measure_records,
             "force_output_records": force_records,
             "decisions": decisions,
+            "measurements": cycles.iter().map(|(armed_at, o)| serde_json::json!({
+                "armed_at": armed_at,
+                "decided": o.register_now,
+                "confirmed": o.confirmed,
+                "faults": Faults(o.faults).names().collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
         });
         if let Some(c) = &self.cycle {
             s["settings"] = serde_json::to_value(c.config.settings()).unwrap_or_default();

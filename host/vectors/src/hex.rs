@@ -9,6 +9,8 @@ use tooltouch_hdl_gen::{output_fields, output_values, outputs_width, MAX_CYCLES,
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs};
 use tooltouch_plant::stimulus::{Segment, Stimulus};
 
+use crate::{clock_through_to_end, watchdog_expires_at};
+
 /// Why a stimulus could not be written as testbench vectors.
 #[derive(Debug, thiserror::Error)]
 pub enum HexError {
@@ -170,30 +172,28 @@ fn golden_vectors_with(
     })
 }
 
-/// The expected response, clocking the model only until it settles in each segment (see
-/// [`golden_vectors`]).
+/// The expected response, clocking the model only until it settles in each segment, and
+/// at the FES watchdog's expiry (see [`golden_vectors`]).
 fn settled_response(config: &MeasureConfig, segments: &[&Segment]) -> Response {
-    let mut fe = FrontEnd::new(config);
     let mut entries: Vec<(u64, OutputValues)> = Vec::new();
-    // Clock 0 always gives an entry (the outputs after it), settled or not.
-    let mut last: Option<OutputValues> = None;
-    let mut start: u64 = 0; // clock index of the segment's first clock
+    // Clock 0 always gives an entry: the reset outputs, which are those after clock 0 (no
+    // edge can be detected there), whether clock 0 is clocked or skipped as settled.
+    let reset = output_values(config, &FrontEnd::new(config).outputs());
+    entries.push((0, reset));
+    let mut last = reset;
+    let mut stimulus = Stimulus::new(1);
     for s in segments {
-        let cycles = u64::from(s.cycles);
-        let mut k = 0;
-        while k < cycles && (last.is_none() || !fe.is_settled(s.pins)) {
-            let edges = fe.clock(s.pins);
-            if last.is_none() || !edges.is_empty() {
-                let values = output_values(config, &fe.outputs());
-                if last != Some(values) {
-                    entries.push((start + k, values));
-                    last = Some(values);
-                }
-            }
-            k += 1;
-        }
-        start += cycles;
+        stimulus.push(s.pins, u64::from(s.cycles));
     }
+    let (fe, _) = clock_through_to_end(&stimulus, config, |k, _, fe, edges| {
+        if !edges.is_empty() || watchdog_expires_at(fe, k) {
+            let values = output_values(config, &fe.outputs());
+            if values != last {
+                entries.push((k, values));
+                last = values;
+            }
+        }
+    });
     (entries, fe)
 }
 

@@ -6,7 +6,7 @@
 //! ([`FrontEnd`]) and lists the events its kernel acted on, timestamped with the clock
 //! index (clock `k` = the `k`-th rising edge, from 0); same-clock events come in the
 //! canonical order. [`outputs_after_each_event`] replays such a list at event level
-//! ([`Measurement::apply`]) and records every output after each event: the firmware must
+//! ([`Measurement::apply_at`]: each event at its time, the FES watchdog's clock) and records every output after each event: the firmware must
 //! reproduce exactly these, and after the last event of clock `k` they equal the cycle
 //! level's outputs registered after clock `k` (`tests/measure/levels_agree.rs`).
 //!
@@ -34,19 +34,34 @@ pub mod signals;
 pub mod stimulus_file;
 pub mod vcd;
 
+use tooltouch_model::measure::checks::fault;
 use tooltouch_model::measure::frontend::Pins;
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureOutputs, Measurement, TimedEvent};
 use tooltouch_plant::stimulus::Stimulus;
 
 /// Runs the cycle-level model from reset over `stimulus` and calls `f(k, pins, front
 /// end, edges)` after every clock `k` that was actually clocked. Settled clocks (where
-/// [`FrontEnd::is_settled`] holds, so the clock would change nothing) are skipped, so `f`
-/// misses only clocks that change no register. Returns the number of clocks clocked.
+/// [`FrontEnd::is_settled`] holds, so the clock would change nothing but the time) are
+/// skipped, their time added to the front end's clock count, so `f` misses only clocks
+/// that change no register — but the clock at which the FES watchdog expires is clocked
+/// even when settled, since the `faults` output changes there without an edge
+/// ([`watchdog_expires_at`] tells it). Returns the number of clocks clocked.
 pub fn clock_through(
     stimulus: &Stimulus,
     config: &MeasureConfig,
-    mut f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::measure::frontend::Edges),
+    f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::measure::frontend::Edges),
 ) -> u64 {
+    clock_through_to_end(stimulus, config, f).1
+}
+
+/// [`clock_through`], returning the front end after the stimulus's last clock (its clock
+/// count = the stimulus's clocks) and the number of clocks clocked.
+pub(crate) fn clock_through_to_end(
+    stimulus: &Stimulus,
+    config: &MeasureConfig,
+    mut f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::measure::frontend::Edges),
+) -> (FrontEnd, u64) {
+    let timeout = u64::from(config.settings().checks.fes_timeout_cycles);
     let mut fe = FrontEnd::new(config);
     let mut k = 0u64;
     let mut clocked = 0u64;
@@ -54,8 +69,15 @@ pub fn clock_through(
         let end = k + u64::from(seg.cycles);
         while k < end {
             if fe.is_settled(seg.pins) {
-                k = end;
-                break;
+                // Only the time moves on: to the watchdog's expiry if it falls in this
+                // segment (clocked below), else to the segment's end.
+                let to = watchdog_expiry(&fe, timeout).filter(|t| (k..end).contains(t));
+                let next = to.unwrap_or(end);
+                fe.advance(seg.pins, next - k, |_, _| {});
+                k = next;
+                if to.is_none() {
+                    break;
+                }
             }
             let edges = fe.clock(seg.pins);
             f(k, seg.pins, &fe, edges);
@@ -63,7 +85,31 @@ pub fn clock_through(
             k += 1;
         }
     }
-    clocked
+    (fe, clocked)
+}
+
+/// The clock after which the FES watchdog of `fe` will show `fes_timeout`, if it is
+/// armed, running (`timeout` > 0 ticks) and not yet expired: `timeout` clocks after the
+/// last FES pulse (or the arm).
+fn watchdog_expiry(fe: &FrontEnd, timeout: u64) -> Option<u64> {
+    if timeout == 0 {
+        return None;
+    }
+    let o = fe.outputs();
+    (o.armed && o.faults & fault::FES_TIMEOUT == 0)
+        .then(|| fe.measurement().checks().fes_at() + timeout)
+}
+
+/// Whether the FES watchdog of `fe` expired at clock `k` (the front end's last clock):
+/// `faults` after clock `k` differs from after clock `k − 1` though the kernel may have
+/// acted on no edge. Besides the edges the kernel acted on, the only way an output changes
+/// from one clock to the next.
+pub fn watchdog_expires_at(fe: &FrontEnd, k: u64) -> bool {
+    let m = fe.measurement();
+    k > 0 && m.checks().fes_at() < k && {
+        let armed = m.outputs_at(k).armed;
+        m.checks().faults_at(k, armed) != m.checks().faults_at(k - 1, armed)
+    }
 }
 
 /// Runs the cycle-level model over every clock of `stimulus`, one `clock` call each, no
@@ -113,11 +159,12 @@ pub fn outputs_after_each_event(
 }
 
 /// The cycle-level outputs after every clock at which they changed: `(clock, outputs)`,
-/// starting with the outputs after clock 0.
+/// starting with the outputs after the first clock clocked (clock 0 unless the stimulus
+/// starts settled).
 pub fn output_changes(stimulus: &Stimulus, config: &MeasureConfig) -> Vec<(u64, MeasureOutputs)> {
     let mut out: Vec<(u64, MeasureOutputs)> = Vec::new();
     clock_through(stimulus, config, |k, _, fe, edges| {
-        if out.is_empty() || !edges.is_empty() {
+        if out.is_empty() || !edges.is_empty() || watchdog_expires_at(fe, k) {
             let o = fe.outputs();
             if out.last().is_none_or(|l| l.1 != o) {
                 out.push((k, o));

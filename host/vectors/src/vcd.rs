@@ -5,7 +5,7 @@
 //! and `tooltouch vectors` in constant memory, with [`Dump`] on top of it for callers that
 //! want the whole file in memory.
 
-use super::clock_through;
+use super::{clock_through, watchdog_expires_at};
 use bitvec::prelude::*;
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
@@ -151,9 +151,9 @@ pub(crate) fn golden_changes(
     let mut changes: Vec<(usize, u64)> = Vec::new();
     let mut error = None;
     // Pin changes at segment starts and output changes at clocked clocks, merged by
-    // clock: `clock_through` visits every clock at which an output can change, and pin
-    // levels only change at segment starts, which it always clocks (a changed pin is
-    // never settled).
+    // clock: `clock_through` visits every clock at which an output can change (an edge the
+    // kernel acts on, or the FES watchdog expiring), and pin levels only change at segment
+    // starts, which it always clocks (a changed pin is never settled).
     let mut stopped = false;
     let mut last_clock = None;
     // Every signal's value at time 0, even when nothing happens at clock 0 (a settled
@@ -194,7 +194,7 @@ pub(crate) fn golden_changes(
             }
             last_pins = Some(pins);
         }
-        if last_out.is_none() || !edges.is_empty() {
+        if last_out.is_none() || !edges.is_empty() || watchdog_expires_at(fe, k) {
             let values = output_values(&fe.outputs(), config);
             for (i, v) in values.iter().enumerate() {
                 if last_out.is_none_or(|l| l[i] != *v) {

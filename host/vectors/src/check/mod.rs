@@ -115,6 +115,22 @@ impl From<binary::BinaryError> for BadInput {
     }
 }
 
+/// For the `faults` output, the faults by name (` (expected pulses_lost, got none)`), so a
+/// mismatch line says which conditions differ; empty for every other signal, and for a
+/// value that is unknown or no fault word.
+fn fault_names(signal: &str, expected: Option<u64>, got: Option<u64>) -> String {
+    let name = |v: Option<u64>| {
+        v.and_then(|v| u8::try_from(v).ok())
+            .filter(|v| v & !tooltouch_model::fault::ALL == 0)
+            .map(|v| tooltouch_model::Faults(v).to_string())
+    };
+    match (signal == "faults", name(expected), name(got)) {
+        (true, Some(a), Some(b)) => format!(" (expected {a}, got {b})"),
+        (true, Some(a), None) => format!(" (expected {a})"),
+        _ => String::new(),
+    }
+}
+
 fn hex(v: Option<&Value>) -> String {
     match v {
         Some(v) if !v.unknown => format!("0x{}", v.hex_digits()),
@@ -218,6 +234,7 @@ pub fn compare_vcd_sides_with(
 ) -> Result<Report, BadInput> {
     let (en, dn) = (e.name.to_string(), d.name.to_string());
     let (hash, clock_hz, period_fs) = golden_period_fs(e.declarations, &en)?;
+    let outputs = golden_outputs(e.declarations, &en)?;
     if let Some((dut_hash, dut_hz)) = d.declarations.golden_stamp() {
         if dut_hash != hash || dut_hz != clock_hz {
             return Err(BadInput(format!(
@@ -225,7 +242,6 @@ pub fn compare_vcd_sides_with(
             )));
         }
     }
-    let outputs = golden_outputs(e.declarations, &en)?;
     // Slots per code index, on each side.
     let mut e_slots: Vec<Vec<usize>> = vec![Vec::new(); e.declarations.codes().len()];
     let mut d_slots: Vec<Vec<usize>> = vec![Vec::new(); d.declarations.codes().len()];
@@ -299,9 +315,17 @@ pub fn compare_vcd_sides_with(
             })
             .collect();
         let time_ns = k * period_fs / 1_000_000;
+        let (a, b) = (&all[0].1, &all[0].2);
         let line = format!(
-            "cycle {k} (time {time_ns} ns): signal {} expected {} got {}",
-            differing[0].signal, differing[0].expected, differing[0].got
+            "cycle {k} (time {time_ns} ns): signal {} expected {} got {}{}",
+            differing[0].signal,
+            differing[0].expected,
+            differing[0].got,
+            fault_names(
+                &differing[0].signal,
+                a.as_ref().filter(|v| !v.unknown).and_then(Value::to_u64),
+                b.as_ref().filter(|v| !v.unknown).and_then(Value::to_u64)
+            )
         );
         return Ok(report(
             Verdict::Mismatch(line),
@@ -354,6 +378,14 @@ fn golden_outputs<'a>(
         .collect::<Result<_, _>>()?;
     if outputs.is_empty() {
         return Err(BadInput(format!("{en}: no `outputs` scope")));
+    }
+    let has = |name: &str| outputs.iter().any(|c| c.golden.name == name);
+    if has("register_now") && !(has("confirmed") && has("faults")) {
+        return Err(BadInput(format!(
+            "{en}: a golden file of an older tooltouch: its outputs lack `confirmed` and `faults` \
+             (the measurement status, with stream format version 2). Regenerate it with the \
+             command that made it (`tooltouch vectors` or `tooltouch measure`)"
+        )));
     }
     Ok(outputs)
 }
@@ -559,7 +591,8 @@ fn first_difference<E: Read, D: Read>(
                             (
                                 t,
                                 format!(
-                                    "record {i} (time {t}): field {name} expected 0x{x:x} got 0x{y:x}"
+                                    "record {i} (time {t}): field {name} expected 0x{x:x} got 0x{y:x}{}",
+                                    fault_names(name, Some(x), Some(y))
                                 ),
                             )
                         })
@@ -696,7 +729,11 @@ pub fn compare_output_sources<E: Read, D: Read>(
             )));
         }
     }
-    let mut summary = format!("OK: {} records × 15 fields", es.measure);
+    let mut summary = format!(
+        "OK: {} records × {} fields",
+        es.measure,
+        tooltouch_model::MeasureOutputs::FIELD_COUNT
+    );
     if es.force > 0 {
         summary = if es.measure == 0 {
             format!("OK: {} force records × 14 fields", es.force)
@@ -765,5 +802,56 @@ mod tests {
                 "0".repeat(23)
             )
         );
+    }
+
+    /// A golden dump of the outputs `register_now`, `confirmed` (both 1 bit) and `faults`
+    /// (7 bits) over 3 clocks at 1 MHz, `faults` = `faults` at clock 2; `old`: without
+    /// `confirmed` and `faults`.
+    fn golden_status(faults: u8, old: bool) -> String {
+        let (vars, values) = if old {
+            (String::new(), String::new())
+        } else {
+            (
+                "$var wire 1 # confirmed $end\n$var wire 7 $ faults [6:0] $end\n".to_string(),
+                "0#\nb0 $\n".to_string(),
+            )
+        };
+        let late = if old {
+            String::new()
+        } else {
+            format!("b{faults:b} $\n")
+        };
+        format!(
+            "$comment tooltouch measure_hash=00000000000000aa clock_hz=1000000 $end\n\
+             $timescale 1ns $end\n$scope module tooltouch $end\n$scope module outputs $end\n\
+             $var wire 1 ! register_now $end\n{vars}$upscope $end\n$upscope $end\n\
+             $enddefinitions $end\n#0\n0!\n{values}#2000\n1!\n{late}\
+             $comment tooltouch end cycles=3 $end\n"
+        )
+    }
+
+    #[test]
+    fn a_faults_mismatch_names_the_faults_and_an_older_golden_file_is_refused() {
+        use tooltouch_model::fault;
+        let golden = golden_status(fault::PULSES_LOST | fault::NO_DECISION, false);
+        let Verdict::Mismatch(m) = compare(&golden, &golden_status(0, false)) else {
+            panic!("the faults were not compared");
+        };
+        assert_eq!(
+            m,
+            "cycle 2 (time 2000 ns): signal faults expected 0x12 got 0x0 (expected pulses_lost+no_decision, got none)"
+        );
+        let e = Dump::parse(&golden_status(0, true), "old.vcd").unwrap();
+        let d = Dump::parse(&golden, "d.vcd").unwrap();
+        let err = compare_vcd(&e, "old.vcd", &d, "d.vcd")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with("old.vcd: a golden file of an older tooltouch: its outputs lack `confirmed` and `faults`")
+                && err.contains("Regenerate it"),
+            "{err}"
+        );
+        assert_eq!(fault_names("count", Some(1), Some(2)), "");
+        assert_eq!(fault_names("faults", Some(0x80), Some(0)), "");
     }
 }
