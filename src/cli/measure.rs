@@ -2,10 +2,16 @@
 //! golden model (docs/domain.md §2), print a table, and write plots, vectors and a JSON
 //! summary into an output folder that always holds one whole run ([`OutputFolder`]).
 //!
-//! Exit codes (as every subcommand, docs/cli.md): 0 every measurement decided; 1 the run
-//! completed and its files were written, but some measurement did not decide
-//! ([`UNDECIDED`]); 2 bad input (a bad setting, named by its flag or its key in the
-//! settings file, a run too large to hold, a folder that cannot be written).
+//! Exit codes (as every subcommand, docs/cli.md): 0 every measurement decided and was
+//! accepted (confirmed, no fault); 1 the run completed and its files were written, but some
+//! measurement did not decide, faulted or was not confirmed ([`UNDECIDED`]); 2 bad input
+//! (a bad setting, named by its flag or its key in the settings file, a run too large to
+//! hold, a folder that cannot be written).
+//!
+//! The table gives each measurement's status as the CNC reads it (docs/CONTRACT.md):
+//! `confirmed`, `FAULT <names>` (e.g. `FAULT pulses_lost+no_decision`: no diameter is
+//! shown for it) or `not confirmed`; the status line counts them, and the statistics are
+//! those of the confirmed measurements only.
 //!
 //! A run is sized before it starts ([`check_run_size`]): its event vectors are held in
 //! memory, so settings that would make more than [`MAX_EVENTS`] events (a tiny feed over
@@ -21,9 +27,12 @@ use std::time::Instant;
 use tooltouch_metrology::averaging::{per_z_means, ZMean};
 use tooltouch_metrology::calibration::{corrected_mm, Calibration, CalibrationEntry};
 use tooltouch_model::measure::config::DecisionMethod;
+use tooltouch_model::Faults;
 use tooltouch_model::MeasureConfig;
 use tooltouch_plant::lathe::LatheScenario;
-use tooltouch_plant::measurement_cycle::{self, check_run_size, CycleRun, Spread};
+use tooltouch_plant::measurement_cycle::{
+    self, check_run_size, CycleRun, MeasurementReport, Spread,
+};
 use tooltouch_settings::{Settings, SettingsError};
 use tooltouch_vectors::output::OutputFolder;
 use tooltouch_vectors::{self as vectors, binary, vcd};
@@ -39,7 +48,8 @@ pub enum VcdSpan {
     None,
 }
 
-/// Exit code of a run in which some measurement did not decide (its files are written).
+/// Exit code of a run in which some measurement did not decide, faulted or was not
+/// confirmed (its files are written).
 pub const UNDECIDED: u8 = super::NOT_PASSED;
 
 /// Every file `measure` can write into its output folder.
@@ -56,8 +66,9 @@ pub const OUTPUTS: [&str; 7] = [
 /// Arguments of `tooltouch measure`. Every setting has a flag; flags override `--config`.
 #[derive(clap::Args, Debug)]
 #[command(after_help = "\
-Exit codes: 0 every measurement decided; 1 the run completed and wrote its files, but some \
-measurement did not decide; 2 bad input (a setting out of range, named by its flag or key; a \
+Exit codes: 0 every measurement decided and was accepted (confirmed, no fault); 1 the run \
+completed and wrote its files, but some measurement did not decide, faulted or was not \
+confirmed; 2 bad input (a setting out of range, named by its flag or key; a \
 run too large; an unreadable settings file; an unwritable output folder).")]
 pub struct Args {
     /// Output folder (created): plots, VCD, binary vectors, summary.json. A run replaces
@@ -100,6 +111,58 @@ fn opt(v: Option<f64>, decimals: usize) -> String {
     v.map_or_else(|| "—".to_string(), |x| format!("{x:.decimals$}"))
 }
 
+/// A measurement's status as the CNC reads it: `confirmed` (accepted), `FAULT <names>`
+/// (an alarm: the reading is not trusted), `not confirmed` (decided, no fault, but the
+/// CNC retracted before the confirmation) or `no decision`.
+fn status(m: &MeasurementReport) -> String {
+    if m.faults != 0 {
+        format!("FAULT {}", Faults(m.faults))
+    } else if m.accepted {
+        "confirmed".to_string()
+    } else if m.decision_position.is_some() {
+        "not confirmed".to_string()
+    } else {
+        "no decision".to_string()
+    }
+}
+
+/// The run's status line: how many measurements were confirmed, and which faulted or
+/// went unconfirmed (both left out of the statistics).
+fn status_line(run: &CycleRun) -> String {
+    let t = &run.summary;
+    let mut line = format!("status: {}/{} confirmed", t.decided, t.measurements);
+    if t.faulted == 0 {
+        line.push_str(", no fault");
+    } else {
+        let list: Vec<String> = run
+            .measurements
+            .iter()
+            .filter(|m| m.faults != 0)
+            .map(|m| format!("#{} {}", m.index + 1, Faults(m.faults)))
+            .collect();
+        line.push_str(&format!(
+            "; {} faulted (the CNC alarms; no diameter, left out of the statistics): {}",
+            t.faulted,
+            list.join(", ")
+        ));
+    }
+    if t.unconfirmed > 0 {
+        let list: Vec<String> = run
+            .measurements
+            .iter()
+            .filter(|m| m.faults == 0 && !m.confirmed && m.decision_position.is_some())
+            .map(|m| format!("#{}", m.index + 1))
+            .collect();
+        line.push_str(&format!(
+            "; {} decided but not confirmed before the retract (left out): {}",
+            t.unconfirmed,
+            list.join(", ")
+        ));
+    }
+    line.push('\n');
+    line
+}
+
 /// The readable table of a run.
 pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
     let mut s = String::new();
@@ -114,12 +177,12 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
     };
     s.push_str(&format!("method: {method}\n"));
     s.push_str(
-        "  #   first-contact Ø   decided Ø       vs mean   vs largest   revs to     revs to\n\
+        "  #   first-contact Ø   decided Ø       vs mean   vs largest   revs to     revs to     status\n\
          \x20     mm                mm              µm        µm           decision    permanent\n",
     );
     for m in &run.measurements {
         s.push_str(&format!(
-            "{:>3}   {:>14}   {:>13}   {:>8}   {:>10}   {:>8}   {:>9}\n",
+            "{:>3}   {:>14}   {:>13}   {:>8}   {:>10}   {:>8}   {:>9}   {}\n",
             m.index + 1,
             opt(m.first_contact_diameter_mm, 4),
             opt(m.diameter_mm, 4),
@@ -127,12 +190,14 @@ pub fn table(run: &CycleRun, config: &MeasureConfig) -> String {
             opt(m.error_vs_largest_um, 2),
             opt(m.revs_to_decision, 2),
             opt(m.revs_to_permanent, 2),
+            status(m),
         ));
     }
     let t = &run.summary;
+    s.push_str(&status_line(run));
     if t.decided == 0 {
         s.push_str(&format!(
-            "decided 0/{}: no measurement decided, so no diameter (one count = {:.2} µm)\n",
+            "decided 0/{}: no measurement decided and was accepted, so no diameter (one count = {:.2} µm)\n",
             t.measurements, t.diameter_quantum_um
         ));
         return s;
@@ -367,9 +432,10 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let t = &run.summary;
     if t.decided < t.measurements {
         eprintln!(
-            "measure: {} of {} measurements did not decide (exit code {UNDECIDED})",
+            "measure: {} of {} measurements did not decide or were not accepted ({} faulted) (exit code {UNDECIDED})",
             t.measurements - t.decided,
-            t.measurements
+            t.measurements,
+            t.faulted
         );
         return Ok(ExitCode::from(UNDECIDED));
     }

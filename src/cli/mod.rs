@@ -1,7 +1,7 @@
 //! Command-line interface: one module per subcommand.
 //!
 //! Every subcommand exits alike (docs/cli.md): 0 success; 1 a verdict that is not a pass
-//! (a `check` mismatch, a `measure` run in which some measurement did not decide); 2 bad
+//! (a `check` mismatch, a `measure` run in which some measurement did not decide or faulted); 2 bad
 //! input (a usage error, a bad value or file, refused work, an output folder that cannot be
 //! written), each message naming the file, the flag or key, the value and what is allowed;
 //! 130 stopped by a signal (no partial output left). Standard output goes through

@@ -90,6 +90,7 @@ fn arg(index: usize, f: &'static SettingFlag) -> Arg {
         ValueKind::U32 => a.value_parser(clap::value_parser!(u32)),
         ValueKind::U64 => a.value_parser(clap::value_parser!(u64)),
         ValueKind::F64 => a.value_parser(clap::value_parser!(f64)),
+        ValueKind::Bool => a.value_parser(clap::builder::BoolishValueParser::new()),
         ValueKind::Choice(choices) => a.value_parser(ChoiceParser(choices)),
     }
 }
@@ -104,6 +105,7 @@ fn value(m: &ArgMatches, index: usize, f: &SettingFlag) -> Option<FlagValue> {
         ValueKind::U32 => int(m.get_one::<u32>(id).map(|&v| v.into())),
         ValueKind::U64 => int(m.get_one::<u64>(id).copied()),
         ValueKind::F64 => m.get_one::<f64>(id).map(|&v| FlagValue::Float(v)),
+        ValueKind::Bool => m.get_one::<bool>(id).map(|&v| FlagValue::Bool(v)),
         ValueKind::Choice(_) => m.get_one::<&'static str>(id).map(|&v| FlagValue::Choice(v)),
     }
 }

@@ -25,6 +25,8 @@ pub enum ValueKind {
     U64,
     /// A float.
     F64,
+    /// A switch: `true`/`false` (also `on`/`off`, `yes`/`no`, `1`/`0`).
+    Bool,
     /// One of named values.
     Choice(&'static [Choice]),
 }
@@ -47,6 +49,8 @@ pub enum FlagValue {
     Int(u64),
     /// A float.
     Float(f64),
+    /// A switch.
+    Bool(bool),
     /// A [`Choice`]'s name.
     Choice(&'static str),
 }
@@ -56,6 +60,7 @@ impl std::fmt::Display for FlagValue {
         match self {
             FlagValue::Int(v) => v.fmt(f),
             FlagValue::Float(v) => v.fmt(f),
+            FlagValue::Bool(v) => v.fmt(f),
             FlagValue::Choice(v) => v.fmt(f),
         }
     }
@@ -76,6 +81,13 @@ impl FlagValue {
     fn float(&self) -> Result<f64, SettingsError> {
         match *self {
             FlagValue::Float(v) => Ok(v),
+            _ => Err(mismatch(self)),
+        }
+    }
+
+    fn bool(&self) -> Result<bool, SettingsError> {
+        match *self {
+            FlagValue::Bool(v) => Ok(v),
             _ => Err(mismatch(self)),
         }
     }
@@ -116,6 +128,7 @@ impl SettingFlag {
 }
 
 const MEASURE: &str = "Golden model [measure]";
+const CHECKS: &str = "Measurement checks [measure.checks] (docs/measure.md)";
 const LATHE: &str = "Lathe [lathe]";
 const CYCLE: &str = "Measurement cycle [lathe.cycle]";
 
@@ -155,6 +168,24 @@ macro_rules! float {
     };
 }
 
+/// A direct flag setting the switch field `$($field).+` of [`Settings`].
+macro_rules! switch {
+    ($flag:literal, $key:literal, $heading:expr, $help:literal, $($field:ident).+) => {
+        SettingFlag {
+            flag: $flag,
+            key: $key,
+            heading: $heading,
+            help: $help,
+            kind: ValueKind::Bool,
+            direct: true,
+            apply: |s, v| {
+                s.$($field).+ = v.bool()?;
+                Ok(())
+            },
+        }
+    };
+}
+
 const fn choice(name: &'static str, help: &'static str) -> Choice {
     Choice {
         name,
@@ -164,7 +195,7 @@ const fn choice(name: &'static str, help: &'static str) -> Choice {
 }
 
 /// Every flag of the settings, in help and application order.
-pub static SETTING_FLAGS: [SettingFlag; 38] = [
+pub static SETTING_FLAGS: [SettingFlag; 46] = [
     SettingFlag {
         flag: "method",
         key: "measure.method",
@@ -382,6 +413,69 @@ pub static SETTING_FLAGS: [SettingFlag; 38] = [
         U8,
         "Scale position counter width, bits (8..=32)",
         measure.scale_bits
+    ),
+    switch!(
+        "contact-at-arm",
+        "measure.checks.contact_at_arm",
+        CHECKS,
+        "Fault `contact_at_arm` when the contact is closed as the arm rises (true/false)",
+        measure.checks.contact_at_arm
+    ),
+    switch!(
+        "revolutions",
+        "measure.checks.revolutions",
+        CHECKS,
+        "Check each revolution's FES pulses against pulses_per_rev ± pulse_tolerance \
+         (faults `pulses_lost`, `index_missing`; true/false)",
+        measure.checks.revolutions
+    ),
+    int!(
+        "pulse-tolerance",
+        "measure.checks.pulse_tolerance",
+        CHECKS,
+        U16,
+        "FES pulses a revolution may differ from pulses_per_rev (0..=pulses_per_rev/4)",
+        measure.checks.pulse_tolerance
+    ),
+    switch!(
+        "scale-errors",
+        "measure.checks.scale_errors",
+        CHECKS,
+        "Fault `scale_error` on an illegal scale transition while armed (true/false)",
+        measure.checks.scale_errors
+    ),
+    int!(
+        "probe-revs",
+        "measure.checks.probe_revs",
+        CHECKS,
+        U16,
+        "Fault `no_decision` after this many revolutions since arm without a decision (0: off)",
+        measure.checks.probe_revs
+    ),
+    int!(
+        "fes-timeout-cycles",
+        "measure.checks.fes_timeout_cycles",
+        CHECKS,
+        U32,
+        "Fault `fes_timeout` after this many clocks without an FES pulse while armed (0: off)",
+        measure.checks.fes_timeout_cycles
+    ),
+    int!(
+        "confirm-windows",
+        "measure.checks.confirm_windows",
+        CHECKS,
+        U8,
+        "Counting windows from the deciding one that must confirm the decision (0..=16; 0: \
+         confirmed at the decision)",
+        measure.checks.confirm_windows
+    ),
+    int!(
+        "confirm-percent",
+        "measure.checks.confirm_percent",
+        CHECKS,
+        U8,
+        "Confirmation level, % of a window's pulses (1..=100; single-pulse: one contact pulse)",
+        measure.checks.confirm_percent
     ),
     int!(
         "clock-hz",
@@ -747,6 +841,25 @@ mod tests {
         given.push(by("charge-shift"), FlagValue::Int(3));
         let e = given.settings(None).unwrap_err().to_string();
         assert!(e.contains("--charge-law exponential"), "{e}");
+        let mut checks = GivenFlags::default();
+        checks.push(by("probe-revs"), FlagValue::Int(7));
+        checks.push(by("scale-errors"), FlagValue::Bool(false));
+        let s = checks.settings(None).unwrap();
+        assert_eq!(s.measure.checks.probe_revs, 7);
+        assert!(!s.measure.checks.scale_errors && s.measure.checks.revolutions);
+        let mut bad = GivenFlags::default();
+        bad.push(by("pulse-tolerance"), FlagValue::Int(600));
+        let e = bad.settings(None).unwrap().resolve().unwrap_err();
+        let e = bad.explain(e, None).to_string();
+        assert!(
+            e.starts_with("--pulse-tolerance 600: ")
+                && e.contains("`measure.checks.pulse_tolerance`"),
+            "{e}"
+        );
+        assert_eq!(
+            GivenFlags::flag_of_name("checks.confirm_windows"),
+            "--confirm-windows"
+        );
         assert_eq!(
             GivenFlags::flag_of_name("cycle.averages_per_z"),
             "`cycle.averages_per_z` in --config"

@@ -167,16 +167,48 @@ pub fn old_spellings_in_toml(text: &str, file: &str) -> Vec<String> {
 }
 
 /// A TOML error as one line: `line N: <the parser's message>` (the parser's own text
-/// spans several lines with a drawing of the spot).
+/// spans several lines with a drawing of the spot), with the dotted key of the value the
+/// error points at when its line is a `key = value` (`line 2: \`measure.checks.revolutions\`:
+/// invalid type: integer \`3\`, expected a boolean`).
 pub fn toml_error(text: &str, e: &toml::de::Error) -> String {
     let message = e.message().trim().replace('\n', " ");
     match e.span() {
         Some(span) => {
-            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-            format!("line {line}: {message}")
+            let start = span.start.min(text.len());
+            let line = text[..start].matches('\n').count() + 1;
+            match key_at(text, start) {
+                Some(key) => format!("line {line}: `{key}`: {message}"),
+                None => format!("line {line}: {message}"),
+            }
         }
         None => message,
     }
+}
+
+/// The dotted key of the `key = value` line holding byte `at` of `text`, under the last
+/// `[table]` header above it (`None` when that line has no plain key).
+fn key_at(text: &str, at: usize) -> Option<String> {
+    let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[line_start..].lines().next().unwrap_or("");
+    let (key, _) = line.split_once('=')?;
+    let key = key.trim();
+    let plain = |k: &str| {
+        !k.is_empty()
+            && k.chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+    };
+    if !plain(key) || line_start + line.find('=')? > at {
+        return None;
+    }
+    let table = text[..line_start].lines().rev().find_map(|l| {
+        let l = l.trim();
+        let inner = l.strip_prefix('[')?.split(']').next()?;
+        Some(inner.trim_start_matches('[').trim().to_string())
+    });
+    Some(match table {
+        Some(t) if plain(&t) => format!("{t}.{key}"),
+        _ => key.to_string(),
+    })
 }
 
 /// Bad settings.
@@ -193,8 +225,9 @@ pub enum SettingsError {
         /// The parser's message (names the key and line).
         message: String,
     },
-    /// A `[measure]` field out of range.
-    #[error("[measure] {0}")]
+    /// A `[measure]` field out of range (a `[measure.checks]` one named in full,
+    /// `measure.checks.pulse_tolerance`).
+    #[error("{}", measure_error(.0))]
     Measure(ConfigError),
     /// A `[lathe]` field out of range.
     #[error("[lathe] {0}")]
@@ -202,6 +235,18 @@ pub enum SettingsError {
     /// A flag that does not fit the other settings.
     #[error("{0}")]
     Conflict(String),
+}
+
+/// The message of a `[measure]` field out of range: the model names a `[measure.checks]`
+/// field `checks.<field>`, told here by its whole key.
+fn measure_error(e: &ConfigError) -> String {
+    match e.field.strip_prefix("checks.") {
+        Some(leaf) => format!(
+            "[measure.checks] configuration field `measure.checks.{leaf}` = {} is out of range: allowed {}..={}",
+            e.value, e.min, e.max
+        ),
+        None => format!("[measure] {e}"),
+    }
 }
 
 impl Settings {
@@ -261,6 +306,33 @@ mod tests {
     }
 
     #[test]
+    fn the_checks_are_read_from_measure_checks() {
+        let s = Settings::parse(
+            "[measure.checks]\nrevolutions = false\nprobe_revs = 40\nfes_timeout_cycles = 0\nconfirm_windows = 2\n",
+            "t.toml",
+        )
+        .unwrap();
+        let c = s.measure.checks;
+        assert!(!c.revolutions && c.contact_at_arm);
+        assert_eq!(
+            (c.probe_revs, c.fes_timeout_cycles, c.confirm_windows),
+            (40, 0, 2)
+        );
+        assert_eq!(
+            c.confirm_percent, 25,
+            "the other fields keep their defaults"
+        );
+        let (config, _) = s.resolve().unwrap();
+        assert_ne!(
+            config.hash(),
+            Settings::default().resolve().unwrap().0.hash()
+        );
+        // Written back and read again, the checks are the same.
+        let again = Settings::parse(&toml::to_string(&s).unwrap(), "w.toml").unwrap();
+        assert_eq!(again.measure.checks, c);
+    }
+
+    #[test]
     fn old_spellings_are_read_with_a_warning_naming_the_new_one() {
         let old = "[measure]\nmethod = \"single_pulse\"\n[lathe.cycle]\nretract_at = \"permanent_contact\"\n";
         let new = old
@@ -297,6 +369,26 @@ mod tests {
         let s = Settings::parse("[lathe]\nrpm = 0.0\n", "t.toml").unwrap();
         let e = s.resolve().unwrap_err().to_string();
         assert!(e.contains("`rpm`"), "{e}");
+        let s = Settings::parse("[measure.checks]\npulse_tolerance = 300\n", "t.toml").unwrap();
+        let e = s.resolve().unwrap_err().to_string();
+        assert!(
+            e.contains("`measure.checks.pulse_tolerance` = 300") && e.contains("0..=256"),
+            "{e}"
+        );
+        let s = Settings::parse("[measure.checks]\nconfirm_percent = 0\n", "t.toml").unwrap();
+        let e = s.resolve().unwrap_err().to_string();
+        assert!(e.contains("`measure.checks.confirm_percent`"), "{e}");
+        let e = Settings::parse("[measure.checks]\nrevolutions = 3\n", "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("t.toml: line 2: `measure.checks.revolutions`: invalid type"),
+            "{e}"
+        );
+        let e = Settings::parse("[measure.checks]\nprobe = 3\n", "t.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("t.toml") && e.contains("probe"), "{e}");
         let e = Settings::parse("[lathe]\nrmp = 1.0\n", "t.toml")
             .unwrap_err()
             .to_string();

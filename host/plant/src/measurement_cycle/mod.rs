@@ -8,6 +8,17 @@
 //! retracts, lowers the arm line and steps in Z. The pins of a span are cut at the clock
 //! where the CNC acted, so the returned [`Stimulus`] is exactly what the front end saw.
 //!
+//! The CNC reads the measurement status as docs/CONTRACT.md says: it accepts a
+//! measurement only when `confirmed` rises with `faults == 0`. With
+//! [`RetractAt::Decision`] the feed stops at the reaction after "register now" and the tool
+//! stays there until `confirmed` or a fault, then retracts (a reaction later); with
+//! [`RetractAt::PermanentContact`] it retracts at permanent contact once the decision is
+//! confirmed. A fault alarms at any time: the feed stops a reaction after it and the tool
+//! retracts. A measurement that is not accepted reports no diameter
+//! ([`MeasurementReport::diameter_mm`]; the latched one stays for diagnosis) and is left
+//! out of the statistics. The decisions of a clean run (no fault) are those of the run
+//! without the checks, clock for clock: the status only moves the retract.
+//!
 //! Clocks inside long constant segments are skipped exactly with
 //! [`FrontEnd::is_settled`]: a settled front end is unchanged by a clock, so a default run
 //! (about 10^9 clocks) clocks only the few clocks after each pin change.
@@ -25,7 +36,7 @@ use crate::lathe::{
 };
 use crate::stimulus::{Segment, Stimulus};
 use tooltouch_model::measure::frontend::Edges;
-use tooltouch_model::{FrontEnd, MeasureConfig};
+use tooltouch_model::{Faults, FrontEnd, MeasureConfig};
 
 /// A whole closed-loop run.
 #[derive(Clone, Debug)]
@@ -57,33 +68,91 @@ struct Driver {
 struct Watch {
     first_contact: Option<u64>,
     decision: Option<u64>,
+    /// Clock after which the model's `confirmed` output was first high (while armed).
+    confirmed: Option<u64>,
+    /// Clock after which the model's `faults` word was first non-zero (while armed).
+    fault: Option<u64>,
     window_counts: Vec<u32>,
     /// Last clock to simulate in this span, if the CNC acts before its end.
     stop_after: Option<u64>,
     reaction: u64,
     /// Stop `reaction` clocks after the decision.
     stop_on_decision: bool,
+    /// Stop `reaction` clocks after `confirmed` rises.
+    stop_on_confirm: bool,
+    /// Watch the measurement status: record `confirmed` and the first fault, and stop
+    /// `reaction` clocks after a fault (the CNC's alarm).
+    status: bool,
 }
 
 impl Watch {
+    /// Stops the span `reaction` clocks after clock `k`, or earlier if already due.
+    fn stop_reacting_to(&mut self, k: u64) {
+        let s = k + self.reaction;
+        self.stop_after = Some(self.stop_after.map_or(s, |t| t.min(s)));
+    }
+
     fn on_edges(&mut self, k: u64, fe: &FrontEnd, edges: Edges) {
         let m = fe.measurement();
-        if !m.outputs().armed {
+        let out = m.outputs();
+        if !out.armed {
             return;
         }
-        if self.first_contact.is_none() && m.outputs().first_contact {
+        if self.first_contact.is_none() && out.first_contact {
             self.first_contact = Some(k);
         }
-        if self.decision.is_none() && m.register_now() {
+        if self.decision.is_none() && out.register_now {
             self.decision = Some(k);
             if self.stop_on_decision {
                 self.stop_after = Some(k + self.reaction);
+            }
+        }
+        if self.status {
+            if self.confirmed.is_none() && out.confirmed {
+                self.confirmed = Some(k);
+                if self.stop_on_confirm {
+                    self.stop_reacting_to(k);
+                }
+            }
+            if self.fault.is_none() && out.faults != 0 {
+                self.fault = Some(k);
+                self.stop_reacting_to(k);
             }
         }
         let index = tooltouch_model::measure::frontend::pin::INDEX;
         if edges.changed & edges.levels & index != 0 {
             self.window_counts.push(m.counter().last_window_count());
         }
+    }
+
+    /// The faults that rise with time alone (the FES watchdog) during clocks `from..=to`,
+    /// in which no event is applied: records the first clock showing one and stops the
+    /// span `reaction` clocks after it.
+    fn on_time(&mut self, from: u64, to: u64, fe: &FrontEnd) {
+        if !self.status || self.fault.is_some() {
+            return;
+        }
+        let m = fe.measurement();
+        // Held faults of the previous measurement (the arm low) are not this one's.
+        let faulted = |t: u64| {
+            let out = m.outputs_at(t);
+            out.armed && out.faults != 0
+        };
+        if !faulted(to) {
+            return;
+        }
+        // The watchdog's verdict only ever turns on as time passes: bisect for its start.
+        let (mut lo, mut hi) = (from, to);
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if faulted(mid) {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        self.fault = Some(lo);
+        self.stop_reacting_to(lo);
     }
 }
 
@@ -101,14 +170,21 @@ impl Driver {
                     break 'segments;
                 }
                 if self.fe.is_settled(seg.pins) {
-                    let limit = watch.stop_after.map_or(end, |s| end.min(s + 1));
-                    k = limit.max(k + 1);
+                    let limit =
+                        |watch: &Watch| watch.stop_after.map_or(end, |s| end.min(s + 1)).max(k + 1);
+                    watch.on_time(k, limit(watch) - 1, &self.fe);
+                    let skip_to = limit(watch);
+                    // Settled clocks change no register; the front end's time moves on.
+                    self.fe.advance(seg.pins, skip_to - k, |_, _| {});
+                    k = skip_to;
                     continue;
                 }
                 let edges = self.fe.clock(seg.pins);
                 self.clocked += 1;
                 if !edges.is_empty() {
                     watch.on_edges(k, &self.fe, edges);
+                } else {
+                    watch.on_time(k, k, &self.fe);
                 }
                 k += 1;
             }
@@ -214,16 +290,17 @@ impl Driver {
             if permanent.is_none() && chunk.contact == [(a, b)] {
                 permanent = contact_since;
                 if cycle.retract_at == RetractAt::PermanentContact {
-                    watch.stop_on_decision = true;
+                    // From now on the CNC retracts once the decision is confirmed.
+                    watch.stop_on_confirm = true;
                 }
             }
-            if let (Some(_), Some(k_d), RetractAt::PermanentContact) =
-                (permanent, watch.decision, cycle.retract_at)
+            if let (Some(_), Some(k_c), RetractAt::PermanentContact) =
+                (permanent, watch.confirmed, cycle.retract_at)
             {
-                if k_d + watch.reaction < b {
+                if k_c + watch.reaction < b {
                     break;
                 }
-                watch.stop_after = Some(k_d + watch.reaction);
+                watch.stop_after = Some(k_c + watch.reaction);
             }
             r += 1;
             if r - r0 >= u64::from(cycle.max_approach_revs) {
@@ -235,6 +312,24 @@ impl Driver {
             contact_fraction,
             decision_count,
             first_contact_count,
+        }
+    }
+
+    /// Holds the tool at `x_um` (the feed stopped, the arm high), one revolution at a
+    /// time, until the model confirms the decision or raises a fault, then `reaction`
+    /// clocks more (the CNC's reaction), or `max_revs` revolutions pass.
+    fn await_status(&mut self, spindle: &Spindle, x_um: f64, max_revs: u32, watch: &mut Watch) {
+        watch.stop_after = None;
+        watch.stop_on_decision = false;
+        watch.stop_on_confirm = true;
+        let hold = Motion::hold(x_um);
+        for _ in 0..max_revs {
+            let end = spindle.index_rise(spindle.next_revolution(self.now + 1));
+            let chunk = self.lathe.chunk(self.now, end, &hold, true, true);
+            let used = self.run(&chunk, watch);
+            if used < end || watch.stop_after.is_some_and(|s| s < used) {
+                break;
+            }
         }
     }
 
@@ -312,6 +407,7 @@ pub fn run(
         let mut watch = Watch {
             reaction,
             stop_on_decision: cycle.retract_at == RetractAt::Decision,
+            status: true,
             ..Default::default()
         };
         let ApproachSeen {
@@ -321,14 +417,27 @@ pub fn run(
             first_contact_count,
         } = d.approach(&spindle, &cycle, &approach, r0, &mut watch);
         let stop = d.now;
-        d.retract_and_dwell(&approach, home, retract, dwell);
+        // The CNC retracts once the decision is confirmed or a fault alarms: with
+        // `RetractAt::Decision` the feed stopped at the reaction after "register now" and the
+        // tool waits there for the status.
+        let mut from = approach;
+        if watch.decision.is_some() && watch.confirmed.is_none() && watch.fault.is_none() {
+            from = Motion::hold(approach.at(stop as f64));
+            d.await_status(&spindle, from.start_um, cycle.max_approach_revs, &mut watch);
+        }
+        let retract_cycle = d.now;
+        d.retract_and_dwell(&from, home, retract, dwell);
 
         let out = d.fe.outputs();
         let decision_position =
             decision_count.map(|c| unwrap_position(out.decision_position, bits, c - home_count));
         let first_contact_position = first_contact_count
             .map(|c| unwrap_position(out.first_contact_position, bits, c - home_count));
-        let diameter_mm = decision_position.map(|p| diameter(home_count + p));
+        let faults = Faults(out.faults);
+        let accepted = decision_position.is_some() && out.confirmed && faults.is_empty();
+        let latched_diameter_mm = decision_position.map(|p| diameter(home_count + p));
+        // A reading the CNC does not accept is never reported as a measured diameter.
+        let diameter_mm = latched_diameter_mm.filter(|_| accepted);
         let revs = |k: Option<u64>| match (k, watch.first_contact) {
             (Some(k), Some(f)) => Some((k as f64 - f as f64) / spindle.cycles_per_rev),
             _ => None,
@@ -341,12 +450,20 @@ pub fn run(
             decision_cycle: watch.decision,
             permanent_contact_cycle: permanent,
             stop_cycle: stop,
+            confirmed_cycle: watch.confirmed,
+            fault_cycle: watch.fault,
+            retract_cycle,
             end_cycle: d.now,
             revs_to_decision: revs(watch.decision),
             revs_to_permanent: revs(permanent),
             decision_position,
             first_contact_position,
+            confirmed: out.confirmed,
+            faults: faults.0,
+            fault_names: faults.names().collect(),
+            accepted,
             diameter_mm,
+            latched_diameter_mm,
             first_contact_diameter_mm: first_contact_position.map(|p| diameter(home_count + p)),
             true_mean_diameter_mm: true_mean,
             true_largest_diameter_mm: true_largest,
@@ -417,7 +534,11 @@ mod tests {
             assert!(m.revs_to_decision.unwrap() < m.revs_to_permanent.unwrap());
             assert!(m.diameter_mm.unwrap() < m.true_largest_diameter_mm);
             assert!(!m.window_counts.is_empty());
+            // A clean machine: confirmed, no fault, accepted.
+            assert!(m.confirmed && m.faults == 0 && m.accepted, "{m:?}");
+            assert!(m.confirmed_cycle.unwrap() >= m.decision_cycle.unwrap());
         }
+        assert_eq!(run.summary.faulted, 0);
         assert!(run.clocked_cycles * 50 < run.stimulus.total_cycles());
         assert_eq!(run.summary.decided, 3);
     }

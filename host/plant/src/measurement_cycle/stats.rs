@@ -47,9 +47,15 @@ impl Spread {
 pub struct Summary {
     /// Measurements made.
     pub measurements: usize,
-    /// Measurements that decided.
+    /// Measurements the CNC accepted (decided, confirmed, no fault): the statistics below
+    /// are theirs.
     pub decided: usize,
-    /// Measured diameters, mm.
+    /// Measurements with a fault (an alarm: excluded from the statistics).
+    pub faulted: usize,
+    /// Measurements that decided without a fault but were not confirmed when the CNC
+    /// retracted (the approach gave up first; excluded from the statistics).
+    pub unconfirmed: usize,
+    /// Measured (accepted) diameters, mm.
     pub diameter_mm: Spread,
     /// Errors against the true mean diameter, µm.
     pub error_vs_mean_um: Spread,
@@ -69,6 +75,11 @@ impl Summary {
         Summary {
             measurements: m.len(),
             decided: m.iter().filter(|r| r.diameter_mm.is_some()).count(),
+            faulted: m.iter().filter(|r| r.faults != 0).count(),
+            unconfirmed: m
+                .iter()
+                .filter(|r| r.faults == 0 && !r.confirmed && r.decision_position.is_some())
+                .count(),
             diameter_mm: Spread::of(m.iter().map(|r| r.diameter_mm)),
             error_vs_mean_um: Spread::of(m.iter().map(|r| r.error_vs_mean_um)),
             error_vs_largest_um: Spread::of(m.iter().map(|r| r.error_vs_largest_um)),
