@@ -1,8 +1,9 @@
-//! The nonlinear, time-varying process (docs/control.md, "The nonlinear process") and F9's
-//! sign condition: the plant's steady force follows the Kienzle law's feed exponent, not
+//! The nonlinear, time-varying process (docs/control.md, "The nonlinear process") and F9 in
+//! both directions: the plant's steady force follows the Kienzle law's feed exponent, not
 //! F10's, the three controllers designed on its linearization bring the force back after
 //! the depth step on measured and estimated force, and F9 switches to the fast estimate on
-//! a rising load but not on a falling one (the paper's "positive difference").
+//! a rising load and on a falling one (eq. (9)'s |P_g − P_o|: the start and the end of a
+//! cut).
 
 use tooltouch_model::force::config::ForceSource;
 use tooltouch_plant::drive::estimator_report::{delay_63, depth_step_scenario, DEPTH_LEVELS};
@@ -75,35 +76,49 @@ fn every_controller_brings_the_force_back_on_the_nonlinear_process() {
     }
 }
 
+/// F9 on an open-loop depth step at 8 s from `before` to `after` mm: whether it switched to
+/// the fast estimate within a second of the step, and the 63 % delays of the synthesized,
+/// power-only and electrical estimates and of the dynamometer, s.
+fn f9_on_a_depth_step(before: f64, after: f64) -> (bool, [f64; 4]) {
+    let mut sc = depth_step_scenario(1);
+    sc.depth.before = before;
+    sc.depth.after = after;
+    let r = run(&sc, Engine::Model, false);
+    let tr = &r.trace;
+    let fast =
+        tr.t.iter()
+            .zip(&tr.fast)
+            .any(|(t, f)| *t > 8.0 && *t <= 9.0 && *f);
+    let delay = |x: &[f64]| delay_63(tr, x, 8.0, DEPTH_LEVELS).unwrap_or(f64::NAN);
+    (
+        fast,
+        [
+            delay(&tr.force_est),
+            delay(&tr.force_power_only),
+            delay(&tr.force_electrical),
+            delay(&tr.force_meas),
+        ],
+    )
+}
+
 #[test]
-fn f9_switches_on_a_rising_load_only() {
-    // open loop: the depth steps up 1 → 1.5 mm, or down 1.5 → 1 mm, at 8 s
-    let fast_after_step = |before: f64, after: f64| {
-        let mut sc = depth_step_scenario(1);
-        sc.depth.before = before;
-        sc.depth.after = after;
-        let r = run(&sc, Engine::Model, false);
-        let tr = &r.trace;
-        let fast =
-            tr.t.iter()
-                .zip(&tr.fast)
-                .any(|(t, f)| *t > 8.0 && *t <= 9.0 && *f);
-        let synthesized = delay_63(tr, &tr.force_est, 8.0, DEPTH_LEVELS).unwrap_or(f64::NAN);
-        let power_only = delay_63(tr, &tr.force_power_only, 8.0, DEPTH_LEVELS).unwrap_or(f64::NAN);
-        (fast, synthesized, power_only)
-    };
-    let (fast, synthesized, power_only) = fast_after_step(1.0, 1.5);
-    assert!(fast, "the rising step switches to the fast estimate");
-    assert!(
-        synthesized + 0.15 < power_only,
-        "{synthesized} {power_only}"
-    );
-    // falling: P_g drops below the lagging P_o, a negative difference: F9 stays on P_o and
-    // the synthesized estimate falls as late as the power-only one
-    let (fast, synthesized, power_only) = fast_after_step(1.5, 1.0);
-    assert!(!fast, "the falling step stays on P_o");
-    assert!(
-        (synthesized - power_only).abs() < 0.03,
-        "{synthesized} {power_only}"
-    );
+fn f9_switches_at_the_start_and_at_the_end_of_a_cut() {
+    // Eq. (9) is |P_g − P_o| > Δ_th·|P_o|: the load rising (the depth steps up 1 → 1.5 mm,
+    // P_g runs ahead of the lagging P_o) and the load falling (1.5 → 1 mm, P_g drops below
+    // it) both switch, and the synthesized estimate follows the step within the fast
+    // path's lag: at most one period (0.05 s) behind the electrical estimate, at most
+    // 0.1 s behind the dynamometer, and at least 0.15 s ahead of the power-only estimate
+    // (whose lag is P_o's 0.3 s).
+    for (before, after) in [(1.0, 1.5), (1.5, 1.0)] {
+        let (fast, [synthesized, power_only, electrical, dynamometer]) =
+            f9_on_a_depth_step(before, after);
+        let what = format!(
+            "{before} -> {after} mm: synthesized {synthesized:.3} s, power-only \
+             {power_only:.3} s, electrical {electrical:.3} s, dynamometer {dynamometer:.3} s"
+        );
+        assert!(fast, "{what}: no switch to the fast estimate");
+        assert!(synthesized <= electrical + 0.05, "{what}");
+        assert!(synthesized <= dynamometer + 0.1, "{what}");
+        assert!(synthesized + 0.15 < power_only, "{what}");
+    }
 }

@@ -193,7 +193,7 @@ impl EstimatorF {
         let i = (avg[4] / 3.0).sqrt() * f(sc.amps_per_lsb);
         let amps_sq = avg[4] * f(sc.amps_per_lsb).powi(2);
         let p_g = 1.5 * i * v - f(es.stator_resistance) * amps_sq;
-        if p_g - p_o > f(es.switch_threshold) * p_o.abs() {
+        if (p_g - p_o).abs() > f(es.switch_threshold) * p_o.abs() {
             self.hold = u32::from(es.slip_hold_periods);
         }
         let fast_power = f(es.slip_gain) * p_g;

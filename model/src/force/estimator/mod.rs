@@ -9,10 +9,11 @@
 //! 2. input power `P_i = √3·I·V·cos(π/6) = (3/2)·I·V` (F3; the constant is exact), stator
 //!    loss `P_s = R_s·Σi²` (= 3·R_s·I²), air-gap power `P_g = P_i − P_s` (F2);
 //! 3. synthesized power (F9): the measured power P_o (smooth, lagging ~0.3 s) unless
-//!    `P_g − P_o > Δ_th·|P_o|` (tested without division; paper F: the difference positive and
-//!    above the threshold — P_g running ahead of the lagging P_o as the load rises; a falling
-//!    load stays on P_o), which selects the fast electrical
-//!    estimate `k_slip·P_g` for `slip_hold_periods` periods (re-triggered while it holds);
+//!    `|P_g − P_o| > Δ_th·|P_o|` (paper F's eq. (9), tested without division; both signs:
+//!    the paper switches "to know the start and the end of cutting" — P_g runs ahead of the
+//!    lagging P_o when the load rises and falls below it when the load drops), which selects
+//!    the fast electrical estimate `k_slip·P_g` for `slip_hold_periods` periods (re-triggered
+//!    while it holds);
 //! 4. motor torque `T_e = P / ω_M` (F4; 0 below `min_speed`, so never a division by ~0);
 //! 5. external torque `T̂_t = T_e − (1/b)(ω(i) − ω(i−1)) − B·ω(i)` (F6), where
 //!    `1/b = B / (1 − e^(−Bh/J)) = (J/h)·x/(1 − e^(−x))`, `x = Bh/J`, evaluated by its
@@ -278,8 +279,8 @@ impl Estimator {
             .saturating_mul(sig.v_line);
         let p_s = self.s.stator_resistance.saturating_mul(sig.amps_sq);
         let p_g = p_i.saturating_sub(p_s);
-        // F9 without division: P_g − P_o > Δ_th·|P_o| (a positive difference only).
-        let diff = p_g.saturating_sub(sig.p_o);
+        // F9 without division: |P_g − P_o| > Δ_th·|P_o| (a cut's start and its end).
+        let diff = p_g.saturating_sub(sig.p_o).saturating_abs();
         if diff
             > self
                 .s

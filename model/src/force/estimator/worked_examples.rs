@@ -75,7 +75,7 @@ fn one_period_from_powers_to_force() {
 #[test]
 fn the_switch_selects_the_fast_estimate_and_holds_it() {
     let mut e = Estimator::new(&settings(), fx(H));
-    // P_g − P_o = 576 − 400 = 176 > 0.25·400: fast, P = 0.5·576 = 288, T_e = 36.
+    // |P_g − P_o| = 576 − 400 = 176 > 0.25·400: fast, P = 0.5·576 = 288, T_e = 36.
     let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 400.0));
     assert!(est.fast);
     assert_eq!((est.p_used, est.t_e), (fx(288.0), fx(36.0)));
@@ -85,8 +85,8 @@ fn the_switch_selects_the_fast_estimate_and_holds_it() {
     let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 500.0));
     assert!(!est.fast);
     assert_eq!((est.p_used, est.t_e), (fx(500.0), fx(62.5)));
-    // P_o = 512: 64 ≤ 128, slow; a negative P_o counts by its magnitude:
-    // 576 + 256 = 832 > 0.25·256: fast.
+    // P_o = 512: |64| ≤ 128, slow; a negative P_o counts by its magnitude:
+    // |576 + 256| = 832 > 0.25·256: fast.
     assert!(!e.step(&signals(8.0, 4.0, 100.0, 48.0, 512.0)).fast);
     assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, -256.0)).fast);
     // Just under the threshold, 576 − 461 = 115 ≤ 0.25·461 = 115.25: slow.
@@ -95,16 +95,25 @@ fn the_switch_selects_the_fast_estimate_and_holds_it() {
 }
 
 #[test]
-fn the_switch_needs_a_positive_difference() {
-    // F9 as paper F states it: the fast estimate only when P_g runs *ahead* of the lagging
-    // P_o (the load rising). P_o = 1000 W above P_g = 576 W: |576 − 1000| = 424 > 0.25·1000,
-    // but the difference is negative: slow.
+fn the_switch_sees_both_signs() {
+    // F9 as paper F's eq. (9) states it, |P_g − P_o| > Δ_th·|P_o|: the fast estimate when P_g
+    // runs ahead of the lagging P_o (a cut starts) and when it falls behind it (a cut ends).
+    // P_o = 1000 W above P_g = 576 W: |576 − 1000| = 424 > 0.25·1000: fast.
     let mut e = Estimator::new(&settings(), fx(H));
     let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 1000.0));
-    assert!(!est.fast);
-    assert_eq!(est.p_used, fx(1000.0));
-    // The same magnitude the other way round switches: 576 − 400 = 176 > 100.
+    assert!(est.fast);
+    assert_eq!(est.p_used, fx(288.0));
+    // The same magnitude the other way round switches too: 576 − 400 = 176 > 100.
+    let mut e = Estimator::new(&settings(), fx(H));
     assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, 400.0)).fast);
+    // The falling side's edge: exactly at the threshold, |576 − 768| = 192 = 0.25·768, not
+    // above it: slow; one watt more, 193 > 192.25: fast.
+    let mut e = Estimator::new(&settings(), fx(H));
+    let est = e.step(&signals(8.0, 4.0, 100.0, 48.0, 768.0));
+    assert!(!est.fast);
+    assert_eq!(est.p_used, fx(768.0));
+    let mut e = Estimator::new(&settings(), fx(H));
+    assert!(e.step(&signals(8.0, 4.0, 100.0, 48.0, 769.0)).fast);
 }
 
 #[test]
