@@ -324,7 +324,9 @@ mod tests {
                 (next - first) as f64 / 1000.0
             })
             .collect();
-        assert!(periods.iter().all(|&p| (p - 2.7).abs() <= 2.7 * 0.03 + 0.002));
+        assert!(periods
+            .iter()
+            .all(|&p| (p - 2.7).abs() <= 2.7 * 0.03 + 0.002));
         let spread = periods.iter().copied().fold(f64::MIN, f64::max)
             - periods.iter().copied().fold(f64::MAX, f64::min);
         assert!(spread > 0.05, "{periods:?}");
