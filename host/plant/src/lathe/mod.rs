@@ -78,8 +78,8 @@ pub struct CycleSettings {
     pub retract_at: RetractAt,
     /// Give up an approach (no decision) after this many revolutions, `1..=100000`.
     pub max_approach_revs: u32,
-    /// Measurements at each Z position before the Z step, `1..=1000` (S8 averaging: `m`
-    /// approaches on the same surface; `repeats` counts them all). Written to a settings
+    /// Measurements at each Z position before the Z step, `1..=1000` (averaged as σ/√m,
+    /// the law of S8: `m` approaches on the same surface; `repeats` counts them all). Written to a settings
     /// file only when not 1.
     #[serde(skip_serializing_if = "is_one")]
     pub averages_per_z: u32,
