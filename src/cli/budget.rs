@@ -28,7 +28,8 @@ pub struct Args {
     /// simulated lathe) and print them beside the prediction.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=1000))]
     pub simulate: Option<u32>,
-    /// S8: also predict the 1σ of the mean of M measurements at one Z (default: the
+    /// Also predict the 1σ of the mean of M measurements at one Z, σ/√M of what changes
+    /// between them (the law of S8; default: the
     /// settings' cycle.averages_per_z when above 1, else 4).
     #[arg(long, value_name = "M", value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub averages: Option<u32>,
@@ -55,11 +56,7 @@ fn fmt_outcome(o: &Outcome, sim: Option<&Simulated>, m: u32) -> String {
             s.push_str(&format!("{name}: not predicted — {reason}\n"));
         }
         Outcome::Predicted(p) => {
-            let reads = match p.reference {
-                tooltouch_metrology::Reference::Mean => "the mean diameter",
-                tooltouch_metrology::Reference::Largest => "the largest diameter",
-            };
-            s.push_str(&format!("{name}: reads {reads}\n"));
+            s.push_str(&format!("{name}: reads {}\n", p.reads));
             s.push_str("  term                               formula         µm (Ø)\n");
             for t in &p.terms {
                 let v = match t.kind {
@@ -97,7 +94,7 @@ fn total_line(p: &Prediction, m: u32) -> String {
     };
     format!(
         "  predicted: bias {:+.2} ± {:.2} µm (1σ) vs {reference}; 2σ repeatability {:.2} µm; \
-         lag {:.2} rev; S8 mean of {m} at one Z: ± {:.2} µm\n",
+         lag {:.2} rev; mean of {m} at one Z: ± {:.2} µm\n",
         p.bias_um,
         p.sigma_um,
         p.repeatability_2sigma_um(),

@@ -285,10 +285,11 @@ fn calibrated_summary(run: &CycleRun, entry: &CalibrationEntry) -> Calibrated {
     Calibrated { line, json }
 }
 
-/// S8: the mean of each Z's measurements and its 1σ `σ/√m` (with `averages_per_z` > 1).
+/// The mean of each Z's measurements and its 1σ `σ/√m` (with `averages_per_z` > 1; the law
+/// of S8).
 fn per_z_table(means: &[ZMean]) -> String {
     let mut s = String::from(
-        "S8 means at one Z:\n  Z mm    m   mean Ø mm    σ µm   σ/√m µm   error vs true mean µm\n",
+        "means at one Z (σ/√m):\n  Z mm    m   mean Ø mm    σ µm   σ/√m µm   error vs true mean µm\n",
     );
     for z in means {
         s.push_str(&format!(

@@ -92,6 +92,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                         period_revs: 2.3,
                         phase_rad: 0.0,
                         amplitude_jitter: 0.5,
+                        period_scatter: 0.0,
                     }],
                     random_um,
                     electrics: tooltouch_plant::lathe::ContactElectrics {

@@ -1,7 +1,11 @@
-//! S8: `m` measurements at one Z position, averaged (docs/domain.md §2.1, docs/accuracy.md).
-//! Repeats at one Z see the same surface (form and roughness), so only what changes between
-//! them — the slow spindle errors, the decision grid's phase, the quantization — averages
-//! out: the paper's Δ_2 = e + ω_Δφ/√m keeps its systematic part e.
+//! `m` measurements at one Z position, averaged (docs/accuracy.md). Repeats at one Z see the
+//! same surface (form and roughness), so only what changes between them — the slow spindle
+//! errors' phase (S10), the decision grid's phase, the quantization — averages out as
+//! `σ/√m`, and what does not stays. That is the law of the paper's S8,
+//! Δ_2 = e + ω_Δφ/√m, which it states for the fast-feed single pulse (docs/domain.md §2.1:
+//! each fast approach meets the profile at another angle, so the form's scatter ω_Δφ
+//! averages and the axis offset e stays); for the 50 % counter it is the slow errors that
+//! average.
 
 use serde::Serialize;
 use tooltouch_plant::measurement_cycle::{MeasurementReport, Spread};

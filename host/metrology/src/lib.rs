@@ -1,7 +1,7 @@
 //! tooltouch-metrology: how right the decided diameter is (docs/accuracy.md). The error
 //! budget predicted from the settings ([`budget`]), the same figures simulated
 //! ([`simulate`]), both over the variants and a sweep ([`sweep`]), and repeats at one Z
-//! averaged (S8, [`averaging`]), and the calibration on a reference part (S1–S3,
+//! averaged ([`averaging`], the law of S8), and the calibration on a reference part (S1–S3,
 //! [`calibration`]).
 //!
 //! It builds on the golden model and the simulated lathe (`tooltouch-model`,

@@ -1,12 +1,10 @@
 //! The same figures as the budget, simulated: the closed-loop measurement cycle on the
 //! golden model (`crate::measurement_cycle`), repeated, for one method and contact rule.
 //!
-//! The budget takes the slow spindle errors' phase at an approach's start as unknown. One
-//! simulated run starts its approaches at whole revolutions a nearly constant number of
-//! revolutions apart, which locks the slow harmonics' phases to a few values and to each
-//! other; so the measurements are made in runs of [`RUN_LENGTH`], each with its own seed
-//! and the slow harmonics' phases shifted by a golden-ratio sequence (evenly spread, not
-//! random), and pooled.
+//! The budget takes the slow spindle errors' phase at an approach's start as unknown; the
+//! simulated lathe draws it per approach (`tooltouch_plant::lathe::SlowHarmonic`), so the
+//! measurements of one run are already independent draws. They are made in runs of
+//! [`RUN_LENGTH`], each with its own seed, only to run in parallel, and pooled.
 
 use crate::budget::{Reference, Variant};
 use rayon::prelude::*;
@@ -71,17 +69,12 @@ pub fn simulate(
 ) -> Result<Simulated, SimulateError> {
     let config = config_of(settings, variant).map_err(SimulateError::Measure)?;
     let runs = repeats.div_ceil(RUN_LENGTH);
-    let golden = 0.618_033_988_749_895;
     let reports: Vec<Vec<_>> = (0..runs)
         .into_par_iter()
         .map(|k| {
             let mut s = scenario.clone();
             s.seed = mix(seed, 0x00b0_d6e7, u64::from(k));
             s.cycle.repeats = RUN_LENGTH.min(repeats - k * RUN_LENGTH);
-            for (i, h) in s.slow.iter_mut().enumerate() {
-                let shift = (f64::from(k) * golden * (i as f64 + 1.0)).fract();
-                h.phase_rad += std::f64::consts::TAU * shift;
-            }
             measurement_cycle::run(&s, &config, &mut |_| {})
                 .map(|r| r.measurements)
                 .map_err(SimulateError::Lathe)

@@ -80,8 +80,8 @@ pub struct CycleSettings {
     pub retract_at: RetractAt,
     /// Give up an approach (no decision) after this many revolutions, `1..=100000`.
     pub max_approach_revs: u32,
-    /// Measurements at each Z position before the Z step, `1..=1000` (S8 averaging: `m`
-    /// approaches on the same surface; `repeats` counts them all). Written to a settings
+    /// Measurements at each Z position before the Z step, `1..=1000` (averaged as σ/√m,
+    /// the law of S8: `m` approaches on the same surface; `repeats` counts them all). Written to a settings
     /// file only when not 1.
     #[serde(skip_serializing_if = "is_one")]
     pub averages_per_z: u32,
@@ -177,17 +177,23 @@ impl Default for LatheScenario {
             repeating_mismatch: 0.0,
             spindle_path: SpindlePath::default(),
             slow: vec![
+                // The rolling elements' cage (its speed is about 0.37 of the spindle's,
+                // and it slips by a few per cent, more at light load).
                 SlowHarmonic {
                     amplitude_um: 0.4,
                     period_revs: 2.7,
                     phase_rad: 0.0,
                     amplitude_jitter: 0.3,
+                    period_scatter: 0.03,
                 },
+                // The belt (one turn of the belt per 5.3 of the spindle; it creeps 1–2 %
+                // with the torque it carries).
                 SlowHarmonic {
                     amplitude_um: 0.25,
                     period_revs: 5.3,
                     phase_rad: 1.0,
                     amplitude_jitter: 0.3,
+                    period_scatter: 0.015,
                 },
             ],
             random_um: 0.15,
@@ -314,6 +320,23 @@ impl LatheScenario {
                 0.0,
                 1.0,
             )?;
+            check(
+                &format!("slow[{i}].period_scatter"),
+                h.period_scatter,
+                0.0,
+                0.2,
+            )?;
+            if h.period_revs * (1.0 - h.period_scatter) <= 1.0 {
+                return Err(ScenarioError {
+                    field: format!("slow[{i}].period_scatter"),
+                    value: h.period_scatter,
+                    range: format!(
+                        "below 1 − 1/period_revs ({}): the shortest drawn period must stay \
+                         longer than one revolution",
+                        1.0 - 1.0 / h.period_revs
+                    ),
+                });
+            }
         }
         check("random_um", self.random_um, 0.0, 1000.0)?;
         let e = &self.electrics;
@@ -444,6 +467,8 @@ pub struct Lathe {
     first_touch: Option<u64>,
     /// The clock at which the arm rose, while it is high.
     arm_rise: Option<u64>,
+    /// Approaches begun so far (each draws the slow errors' phases anew).
+    approaches: u64,
 }
 
 impl Lathe {
@@ -467,6 +492,7 @@ impl Lathe {
             home_count,
             first_touch: None,
             arm_rise: None,
+            approaches: 0,
             spindle,
             scenario: scenario.clone(),
         };
@@ -494,6 +520,14 @@ impl Lathe {
     /// Clears the first-touch state for another approach at the same Z position.
     pub fn clear_first_touch(&mut self) {
         self.first_touch = None;
+    }
+
+    /// An approach begins at clock `k0`: the slow spindle errors take this approach's
+    /// phases and periods ([`SlowHarmonic`]), drawn from the seed and the approach's
+    /// number. Call it once per approach, before the approach's first span.
+    pub fn start_approach(&mut self, k0: u64) {
+        self.slow.start_approach(self.approaches, k0 as f64);
+        self.approaches += 1;
     }
 
     /// The scenario.
@@ -735,6 +769,7 @@ pub fn open_loop_stimulus(
     let home = lathe.home_um();
     let wait = lathe.chunk(0, k0, &Motion::hold(home), false, false);
     lathe.commit(&wait, k0);
+    lathe.start_approach(k0);
     stimulus.segments.extend(wait.segments);
     let approach = Motion {
         t0: k0 as f64,

@@ -6,28 +6,44 @@
 
 use super::surface::{mix, unit};
 use serde::{Deserialize, Serialize};
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
-/// A spindle axis error with a period longer than one revolution, µm (radius):
-/// `a_r · cos(2π·t/(period_revs·T_rev) + phase_rad)`, where the amplitude `a_r` is
-/// `amplitude_um · (1 + amplitude_jitter · u_r)` with `u_r` uniform in `[-1, 1)` drawn
-/// per revolution `r` and interpolated linearly across the revolution. Because the period
-/// is not a whole number of revolutions, its phase relative to the spindle angle changes
-/// every revolution too; these errors do not cancel and make the 50 % method's scatter
-/// (eq. S10, docs/domain.md).
+/// A spindle axis error with a period longer than one revolution, µm (radius): the error
+/// a part of the spindle unit that turns at its own speed makes (a rolling bearing's cage
+/// and its rolling elements, a belt whose pulleys' ratio is not whole):
+/// `a_r · cos(2π·τ/(T_n·T_rev) + ψ_n)`, τ the time since approach `n` began.
+///
+/// - The amplitude `a_r` is `amplitude_um · (1 + amplitude_jitter · u_r)`, `u_r` uniform in
+///   `[-1, 1)` drawn per revolution `r` and interpolated linearly across it.
+/// - The period `T_n` is `period_revs · (1 + period_scatter · u_n)`, drawn per approach:
+///   the cause's speed relative to the spindle is not a fixed ratio (a cage slips, more at
+///   light load; a belt creeps 1–2 % with the torque it carries).
+/// - The phase `ψ_n` is `phase_rad` plus a phase drawn uniform in `[0, 2π)` per approach:
+///   nothing synchronises the cause to the index or to the cycle, and between two
+///   measurements it has turned, slipping, for many periods.
+///
+/// Because the period is not a whole number of revolutions, the phase relative to the
+/// spindle angle changes every revolution too; these errors do not cancel and make the
+/// 50 % method's scatter (eq. S10, docs/domain.md). Everything is drawn from the
+/// scenario's seed: the same seed gives the same errors.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SlowHarmonic {
     /// Mean amplitude, µm, `0..=1000`.
     pub amplitude_um: f64,
-    /// Period in revolutions, `> 1` (`1.0001..=1000`).
+    /// Mean period in revolutions, `> 1` (`1.0001..=1000`).
     pub period_revs: f64,
-    /// Phase at clock 0, rad.
+    /// Added to the phase drawn for every approach, rad (another realisation of the same
+    /// errors without another seed).
     #[serde(default)]
     pub phase_rad: f64,
     /// Relative amplitude change from revolution to revolution, `0..=1`.
     #[serde(default)]
     pub amplitude_jitter: f64,
+    /// Relative change of the period from approach to approach (half-range of a uniform
+    /// draw), `0..=0.2`: the cause's slip or creep.
+    #[serde(default)]
+    pub period_scatter: f64,
 }
 
 /// Spindle timing at a given clock and speed.
@@ -127,18 +143,29 @@ impl Spindle {
     }
 }
 
-/// The spindle's errors with a period longer than one revolution.
+/// The spindle's errors with a period longer than one revolution, as [`SlowHarmonic`]
+/// describes them: the current approach's phases and periods.
 #[derive(Clone, Debug)]
 pub struct SlowErrors {
     harmonics: Vec<SlowHarmonic>,
     seed: u64,
     cycles_per_rev: f64,
+    /// Clock at which the current approach began.
+    epoch: f64,
+    /// Per harmonic: its phase at `epoch`, rad, and its period, clocks.
+    drawn: Vec<(f64, f64)>,
 }
 
+/// Stream tags of the slow errors' draws (see [`mix`]).
+const JITTER_STREAM: u64 = 0x51_0000;
+const PHASE_STREAM: u64 = 0x52_0000;
+const PERIOD_STREAM: u64 = 0x53_0000;
+
 impl SlowErrors {
-    /// The errors `harmonics` for a spindle with `cycles_per_rev`, jitter drawn from `seed`.
+    /// The errors `harmonics` for a spindle with `cycles_per_rev`, drawn from `seed`;
+    /// approach 0 begins at clock 0.
     pub fn new(harmonics: &[SlowHarmonic], seed: u64, cycles_per_rev: f64) -> SlowErrors {
-        SlowErrors {
+        let mut errors = SlowErrors {
             harmonics: harmonics
                 .iter()
                 .copied()
@@ -146,7 +173,32 @@ impl SlowErrors {
                 .collect(),
             seed,
             cycles_per_rev,
-        }
+            epoch: 0.0,
+            drawn: Vec::new(),
+        };
+        errors.start_approach(0, 0.0);
+        errors
+    }
+
+    /// Draws the phases and periods of approach number `approach`, which begins at (real)
+    /// clock `epoch`.
+    pub fn start_approach(&mut self, approach: u64, epoch: f64) {
+        self.epoch = epoch;
+        self.drawn = self
+            .harmonics
+            .iter()
+            .enumerate()
+            .map(|(i, h)| {
+                let i = i as u64;
+                let u_phase = unit(mix(self.seed, PHASE_STREAM + i, approach));
+                let u_period = unit(mix(self.seed, PERIOD_STREAM + i, approach));
+                let period = h.period_revs * (1.0 + h.period_scatter * u_period);
+                (
+                    h.phase_rad + PI * (u_phase + 1.0),
+                    period * self.cycles_per_rev,
+                )
+            })
+            .collect();
     }
 
     /// Radial axis error seen by the tool at (real) clock `t`, µm.
@@ -159,13 +211,14 @@ impl SlowErrors {
         let r = turns.floor().max(0.0);
         let frac = turns - r;
         let r = r as u64;
+        let since = t - self.epoch;
         let mut sum = 0.0;
-        for (i, h) in self.harmonics.iter().enumerate() {
-            let u0 = unit(mix(self.seed, 0x51_0000 + i as u64, r));
-            let u1 = unit(mix(self.seed, 0x51_0000 + i as u64, r + 1));
+        for (i, (h, &(phase, period))) in self.harmonics.iter().zip(&self.drawn).enumerate() {
+            let u0 = unit(mix(self.seed, JITTER_STREAM + i as u64, r));
+            let u1 = unit(mix(self.seed, JITTER_STREAM + i as u64, r + 1));
             let u = u0 + (u1 - u0) * frac;
             let amplitude = h.amplitude_um * (1.0 + h.amplitude_jitter * u);
-            sum += amplitude * (TAU * turns / h.period_revs + h.phase_rad).cos();
+            sum += amplitude * (TAU * since / period + phase).cos();
         }
         sum
     }
@@ -225,10 +278,57 @@ mod tests {
             period_revs: 2.7,
             phase_rad: 0.0,
             amplitude_jitter: 0.3,
+            period_scatter: 0.02,
         }];
         let e = SlowErrors::new(&h, 1, 1000.0);
         let at_index: Vec<f64> = (0..10).map(|r| e.at(r as f64 * 1000.0)).collect();
         assert!(at_index.iter().all(|v| v.abs() <= e.bound_um()));
         assert!(at_index.windows(2).any(|w| (w[0] - w[1]).abs() > 0.1));
+    }
+
+    #[test]
+    fn every_approach_draws_its_own_phase_and_period_reproducibly() {
+        let h = [SlowHarmonic {
+            amplitude_um: 1.0,
+            period_revs: 2.7,
+            phase_rad: 0.0,
+            amplitude_jitter: 0.0,
+            period_scatter: 0.03,
+        }];
+        let start = |seed: u64, approach: u64| {
+            let mut e = SlowErrors::new(&h, seed, 1000.0);
+            e.start_approach(approach, 5000.0);
+            e
+        };
+        // Same seed and approach: the same error; at the approach's start it is cos ψ_n.
+        assert_eq!(start(3, 7).at(5123.0), start(3, 7).at(5123.0));
+        let at_start: Vec<f64> = (0..400).map(|n| start(3, n).at(5000.0)).collect();
+        // cos of a uniform phase: mean 0, mean square 1/2 (400 draws: ±0.1 at 3σ).
+        let mean = at_start.iter().sum::<f64>() / 400.0;
+        let mean_sq = at_start.iter().map(|v| v * v).sum::<f64>() / 400.0;
+        assert!(mean.abs() < 0.11, "{mean}");
+        assert!((mean_sq - 0.5).abs() < 0.08, "{mean_sq}");
+        // The periods differ between approaches within ±3 %: the zero crossings move.
+        let crossing = |e: &SlowErrors| {
+            (5000..20_000)
+                .find(|&k| e.at(k as f64) <= 0.0 && e.at(k as f64 + 1.0) > 0.0)
+                .unwrap()
+        };
+        let periods: Vec<f64> = (0..20)
+            .map(|n| {
+                let e = start(3, n);
+                let first = crossing(&e);
+                let next = (first + 1000..first + 5000)
+                    .find(|&k| e.at(k as f64) <= 0.0 && e.at(k as f64 + 1.0) > 0.0)
+                    .unwrap();
+                (next - first) as f64 / 1000.0
+            })
+            .collect();
+        assert!(periods
+            .iter()
+            .all(|&p| (p - 2.7).abs() <= 2.7 * 0.03 + 0.002));
+        let spread = periods.iter().copied().fold(f64::MIN, f64::max)
+            - periods.iter().copied().fold(f64::MAX, f64::min);
+        assert!(spread > 0.05, "{periods:?}");
     }
 }

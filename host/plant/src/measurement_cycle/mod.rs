@@ -398,6 +398,7 @@ pub fn run(
         let r0 = spindle.next_revolution(d.now.max(64));
         let k0 = spindle.index_rise(r0);
         d.hold(k0, home, false);
+        d.lathe.start_approach(k0);
 
         let approach = Motion {
             t0: k0 as f64,
