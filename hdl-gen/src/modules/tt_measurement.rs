@@ -5,6 +5,7 @@
 
 use crate::design::{Fault, VerilogFile};
 use crate::emit::{fill, pin_index, Context};
+use crate::spi::Threshold;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::pin;
 
@@ -43,7 +44,7 @@ module tt_measurement (
     input  wire        scale_up,
     input  wire        scale_down,
     input  wire        scale_error,
-    output wire        armed,
+${THRESHOLD_PORTS}    output wire        armed,
     output wire        contact,
     output wire        register_now,
     output wire [${SB1}:0] decision_position,
@@ -106,12 +107,12 @@ module tt_measurement (
     tt_pulse_counter u_counter (
         .clk(clk), .rst(rst), .clear(clear), .index(index), .pulse(pulse),
         .contact_bit(contact_bit), .count(count), .last_window_count(last_window_count),
-        .decide(counter_decide)
+${COUNTER_THRESHOLDS}        .decide(counter_decide)
     );
 
     tt_density_detector u_density (
         .clk(clk), .rst(rst), .clear(clear), .pulse(pulse), .contact_bit(contact_bit),
-        .charge(charge), .armed(density_armed), .fired(density_fired), .fire(density_fire)
+${DENSITY_THRESHOLDS}        .charge(charge), .armed(density_armed), .fired(density_fired), .fire(density_fire)
     );
 
     tt_quadrature_decoder u_scale (
@@ -178,6 +179,25 @@ endmodule
             ("SA", pin_index(pin::SCALE_A)),
             ("SB_PIN", pin_index(pin::SCALE_B)),
             ("BIT", bit.to_string()),
+            ("THRESHOLD_PORTS", kernel_threshold_ports(ctx)),
+            (
+                "COUNTER_THRESHOLDS",
+                if ctx.tunable {
+                    "        .i_def(i_def),\n".into()
+                } else {
+                    String::new()
+                },
+            ),
+            (
+                "DENSITY_THRESHOLDS",
+                if ctx.tunable {
+                    "        .fire_threshold(fire_threshold), .rearm_threshold(rearm_threshold),\n\
+                     \x20       .charge_step(charge_step), .discharge_step(discharge_step),\n"
+                        .into()
+                } else {
+                    String::new()
+                },
+            ),
             ("DECISION", decision.to_string()),
             (
                 "STICKY_RELOAD",
@@ -198,4 +218,23 @@ endmodule
         ],
     );
     ctx.file("tt_measurement", "the measurement kernel", &body)
+}
+
+/// The kernel's run-time threshold inputs (the SPI design only; empty otherwise): every
+/// [`Threshold`] but the glitch filter's, which precedes the kernel.
+pub(crate) fn kernel_threshold_ports(ctx: &Context) -> String {
+    if !ctx.tunable {
+        return String::new();
+    }
+    Threshold::ALL
+        .iter()
+        .filter(|t| **t != Threshold::GlitchCycles)
+        .map(|t| {
+            format!(
+                "    input  wire [{}:0] {},\n",
+                t.width(&ctx.config) - 1,
+                t.port()
+            )
+        })
+        .collect()
 }

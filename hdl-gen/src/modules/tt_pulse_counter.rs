@@ -54,7 +54,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
 ${EXCEEDS_WIRE}
     always @(posedge clk) begin
         if (rst) begin
-            reaches_q <= ${REACH0};
+            reaches_q <= ${REACH_RST};
             exceeds_q <= 1'b0;
         end else if (from_zero) begin
             reaches_q <= ${FROM_ZERO_REACH};  // count_p (0 or 1) >= I_DEF
@@ -66,9 +66,12 @@ ${EXCEEDS_WIRE}
     end
 "#
     };
+    // With a run-time i_def the decision and the i_def tests take the general form
+    // (what the constant forms below specialize).
+    let general = ctx.tunable || s.i_def == 0;
     let decide = if ctx.fault == Fault::FesBeforeIndex {
         "    assign decide = pulse && !reached_a && (count_p > I_DEF);\n".to_string()
-    } else if s.i_def == 0 {
+    } else if general {
         "    assign decide = pulse && !reached_a && exceeds;\n".to_string()
     } else {
         // i_def >= 1: a pulse that starts the count from 0 (clear, or the window's last
@@ -100,10 +103,10 @@ module tt_pulse_counter (
     input  wire        contact_bit,  // the pulse's contact bit (sampled or sticky rule)
     output wire [${CB1}:0] count,             // contact pulses in this window
     output wire [${CB1}:0] last_window_count, // contact pulses in the previous window
-    output wire        decide        // this clock's pulse made the count exceed i_def
+${IDEF_PORT}    output wire        decide        // this clock's pulse made the count exceed i_def
 );
     localparam [${CB1}:0] WINDOW_PULSES = ${WP};  // pulses_per_rev * window_revs
-    localparam [${CB1}:0] I_DEF         = ${IDEF};
+${IDEF_DECL}
     localparam [${RB}:0] WINDOW_REVS   = ${WRL};
 
     reg [${CB1}:0] count_q   = ${CZERO};
@@ -147,7 +150,6 @@ endmodule
             ("RB", rb.to_string()),
             ("RB1", (rb - 1).to_string()),
             ("WP", lit(cb, c.window_pulses().into())),
-            ("IDEF", lit(cb, s.i_def.into())),
             ("WRL", lit(rb + 1, s.window_revs.into())),
             ("CZERO", lit(cb, 0)),
             ("CONE", lit(cb, 1)),
@@ -156,10 +158,21 @@ endmodule
             ("RONE1", lit(rb + 1, 1)),
             ("CB_1", (cb - 1).to_string()),
             ("ONE_REV", bool_lit(s.window_revs == 1)),
-            ("IDEF_ZERO", bool_lit(s.i_def == 0)),
+            (
+                "IDEF_ZERO",
+                if ctx.tunable {
+                    "idef_zero".to_string()
+                } else {
+                    bool_lit(s.i_def == 0)
+                },
+            ),
             (
                 "EXCEEDS_WIRE",
-                if s.i_def == 0 {
+                if ctx.tunable {
+                    "    wire             exceeds    = from_zero ? (inc && idef_zero) :\n\
+                     \x20                                 (inc ? reaches_q : exceeds_q);\n"
+                        .to_string()
+                } else if s.i_def == 0 {
                     "    wire             exceeds    = from_zero ? inc : (inc ? reaches_q : exceeds_q);\n"
                             .to_string()
                 } else {
@@ -168,19 +181,63 @@ endmodule
             ),
             ("REACH0", bool_lit(s.i_def == 0)),
             (
+                "REACH_RST",
+                if ctx.tunable {
+                    "idef_zero".to_string()
+                } else {
+                    bool_lit(s.i_def == 0)
+                },
+            ),
+            (
                 "FROM_ZERO_REACH",
-                match s.i_def {
-                    0 => "1'b1".to_string(),
-                    1 => "inc".to_string(),
-                    _ => "1'b0".to_string(),
+                if ctx.tunable {
+                    "(idef_zero || (idef_one && inc))".to_string()
+                } else {
+                    match s.i_def {
+                        0 => "1'b1".to_string(),
+                        1 => "inc".to_string(),
+                        _ => "1'b0".to_string(),
+                    }
                 },
             ),
             (
                 "AT_IDEF_M1",
-                if s.i_def == 0 {
+                if ctx.tunable {
+                    format!("(idef_zero || (count_q == I_DEF - {}))", lit(cb, 1))
+                } else if s.i_def == 0 {
                     "1'b1".to_string()
                 } else {
                     format!("(count_q == {})", lit(cb, u64::from(s.i_def) - 1))
+                },
+            ),
+            (
+                "IDEF_PORT",
+                if ctx.tunable {
+                    format!(
+                        "    input  wire [{}:0] i_def,        // run-time i_def (SPI register)\n",
+                        cb - 1
+                    )
+                } else {
+                    String::new()
+                },
+            ),
+            (
+                "IDEF_DECL",
+                if ctx.tunable {
+                    format!(
+                        "    wire [{cb1}:0] I_DEF     = i_def;  // run-time (changed only while disarmed)\n\
+                         \x20   wire        idef_zero = I_DEF == {zero};\n\
+                         \x20   wire        idef_one  = I_DEF == {one};",
+                        cb1 = cb - 1,
+                        zero = lit(cb, 0),
+                        one = lit(cb, 1)
+                    )
+                } else {
+                    format!(
+                        "    localparam [{}:0] I_DEF         = {};",
+                        cb - 1,
+                        lit(cb, s.i_def.into())
+                    )
                 },
             ),
         ],
