@@ -10,7 +10,9 @@ fn main() -> std::io::Result<()> {
     let dir = std::env::args().nth(1).unwrap_or_else(|| "hdl-spi".into());
     std::fs::create_dir_all(&dir)?;
     let d = generate_spi(&MeasureConfig::default(), &Options::default());
-    for f in &d.files {
+    let tied = std::env::args().nth(2).as_deref() == Some("--tied");
+    let extra = tied.then(|| tooltouch_hdl_gen::spi::tied_frontend(&MeasureConfig::default()));
+    for f in d.files.iter().chain(extra.as_ref()) {
         std::fs::write(format!("{dir}/{}", f.name), &f.text)?;
         println!("{dir}/{}", f.name);
     }

@@ -254,11 +254,16 @@ pub struct SpiRegister {
 /// counters readable counts as shown), in [`MeasureOutputs::LAYOUT`] order: each gets a
 /// word from [`SPI_EXTRA_BASE`], so a new model output is readable over SPI unchanged.
 pub fn extra_outputs(config: &MeasureConfig) -> Vec<crate::OutputField> {
-    let words = mcu_words(config, 0, "", true);
-    output_fields(config)
-        .into_iter()
+    unshown(&mcu_words(config, 0, "", true), &output_fields(config))
+}
+
+/// The fields of `fields` that no word of `words` names (at most 32 bits wide).
+fn unshown(words: &[String], fields: &[crate::OutputField]) -> Vec<crate::OutputField> {
+    fields
+        .iter()
         .filter(|f| f.width <= MCU_DATA_BITS)
         .filter(|f| !words.iter().any(|w| names_signal(w, f.name)))
+        .copied()
         .collect()
 }
 
@@ -277,7 +282,11 @@ pub fn spi_registers(config: &MeasureConfig) -> Vec<SpiRegister> {
             addr: r.addr as u8,
             name: r.name.to_string(),
             access: Access::ReadOnly,
-            what: r.what.to_string(),
+            what: if r.diagnostic {
+                format!("{} (0 unless `--mcu-diagnostics`)", r.what)
+            } else {
+                r.what.to_string()
+            },
         })
         .collect();
     for (i, f) in extra_outputs(config).iter().enumerate() {
@@ -294,10 +303,16 @@ pub fn spi_registers(config: &MeasureConfig) -> Vec<SpiRegister> {
             name: t.name().to_string(),
             access: Access::ReadWrite,
             what: format!(
-                "run-time `{}`, {} bits, 0..={} (resets to the configured {})",
+                "run-time `{}`, {} bits, {}..={}{} (resets to the configured {})",
                 t.port(),
                 t.width(config),
+                t.min(config),
                 t.max(config),
+                match t {
+                    Threshold::FireThreshold => ", above REARM_THRESHOLD",
+                    Threshold::RearmThreshold => ", below FIRE_THRESHOLD",
+                    _ => "",
+                },
                 t.value(config.settings())
             ),
         });
@@ -322,6 +337,25 @@ pub fn spi_registers(config: &MeasureConfig) -> Vec<SpiRegister> {
         what: "bit 0 resets the kernel, bit 1 restores the configured thresholds".into(),
     });
     map
+}
+
+/// The register map as a Markdown table (address, name, access, contents), as
+/// docs/CONTRACT.md shows it for the default configuration (a test keeps them equal).
+pub fn spi_map_markdown(config: &MeasureConfig) -> String {
+    let mut t = String::from("| address | name | access | contents |\n| --- | --- | --- | --- |\n");
+    for r in spi_registers(config) {
+        let access = match r.access {
+            Access::ReadOnly => "read",
+            Access::ReadWrite => "read/write",
+            Access::WriteOneToClear => "read, write 1 to clear",
+            Access::WriteOnly => "write",
+        };
+        t.push_str(&format!(
+            "| 0x{:02x} | `{}` | {access} | {} |\n",
+            r.addr, r.name, r.what
+        ));
+    }
+    t
 }
 
 /// One step of CRC-32/MPEG-2 (polynomial 0x04C11DB7, MSB first, no reflection) over a
@@ -437,6 +471,92 @@ pub fn generate_spi(config: &MeasureConfig, options: &Options) -> Design {
     }
 }
 
+/// Name of [`tied_frontend`]'s module.
+pub const TIED_TOP: &str = "tt_frontend_tied";
+/// Name of [`wrapped_frontend`]'s module.
+pub const WRAPPED_TOP: &str = "tt_frontend_wrapped";
+
+/// A module with the ports of [`crate::generate`]'s `tt_frontend` that instantiates the SPI
+/// design's `tt_frontend` ([`generate_spi`]) as `u` with every threshold tied to its reset
+/// value: what an equivalence check proves equal to [`wrapped_frontend`] (the SPI design
+/// with no write is the configured front end).
+pub fn tied_frontend(config: &MeasureConfig) -> crate::VerilogFile {
+    frontend_wrapper(config, true)
+}
+
+/// The same wrapper around the constant design's `tt_frontend` ([`crate::generate`]), so
+/// that both sides of the equivalence name their registers alike (`u.…`).
+pub fn wrapped_frontend(config: &MeasureConfig) -> crate::VerilogFile {
+    frontend_wrapper(config, false)
+}
+
+fn frontend_wrapper(config: &MeasureConfig, tied: bool) -> crate::VerilogFile {
+    let name = if tied { TIED_TOP } else { WRAPPED_TOP };
+    let s = config.settings();
+    let fields = output_fields(config);
+    let mut ports = String::new();
+    let mut conns = String::new();
+    for f in &fields {
+        let range = if f.width == 1 {
+            String::new()
+        } else {
+            format!("[{}:0] ", f.width - 1)
+        };
+        ports.push_str(&format!("    output wire {range}{},\n", f.name));
+        conns.push_str(&format!("        .{0}({0}),\n", f.name));
+    }
+    let pins = tooltouch_model::measure::frontend::pin::NAMES;
+    let pin_ports: String = pins
+        .iter()
+        .map(|n| format!("    input  wire pin_{n},\n"))
+        .collect();
+    let pin_conns: String = pins
+        .iter()
+        .map(|n| format!(".pin_{n}(pin_{n}), "))
+        .collect();
+    let ties: String = Threshold::ALL
+        .iter()
+        .filter(|_| tied)
+        .filter(|t| s.glitch_cycles > 0 || **t != Threshold::GlitchCycles)
+        .map(|t| {
+            format!(
+                "        .{}({}),\n",
+                t.port(),
+                crate::emit::lit(t.width(config), t.value(s).into())
+            )
+        })
+        .collect();
+    let text = format!(
+        "// {name}: {what}, with the constant tt_frontend's ports\n\
+         // (configuration hash {hash:016x}).\n\
+         `default_nettype none\n\
+         module {name} (\n    input  wire clk,\n    input  wire rst,\n{pin_ports}\
+         \x20   input  wire [3:0] mcu_addr,\n    output wire [31:0] mcu_rdata,\n{ports}\
+         \x20   output wire irq\n);\n\
+         {arm}\
+         \x20   {top} u (\n        .clk(clk), .rst(rst), {pin_conns}\n{ties}\
+         \x20       {arm_conn}.mcu_addr(mcu_addr), .mcu_rdata(mcu_rdata),\n{conns}\
+         \x20       .irq(irq)\n    );\nendmodule\n`default_nettype wire\n",
+        hash = config.hash(),
+        top = crate::TOP,
+        what = if tied {
+            "the SPI design's tt_frontend with its thresholds tied to the reset values"
+        } else {
+            "the constant design's tt_frontend"
+        },
+        arm = if tied {
+            "    /* verilator lint_off UNUSEDSIGNAL */\n    wire arm_level;\n    /* verilator lint_on UNUSEDSIGNAL */\n"
+        } else {
+            ""
+        },
+        arm_conn = if tied { ".arm_level(arm_level), " } else { "" },
+    );
+    crate::VerilogFile {
+        name: format!("{name}.v"),
+        text,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -464,6 +584,29 @@ mod tests {
                 || extra_outputs(&c).iter().any(|e| e.name == f.name);
             assert!(shown, "{}", f.name);
         }
+    }
+
+    #[test]
+    fn a_new_output_gets_a_word_of_its_own() {
+        let c = MeasureConfig::default();
+        let words = mcu_words(&c, 0, "", true);
+        let mut fields = output_fields(&c).to_vec();
+        fields.push(crate::OutputField {
+            name: "confirmed",
+            width: 1,
+        });
+        fields.push(crate::OutputField {
+            name: "faults",
+            width: 7,
+        });
+        let extra: Vec<&str> = unshown(&words, &fields).iter().map(|f| f.name).collect();
+        assert_eq!(extra, ["confirmed", "faults"]);
+        // `count` in `last_window_count` is not a match for `count`'s word and vice versa.
+        assert!(names_signal(
+            "{21'd0, last_window_count}",
+            "last_window_count"
+        ));
+        assert!(!names_signal("{21'd0, last_window_count}", "count"));
     }
 
     #[test]

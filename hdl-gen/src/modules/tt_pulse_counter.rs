@@ -66,28 +66,36 @@ ${EXCEEDS_WIRE}
     end
 "#
     };
-    // With a run-time i_def the decision and the i_def tests take the general form
-    // (what the constant forms below specialize).
-    let general = ctx.tunable || s.i_def == 0;
+    // i_def >= 1: a pulse that starts the count from 0 (clear, or the window's last index)
+    // cannot exceed it; otherwise the pulse decides when the count already exceeds i_def,
+    // or equals it and the pulse is a contact pulse (a full count exceeds i_def, so
+    // saturation changes nothing). Written flat over flip-flops: two LUT levels before the
+    // latches. i_def = 0 takes the general form `pulse && !reached_a && exceeds`; with a
+    // run-time i_def both forms are written and i_def = 0 selects, so that tied to a
+    // constant the text reduces to the constant design's.
+    let window_end = if s.window_revs == 1 {
+        "index"
+    } else {
+        "(index && last_rev)"
+    };
+    let flat = format!(
+        "pulse && !clear && !{window_end} && !reached_q &&\n\
+         \x20                   (exceeds_q || (contact_bit && reaches_q))"
+    );
     let decide = if ctx.fault == Fault::FesBeforeIndex {
         "    assign decide = pulse && !reached_a && (count_p > I_DEF);\n".to_string()
-    } else if general {
+    } else if ctx.tunable {
+        format!(
+            "    // i_def = 0: the general form; i_def >= 1: its flat form.\n\
+             \x20   assign decide = idef_zero ? (pulse && !reached_a && exceeds) :\n\
+             \x20                   ({flat});\n"
+        )
+    } else if s.i_def == 0 {
         "    assign decide = pulse && !reached_a && exceeds;\n".to_string()
     } else {
-        // i_def >= 1: a pulse that starts the count from 0 (clear, or the window's last
-        // index) cannot exceed it; otherwise the pulse decides when the count already
-        // exceeds i_def, or equals it and the pulse is a contact pulse (a full count
-        // exceeds i_def, so saturation changes nothing). Written flat over flip-flops:
-        // two LUT levels before the latches.
-        let window_end = if s.window_revs == 1 {
-            "index"
-        } else {
-            "(index && last_rev)"
-        };
         format!(
             "    // Flat form of `pulse && !reached_a && exceeds` for i_def >= 1.\n\
-                 \x20   assign decide = pulse && !clear && !{window_end} && !reached_q &&\n\
-                 \x20                   (exceeds_q || (contact_bit && reaches_q));\n"
+             \x20   assign decide = {flat};\n"
         )
     };
     let body = fill(

@@ -215,3 +215,88 @@ fn parse_reply(line: &str) -> Result<SpiReply> {
         _ => Err(bad()),
     }
 }
+
+/// Proves with yosys (`equiv_make`, `equiv_simple`, `equiv_induct`, registers matched by
+/// name) that the SPI design's `tt_frontend` with its thresholds tied to their reset values
+/// ([`tooltouch_hdl_gen::spi::tied_frontend`]) equals the constant design's
+/// ([`tooltouch_hdl_gen::spi::wrapped_frontend`]) on every input sequence from power-on: with
+/// no SPI write the SPI design is the front end the formal proof covers. `Ok(())` when
+/// proven; the unproven signals otherwise.
+pub fn prove_tied_equals_constant(config: &MeasureConfig, work: &Path) -> Result<()> {
+    prove_tied_equals_constant_with(config, &Options::default(), work)
+}
+
+/// [`prove_tied_equals_constant`] with the constant design generated with `constant_options`
+/// (a fault, to show that the proof fails on a difference).
+pub fn prove_tied_equals_constant_with(
+    config: &MeasureConfig,
+    constant_options: &Options,
+    work: &Path,
+) -> Result<()> {
+    use tooltouch_hdl_gen::spi::{tied_frontend, wrapped_frontend, TIED_TOP, WRAPPED_TOP};
+    let constant = tooltouch_hdl_gen::generate(config, constant_options);
+    let mut gold = constant.clone();
+    gold.files
+        .retain(|f| f.name != format!("{}.v", tooltouch_hdl_gen::FPGA_TOP));
+    let gold_files = write_design(
+        &work.join("constant"),
+        &gold,
+        Some(&wrapped_frontend(config)),
+    )?;
+    let mut gate = generate_spi(config, &Options::default());
+    gate.files.retain(|f| {
+        f.name != format!("{}.v", tooltouch_hdl_gen::SPI_TOP)
+            && f.name != format!("{}.v", tooltouch_hdl_gen::spi::SPI_MODULE)
+    });
+    let gate_files = write_design(&work.join("tied"), &gate, Some(&tied_frontend(config)))?;
+    let list = |files: &[PathBuf]| {
+        files
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let script = format!(
+        "read_verilog {gold}\n\
+         hierarchy -top {WRAPPED_TOP}\nproc\nflatten\nopt_clean\nrename {WRAPPED_TOP} gold\n\
+         design -stash gold_design\n\
+         read_verilog {gate}\n\
+         hierarchy -top {TIED_TOP}\nproc\nflatten\nopt_clean\nrename {TIED_TOP} gate\n\
+         design -stash gate_design\n\
+         design -copy-from gold_design -as gold gold\n\
+         design -copy-from gate_design -as gate gate\n\
+         equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\n\
+         equiv_simple -seq 5\nequiv_induct -seq 5\nequiv_status -assert\n",
+        gold = list(&gold_files),
+        gate = list(&gate_files),
+    );
+    let path = work.join("tied_equiv.ys");
+    std::fs::write(&path, script).map_err(io_err(&path))?;
+    let yosys = find_tool("yosys")?;
+    let log = work.join("tied_equiv.log");
+    let out = Command::new(&yosys)
+        .arg("-q")
+        .arg("-l")
+        .arg(&log)
+        .arg(&path)
+        .output()
+        .map_err(io_err(&yosys))?;
+    if out.status.success() {
+        return Ok(());
+    }
+    let text = std::fs::read_to_string(&log).unwrap_or_default();
+    let unproven: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("Unproven"))
+        .take(20)
+        .collect();
+    Err(HdlError::Check {
+        check: "the SPI design with tied thresholds against the constant design".into(),
+        details: format!(
+            "not proven ({}); see {}:\n{}",
+            out.status,
+            log.display(),
+            unproven.join("\n")
+        ),
+    })
+}

@@ -6,7 +6,11 @@
 //!   configured with that threshold (and not those of the configured one);
 //! - the hostile frames: a write to a read-only word, a threshold out of range, a write
 //!   while armed, a torn frame, SCK too fast — each refused with its status bit, nothing
-//!   written; the status cleared by writing 1s; CONTROL's reset and restore.
+//!   written; the status cleared by writing 1s; CONTROL's reset and restore;
+//! - the SPI design with no write is the constant design: yosys proves the tied
+//!   `tt_frontend` equal to the constant one (`prove_tied_equals_constant`), for the
+//!   default, a configuration taking the generators' other branches, and random ones; and
+//!   the proof fails on an SPI design whose reset value is off by one.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -20,7 +24,9 @@ use tooltouch_model::measure::config::{ChargeLaw, DecisionMethod};
 use tooltouch_model::measure::frontend::{FrontEnd, Pins};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 use tooltouch_plant::random::{random_config, random_stimulus};
-use tooltouch_rtl_sim::spi::{hold_stimulus, SpiBench, SpiCommand, SpiReply};
+use tooltouch_rtl_sim::spi::{
+    hold_stimulus, prove_tied_equals_constant, SpiBench, SpiCommand, SpiReply,
+};
 
 /// SCK half-period at the limit: two FPGA clocks per phase, SCK = f_clk / 4.
 const HALF: u32 = 2;
@@ -543,4 +549,49 @@ fn control_resets_the_kernel_and_the_pins_follow_the_decision() {
     // The model agrees on the decision.
     let model = model_at_frames(&config, &commands);
     assert!(model[0].register_now);
+}
+
+#[test]
+fn with_no_write_the_spi_design_is_the_constant_one() {
+    let other = MeasureSettings {
+        pulses_per_rev: 500,
+        i_def: 0,
+        window_revs: 3,
+        contact_rule: tooltouch_model::measure::config::ContactRule::Sampled,
+        charge_bits: 12,
+        charge_law: ChargeLaw::Exponential {
+            charge_shift: 3,
+            discharge_shift: 6,
+        },
+        fire_threshold: 3000,
+        rearm_threshold: 1000,
+        glitch_cycles: 0,
+        scale_bits: 20,
+        method: DecisionMethod::Density,
+    }
+    .validate()
+    .expect("valid");
+    let mut configs = vec![MeasureConfig::default(), other];
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    configs.extend((0..2).map(|_| random_config(&mut rng)));
+    for (i, config) in configs.iter().enumerate() {
+        prove_tied_equals_constant(config, &work(&format!("tied{i}")))
+            .unwrap_or_else(|e| panic!("{:?}: {e}", config.settings()));
+    }
+    // The proof sees a difference: the constant design of i_def + 1 against the SPI
+    // design of i_def (its configuration hash is the same, only the logic differs).
+    let config = MeasureConfig::default();
+    let wrong = Options {
+        fault: tooltouch_hdl_gen::Fault::IdefPlusOne,
+        ..Options::default()
+    };
+    assert!(
+        tooltouch_rtl_sim::spi::prove_tied_equals_constant_with(
+            &config,
+            &wrong,
+            &work("tied_fault")
+        )
+        .is_err(),
+        "an i_def off by one was proven equal"
+    );
 }
