@@ -17,6 +17,10 @@ pub(crate) struct Context {
     pub(crate) fault: Fault,
     /// The MCU can read the diagnostic counters.
     pub(crate) mcu_diagnostics: bool,
+    /// The run-time thresholds ([`crate::Threshold`]) are input ports of the kernel
+    /// modules, driven by the SPI register file ([`crate::generate_spi`]), instead of
+    /// constants written into the logic ([`crate::generate`]).
+    pub(crate) tunable: bool,
     /// The configured configuration's hash (the MCU's `CONFIG_HASH`), also when a
     /// parameter fault writes the design from other settings ([`Fault::mutated`]).
     pub(crate) hash: u64,
@@ -32,6 +36,7 @@ impl Context {
             config: options.fault.mutated(config).unwrap_or(*config),
             fault: options.fault,
             mcu_diagnostics: options.mcu_diagnostics,
+            tunable: false,
             hash: config.hash(),
             header_hash: format!("{:016x}", config.hash()),
             summary: describe(config),

@@ -79,6 +79,7 @@ mod mcu;
 mod modules;
 mod outputs;
 pub mod scoreboard_lists;
+pub mod spi;
 
 use tooltouch_model::MeasureConfig;
 
@@ -95,6 +96,7 @@ pub use outputs::{
     mask, output_fields, output_ports, output_values, outputs_width, OutputField, OutputPort,
     IRQ_SOURCE,
 };
+pub use spi::{generate_spi, Threshold, SPI_TOP};
 
 /// Writes the Verilog of the front end for `config`.
 pub fn generate(config: &MeasureConfig, options: &Options) -> Design {

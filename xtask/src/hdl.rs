@@ -12,6 +12,12 @@
 //! (`tests/tune/cost_model.rs`) with `TOOLTOUCH_BLESS=1`. Unchanged synthesis, unchanged
 //! file; otherwise `git diff` shows which points moved.
 //!
+//! It also builds the bitstreams of the SPI design ([`bitstreams`], also a step of
+//! `cargo xtask test`): `tt_fpga_spi` (the kernel with run-time thresholds behind the SPI
+//! register interface) synthesized once, placed and routed with each board's pin
+//! constraints (`hdl-gen/boards/*.pcf`, every port constrained) at the board's 12 MHz
+//! clock, and packed by icepack into `target/hdl-report/<board>/tt_fpga_spi.bin`.
+//!
 //! `cargo xtask bless-hdl`: rewrites the Verilog snapshots under `hdl-gen/snapshots/` and
 //! the generated output lists of the scoreboards under `host/abi/` by running their tests
 //! (`hdl-gen/tests/snapshots.rs`, `hdl-gen/tests/scoreboard_lists.rs`) with
@@ -154,7 +160,182 @@ pub fn report() -> Result<()> {
          fmax {:.2} MHz",
         diag.lcs, diag.ffs, diag.fmax
     );
+    bitstreams()?;
     refit_cost_model()
+}
+
+/// A board the SPI design is built for.
+struct Board {
+    /// Folder under `target/hdl-report/`, and the pcf's name under `hdl-gen/boards/`.
+    name: &'static str,
+    /// What it is.
+    what: &'static str,
+    /// nextpnr-ice40's device and package options.
+    device: [&'static str; 3],
+    /// The board oscillator, MHz (no PLL: the design runs at it).
+    clock_mhz: u32,
+}
+
+/// The two boards: the iCEBreaker and the iCE40-HX8K breakout board.
+const BOARDS: [Board; 2] = [
+    Board {
+        name: "icebreaker",
+        what: "iCEBreaker (iCE40UP5K-SG48)",
+        device: ["--up5k", "--package", "sg48"],
+        clock_mhz: 12,
+    },
+    Board {
+        name: "hx8k-breakout",
+        what: "iCE40-HX8K breakout (iCE40HX8K-CT256)",
+        device: ["--hx8k", "--package", "ct256"],
+        clock_mhz: 12,
+    },
+];
+
+/// The last `Max frequency for clock` of a nextpnr log, MHz.
+fn fmax_of(pnr: &str) -> Option<f64> {
+    pnr.lines()
+        .rev()
+        .filter(|l| l.contains("Max frequency for clock"))
+        .filter_map(|l| {
+            let after = l.split("': ").nth(1)?;
+            after.split_whitespace().next()?.parse::<f64>().ok()
+        })
+        .next()
+}
+
+/// The last `ICESTORM_LC: used / available` of a nextpnr log.
+fn logic_cells_of(pnr: &str) -> Option<(u64, u64)> {
+    pnr.lines()
+        .rev()
+        .filter_map(|l| {
+            let after = l.split("ICESTORM_LC:").nth(1)?;
+            let mut parts = after.split('/');
+            let used = parts.next()?.trim().parse::<u64>().ok()?;
+            let total = parts
+                .next()?
+                .split_whitespace()
+                .next()?
+                .parse::<u64>()
+                .ok()?;
+            Some((used, total))
+        })
+        .next()
+}
+
+/// Writes the SPI design of the default configuration, synthesizes it once and builds
+/// each board's bitstream; fails when a board's timing is not met at its clock.
+pub fn bitstreams() -> Result<()> {
+    let root = crate::process::root();
+    let t = std::time::Instant::now();
+    let out = root.join("target/hdl-report/spi");
+    let rtl = out.join("rtl");
+    let rtl_arg = rtl.to_string_lossy().into_owned();
+    println!("$ cargo run --release -p tooltouch-hdl-gen --example spi_design -- {rtl_arg}");
+    let listing = Command::new("cargo")
+        .args([
+            "run",
+            "--quiet",
+            "--release",
+            "-p",
+            "tooltouch-hdl-gen",
+            "--example",
+            "spi_design",
+            "--",
+            &rtl_arg,
+        ])
+        .current_dir(&root)
+        .output()
+        .context("could not start cargo")?;
+    if !listing.status.success() {
+        bail!(
+            "writing the SPI design failed: {}",
+            String::from_utf8_lossy(&listing.stderr)
+        );
+    }
+    let files: Vec<String> = String::from_utf8_lossy(&listing.stdout)
+        .lines()
+        .map(str::to_string)
+        .collect();
+    let json = out.join("tt_fpga_spi.json");
+    let synth_log = out.join("synth.log");
+    let script = format!(
+        "read_verilog {}; synth_ice40 {SYNTH_FLAGS} -top tt_fpga_spi -json {}",
+        files.join(" "),
+        json.display()
+    );
+    crate::process::run(
+        &out,
+        "yosys",
+        &["-q", "-l", &synth_log.to_string_lossy(), "-p", &script],
+    )
+    .context("yosys is needed: run `cargo xtask setup`")?;
+    let mut lines = Vec::new();
+    for board in &BOARDS {
+        let dir = root.join("target/hdl-report").join(board.name);
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        let pcf = root
+            .join("hdl-gen/boards")
+            .join(format!("{}.pcf", board.name));
+        let asc = dir.join("tt_fpga_spi.asc");
+        let bin = dir.join("tt_fpga_spi.bin");
+        let log = dir.join("pnr.log");
+        let freq = board.clock_mhz.to_string();
+        println!(
+            "$ nextpnr-ice40 {} --pcf {} --freq {freq} --seed {SEED} …",
+            board.device.join(" "),
+            pcf.strip_prefix(&root).unwrap_or(&pcf).display()
+        );
+        let status = Command::new("nextpnr-ice40")
+            .args(board.device)
+            .arg("--pcf")
+            .arg(&pcf)
+            .args(["--freq", &freq, "--seed", SEED, "--json"])
+            .arg(&json)
+            .arg("--asc")
+            .arg(&asc)
+            .arg("-l")
+            .arg(&log)
+            .arg("--quiet")
+            .status()
+            .context("could not start nextpnr-ice40: run `cargo xtask setup`")?;
+        let pnr = std::fs::read_to_string(&log).unwrap_or_default();
+        let (Some(fmax), Some((lcs, total))) = (fmax_of(&pnr), logic_cells_of(&pnr)) else {
+            bail!(
+                "{}: nextpnr-ice40 ({status}) gave no fmax or cell count; see {}",
+                board.what,
+                log.display()
+            );
+        };
+        if !status.success() || fmax < f64::from(board.clock_mhz) {
+            bail!(
+                "{}: timing not met at {} MHz (fmax {fmax:.2} MHz, nextpnr {status}); see {}",
+                board.what,
+                board.clock_mhz,
+                log.display()
+            );
+        }
+        crate::process::run(
+            &dir,
+            "icepack",
+            &[&asc.to_string_lossy(), &bin.to_string_lossy()],
+        )?;
+        let size = std::fs::metadata(&bin).map(|m| m.len()).unwrap_or(0);
+        lines.push(format!(
+            "  {:<38} {lcs:>5} / {total} logic cells, fmax {fmax:.2} MHz (clock {} MHz: met), {} ({size} bytes)",
+            board.what,
+            board.clock_mhz,
+            bin.strip_prefix(&root).unwrap_or(&bin).display()
+        ));
+    }
+    println!(
+        "\nSPI design tt_fpga_spi, default configuration, seed {SEED} ({:.0} s):",
+        t.elapsed().as_secs_f64()
+    );
+    for l in lines {
+        println!("{l}");
+    }
+    Ok(())
 }
 
 /// Refits the tuning cost model from a fresh synthesis of its calibration points.

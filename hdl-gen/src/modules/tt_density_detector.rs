@@ -31,12 +31,124 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
     if ctx.fault == Fault::FireThresholdPlusOne {
         fire = (fire + 1).min(full);
     }
+    let law = if ctx.tunable {
+        tunable_law(ctx)
+    } else {
+        constant_law(ctx, fire)
+    };
+    let body = fill(
+        &(DETECTOR_HEAD.to_string() + &law + DETECTOR_TAIL),
+        &[
+            ("QB", qb.to_string()),
+            ("QB1", (qb - 1).to_string()),
+            ("FULL", lit(qb, full)),
+            ("FIRE", fire.to_string()),
+            ("REARM", s.rearm_threshold.to_string()),
+            ("QZERO", lit(qb, 0)),
+            ("QONE", lit(qb, 1)),
+            (
+                "THRESHOLD_PORTS",
+                if ctx.tunable {
+                    let sw = step_bits(ctx) - 1;
+                    format!(
+                        "    input  wire [{q1}:0] fire_threshold,  // run-time thresholds and steps (SPI registers)\n\
+                         \x20   input  wire [{q1}:0] rearm_threshold,\n\
+                         \x20   input  wire [{sw}:0] charge_step,     // {what}\n\
+                         \x20   input  wire [{sw}:0] discharge_step,\n",
+                        q1 = qb - 1,
+                        what = match s.charge_law {
+                            ChargeLaw::Linear { .. } => "linear law: LSBs per pulse",
+                            ChargeLaw::Exponential { .. } => "exponential law: the shifts",
+                        }
+                    )
+                } else {
+                    String::new()
+                },
+            ),
+        ],
+    );
+    ctx.file(
+        "tt_density_detector",
+        "device 2, the contact-density detector",
+        &body,
+    )
+}
+
+/// Width of the run-time charge and discharge steps, bits: `charge_bits` for the linear
+/// law's steps (`1..=full`), enough for `0..=charge_bits` for the exponential law's shifts.
+pub(crate) fn step_bits(ctx: &Context) -> u32 {
+    match ctx.config.settings().charge_law {
+        ChargeLaw::Linear { .. } => ctx.charge_bits(),
+        ChargeLaw::Exponential { .. } => u32::from(tooltouch_model::measure::config::bits_for(
+            ctx.charge_bits().into(),
+        )),
+    }
+}
+
+/// The SPI design's charge law: steps and thresholds are input ports, compared at run
+/// time (the same values as the constant forms of [`constant_law`]).
+fn tunable_law(ctx: &Context) -> String {
+    let qb = ctx.charge_bits();
+    let tests = r#"    wire        up_fires     = up_q >= fire_threshold;
+    wire        down_fires   = down_q >= fire_threshold;
+    wire        up_rearms    = up_q < rearm_threshold;
+    wire        down_rearms  = down_q < rearm_threshold;
+    wire        UP0_FIRES    = UP_FROM_EMPTY >= fire_threshold;
+    wire        UP0_REARMS   = UP_FROM_EMPTY < rearm_threshold;
+    wire        DOWN0_REARMS = rearm_threshold != ${QZERO};
+"#;
+    let law = match ctx.config.settings().charge_law {
+        ChargeLaw::Linear { .. } => r#"    // Linear law, run-time steps: +charge_step per contact pulse (saturating at full
+    // scale: the carry out of q + step), -discharge_step per pulse without (saturating
+    // at 0). A step is at most full scale, so from an empty capacitor the charge is the
+    // step itself.
+    wire [${QB}:0] sum_c        = {1'b0, charge_q} + {1'b0, charge_step};
+    wire [${QB1}:0] diff         = charge_q - discharge_step;
+    wire        up_sat       = sum_c[${QB}];
+    wire        down_sat     = charge_q < discharge_step;
+    wire [${QB1}:0] up_q         = up_sat ? FULL : sum_c[${QB1}:0];
+    wire [${QB1}:0] down_q       = down_sat ? ${QZERO} : diff;
+    wire [${QB1}:0] UP_FROM_EMPTY = charge_step;
+"#
+        .to_string(),
+        ChargeLaw::Exponential { .. } => r#"    // Exponential law, run-time shifts: +max(1, (full - q) >> charge_step) per contact
+    // pulse, -max(1, q >> discharge_step) per pulse without; a zero distance steps by 0.
+    wire [${QB1}:0] room         = FULL - charge_q;
+    wire [${QB1}:0] room_shift   = room >> charge_step;
+    wire [${QB1}:0] q_shift      = charge_q >> discharge_step;
+    wire [${QB1}:0] full_shift   = FULL >> charge_step;
+    wire [${QB1}:0] step_up      = (room == ${QZERO}) ? ${QZERO} :
+                               (room_shift == ${QZERO}) ? ${QONE} : room_shift;
+    wire [${QB1}:0] step_down    = (charge_q == ${QZERO}) ? ${QZERO} :
+                               (q_shift == ${QZERO}) ? ${QONE} : q_shift;
+    wire [${QB1}:0] up_q         = charge_q + step_up;
+    wire [${QB1}:0] down_q       = charge_q - step_down;
+    wire [${QB1}:0] UP_FROM_EMPTY = (full_shift == ${QZERO}) ? ${QONE} : full_shift;
+"#
+        .to_string(),
+    };
+    fill(
+        &(law + tests),
+        &[
+            ("QB", qb.to_string()),
+            ("QB1", (qb - 1).to_string()),
+            ("QZERO", lit(qb, 0)),
+            ("QONE", lit(qb, 1)),
+        ],
+    )
+}
+
+/// The configured charge law written with constant steps and thresholds.
+fn constant_law(ctx: &Context, fire: u64) -> String {
+    let s = ctx.config.settings();
+    let qb = ctx.charge_bits();
+    let full = u64::from(ctx.config.full_charge());
     let rearm = u64::from(s.rearm_threshold);
     // `charge_q >= c` and `charge_q < c` for a constant c, folded when constant
     // (so no comparison is trivially true or false).
     let ge = |c: u64| ge_const("charge_q", qb, c);
     let lt = |c: u64| lt_const("charge_q", qb, c);
-    let law = match s.charge_law {
+    match s.charge_law {
         ChargeLaw::Linear {
             charge_step,
             discharge_step,
@@ -153,9 +265,11 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
                 ],
             )
         }
-    };
-    let body = fill(
-        &(r#"// Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor of
+    }
+}
+
+/// The detector's module head: ports, state registers.
+const DETECTOR_HEAD: &str = r#"// Device 2, the contact-density detector (docs/domain.md §2.4): a digital capacitor of
 // ${QB} bits (UQ0.${QB} of full scale) updated once per FES pulse; fires when armed and the
 // charge reaches ${FIRE}, re-arms below ${REARM}. Same-clock order: clear (arm) -> pulse.
 // The next charge and both threshold tests are computed from charge_q alone and from an
@@ -166,7 +280,7 @@ module tt_density_detector (
     input  wire        clear,        // arm rising edge: empty and re-arm
     input  wire        pulse,        // FES pulse while armed
     input  wire        contact_bit,  // the pulse's contact bit
-    output wire [${QB1}:0] charge,       // LSBs of full scale
+${THRESHOLD_PORTS}    output wire [${QB1}:0] charge,       // LSBs of full scale
     output wire        armed,        // hysteresis state: ready to fire
     output wire        fired,        // fired since the last clear
     output wire        fire          // this clock's pulse fired
@@ -177,10 +291,10 @@ module tt_density_detector (
     reg        armed_q  = 1'b1;   // power-on state: empty and armed (DensityDetector::new)
     reg        fired_q  = 1'b0;
 
-"#
-        .to_string()
-            + &law
-            + r#"
+"#;
+
+/// The detector's shared tail: clear, pulse update, fire and re-arm.
+const DETECTOR_TAIL: &str = r#"
     // reset() on clear, then on_pulse(): new charge, then fire (if armed) or re-arm.
     wire        armed_a  = clear | armed_q;
     wire [${QB1}:0] charge_p = pulse ? (contact_bit ? (clear ? UP_FROM_EMPTY : up_q)
@@ -209,20 +323,4 @@ module tt_density_detector (
     assign armed  = armed_q;
     assign fired  = fired_q;
 endmodule
-"#),
-        &[
-            ("QB", qb.to_string()),
-            ("QB1", (qb - 1).to_string()),
-            ("FULL", lit(qb, full)),
-            ("FIRE", fire.to_string()),
-            ("REARM", s.rearm_threshold.to_string()),
-            ("QZERO", lit(qb, 0)),
-            ("QONE", lit(qb, 1)),
-        ],
-    );
-    ctx.file(
-        "tt_density_detector",
-        "device 2, the contact-density detector",
-        &body,
-    )
-}
+"#;

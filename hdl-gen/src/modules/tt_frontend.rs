@@ -5,6 +5,7 @@
 use crate::design::{VerilogFile, TOP};
 use crate::emit::{fill, pin_index, Context};
 use crate::outputs::output_fields;
+use crate::spi::Threshold;
 use tooltouch_model::measure::frontend::pin;
 
 /// The top: pins in, outputs and the MCU register file out.
@@ -41,7 +42,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
 module ${TOP} (
     input  wire         clk,
     input  wire         rst,       // synchronous reset to the power-on state
-${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
+${PIN_PORTS}${THRESHOLD_PORTS}    input  wire [${AB1}:0]  mcu_addr,
     output reg  [${DB1}:0] mcu_rdata,
 ${PORTS}    output wire         irq        // = ${IRQ_SOURCE}, for the MCU
 );
@@ -61,7 +62,7 @@ ${PORTS}    output wire         irq        // = ${IRQ_SOURCE}, for the MCU
 
     tt_synchronizer u_sync (.clk(clk), .rst(rst), .pins(pins), .synced(synced));
     tt_glitch_filter u_filter (
-        .clk(clk), .rst(rst), .synced(synced), .filtered(filtered), .toggles(toggles)
+        .clk(clk), .rst(rst), .synced(synced), .filtered(filtered),${GLITCH_CONN} .toggles(toggles)
     );
     tt_edge_detect u_edges (
         .clk(clk), .rst(rst), .toggles(toggles), .filtered(filtered),
@@ -78,11 +79,11 @@ ${PORTS}    output wire         irq        // = ${IRQ_SOURCE}, for the MCU
         .contact_rise_next(contact_rise_next), .index_pulse(index_pulse),
         .fes_rise(fes_rise), .fes_pulse(fes_pulse),
         .scale_up(scale_up), .scale_down(scale_down), .scale_error(scale_error),
-${CONNS}
+${KERNEL_CONNS}${CONNS}
     );
 
     assign irq = ${IRQ_SOURCE};
-
+${ARM_LEVEL}
 ${MCU_READ_MUX}endmodule
 "#,
         &[
@@ -100,7 +101,62 @@ ${MCU_READ_MUX}endmodule
             ("CONNS", conns),
             ("IRQ_SOURCE", crate::outputs::IRQ_SOURCE.to_string()),
             ("MCU_READ_MUX", mcu_read_mux),
+            ("THRESHOLD_PORTS", threshold_ports(ctx)),
+            (
+                "GLITCH_CONN",
+                if ctx.tunable && ctx.config.settings().glitch_cycles > 0 {
+                    "\n        .glitch_cycles(glitch_cycles),".into()
+                } else {
+                    String::new()
+                },
+            ),
+            (
+                "KERNEL_CONNS",
+                if ctx.tunable {
+                    Threshold::ALL
+                        .iter()
+                        .filter(|t| **t != Threshold::GlitchCycles)
+                        .map(|t| format!("        .{0}({0}),\n", t.port()))
+                        .collect()
+                } else {
+                    String::new()
+                },
+            ),
+            (
+                "ARM_LEVEL",
+                if ctx.tunable {
+                    format!(
+                        "    assign arm_level = filtered[{}];\n",
+                        pin_index(pin::ARM)
+                    )
+                } else {
+                    String::new()
+                },
+            ),
         ],
     );
     ctx.file(TOP, "top of the FPGA measurement front end", &body)
+}
+
+/// The SPI design's extra ports (empty otherwise): the run-time thresholds in
+/// (`glitch_cycles` only when the filter has a counter) and the filtered arm level out,
+/// which the register file's write interlock reads.
+fn threshold_ports(ctx: &Context) -> String {
+    if !ctx.tunable {
+        return String::new();
+    }
+    let glitch = ctx.config.settings().glitch_cycles > 0;
+    let mut ports: String = Threshold::ALL
+        .iter()
+        .filter(|t| glitch || **t != Threshold::GlitchCycles)
+        .map(|t| {
+            let range = format!("[{}:0]", t.width(&ctx.config) - 1);
+            format!(
+                "    input  wire {range:<7} {},  // run-time threshold\n",
+                t.port()
+            )
+        })
+        .collect();
+    ports.push_str("    output wire         arm_level,  // filtered arm level (write interlock)\n");
+    ports
 }

@@ -1,6 +1,8 @@
 //! `tt_glitch_filter.v`: the per-pin glitch filter (model: `FrontEnd::filter`). With
 //! `glitch_cycles` = 0 each pin is a single register; otherwise a level register and a
-//! stability counter per pin, whose limit test is written as bit logic.
+//! stability counter per pin, whose limit test is written as bit logic (or, in the SPI
+//! design, compares with the run-time `glitch_cycles` input; its width is fixed by the
+//! configured value, and a configured 0 leaves no counter and no input).
 
 use crate::design::VerilogFile;
 use crate::emit::{fill, ge_const, lit, Context};
@@ -51,7 +53,14 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
                 ("GB1", (gb - 1).to_string()),
                 ("GZERO", lit(gb, 0)),
                 ("GONE", lit(gb, 1)),
-                ("AT_LIMIT", ge_const("stable_q", gb, glitch)),
+                (
+                    "AT_LIMIT",
+                    if ctx.tunable {
+                        "(stable_q >= glitch_cycles)".to_string()
+                    } else {
+                        ge_const("stable_q", gb, glitch)
+                    },
+                ),
             ],
         )
     };
@@ -63,7 +72,7 @@ module tt_glitch_filter (
     input  wire       rst,
     input  wire [${N1}:0] synced,    // synchronized levels
     output wire [${N1}:0] filtered,  // filtered levels
-    output wire [${N1}:0] toggles    // filtered levels that change at this clock's edge
+${LIMIT_PORT}    output wire [${N1}:0] toggles    // filtered levels that change at this clock's edge
 );
     genvar i;
     generate
@@ -79,6 +88,17 @@ endmodule
             ("N", pin::COUNT.to_string()),
             ("N1", (pin::COUNT - 1).to_string()),
             ("PER_PIN", per_pin),
+            (
+                "LIMIT_PORT",
+                if ctx.tunable && glitch > 0 {
+                    format!(
+                        "    input  wire [{}:0] glitch_cycles, // run-time glitch_cycles (SPI register)\n",
+                        gb - 1
+                    )
+                } else {
+                    String::new()
+                },
+            ),
         ],
     );
     ctx.file("tt_glitch_filter", "per-pin glitch filter", &body)

@@ -6,6 +6,7 @@
 
 use crate::design::{Fault, VerilogFile};
 use crate::emit::{fill, pin_index, Context};
+use crate::spi::Threshold;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::measure::frontend::pin;
 
@@ -44,7 +45,7 @@ module tt_measurement (
     input  wire        scale_up,
     input  wire        scale_down,
     input  wire        scale_error,
-    output wire        armed,
+${THRESHOLD_PORTS}    output wire        armed,
     output wire        contact,
     output wire        register_now,
     output wire [${SB1}:0] decision_position,
@@ -111,12 +112,12 @@ module tt_measurement (
     tt_pulse_counter u_counter (
         .clk(clk), .rst(rst), .clear(clear), .index(index), .pulse(pulse),
         .contact_bit(contact_bit), .count(count), .last_window_count(last_window_count),
-        .decide(counter_decide), .window_closed(window_closed), .window_count(window_count)
+${COUNTER_THRESHOLDS}        .decide(counter_decide), .window_closed(window_closed), .window_count(window_count)
     );
 
     tt_density_detector u_density (
         .clk(clk), .rst(rst), .clear(clear), .pulse(pulse), .contact_bit(contact_bit),
-        .charge(charge), .armed(density_armed), .fired(density_fired), .fire(density_fire)
+${DENSITY_THRESHOLDS}        .charge(charge), .armed(density_armed), .fired(density_fired), .fire(density_fire)
     );
 
     tt_quadrature_decoder u_scale (
@@ -192,6 +193,25 @@ endmodule
             ("SA", pin_index(pin::SCALE_A)),
             ("SB_PIN", pin_index(pin::SCALE_B)),
             ("BIT", bit.to_string()),
+            ("THRESHOLD_PORTS", kernel_threshold_ports(ctx)),
+            (
+                "COUNTER_THRESHOLDS",
+                if ctx.tunable {
+                    "        .i_def(i_def),\n".into()
+                } else {
+                    String::new()
+                },
+            ),
+            (
+                "DENSITY_THRESHOLDS",
+                if ctx.tunable {
+                    "        .fire_threshold(fire_threshold), .rearm_threshold(rearm_threshold),\n\
+                     \x20       .charge_step(charge_step), .discharge_step(discharge_step),\n"
+                        .into()
+                } else {
+                    String::new()
+                },
+            ),
             ("DECISION", decision.to_string()),
             (
                 "STICKY_RELOAD",
@@ -212,4 +232,23 @@ endmodule
         ],
     );
     ctx.file("tt_measurement", "the measurement kernel", &body)
+}
+
+/// The kernel's run-time threshold inputs (the SPI design only; empty otherwise): every
+/// [`Threshold`] but the glitch filter's, which precedes the kernel.
+pub(crate) fn kernel_threshold_ports(ctx: &Context) -> String {
+    if !ctx.tunable {
+        return String::new();
+    }
+    Threshold::ALL
+        .iter()
+        .filter(|t| **t != Threshold::GlitchCycles)
+        .map(|t| {
+            format!(
+                "    input  wire [{}:0] {},\n",
+                t.width(&ctx.config) - 1,
+                t.port()
+            )
+        })
+        .collect()
 }

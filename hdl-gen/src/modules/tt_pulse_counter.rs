@@ -54,7 +54,7 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
 ${EXCEEDS_WIRE}
     always @(posedge clk) begin
         if (rst) begin
-            reaches_q <= ${REACH0};
+            reaches_q <= ${REACH_RST};
             exceeds_q <= 1'b0;
         end else if (from_zero) begin
             reaches_q <= ${FROM_ZERO_REACH};  // count_p (0 or 1) >= I_DEF
@@ -66,25 +66,36 @@ ${EXCEEDS_WIRE}
     end
 "#
     };
+    // i_def >= 1: a pulse that starts the count from 0 (clear, or the window's last index)
+    // cannot exceed it; otherwise the pulse decides when the count already exceeds i_def,
+    // or equals it and the pulse is a contact pulse (a full count exceeds i_def, so
+    // saturation changes nothing). Written flat over flip-flops: two LUT levels before the
+    // latches. i_def = 0 takes the general form `pulse && !reached_a && exceeds`; with a
+    // run-time i_def both forms are written and i_def = 0 selects, so that tied to a
+    // constant the text reduces to the constant design's.
+    let window_end = if s.window_revs == 1 {
+        "index"
+    } else {
+        "(index && last_rev)"
+    };
+    let flat = format!(
+        "pulse && !clear && !{window_end} && !reached_q &&\n\
+         \x20                   (exceeds_q || (contact_bit && reaches_q))"
+    );
     let decide = if ctx.fault == Fault::FesBeforeIndex {
         "    assign decide = pulse && !reached_a && (count_p > I_DEF);\n".to_string()
+    } else if ctx.tunable {
+        format!(
+            "    // i_def = 0: the general form; i_def >= 1: its flat form.\n\
+             \x20   assign decide = idef_zero ? (pulse && !reached_a && exceeds) :\n\
+             \x20                   ({flat});\n"
+        )
     } else if s.i_def == 0 {
         "    assign decide = pulse && !reached_a && exceeds;\n".to_string()
     } else {
-        // i_def >= 1: a pulse that starts the count from 0 (clear, or the window's last
-        // index) cannot exceed it; otherwise the pulse decides when the count already
-        // exceeds i_def, or equals it and the pulse is a contact pulse (a full count
-        // exceeds i_def, so saturation changes nothing). Written flat over flip-flops:
-        // two LUT levels before the latches.
-        let window_end = if s.window_revs == 1 {
-            "index"
-        } else {
-            "(index && last_rev)"
-        };
         format!(
             "    // Flat form of `pulse && !reached_a && exceeds` for i_def >= 1.\n\
-                 \x20   assign decide = pulse && !clear && !{window_end} && !reached_q &&\n\
-                 \x20                   (exceeds_q || (contact_bit && reaches_q));\n"
+             \x20   assign decide = {flat};\n"
         )
     };
     let body = fill(
@@ -100,12 +111,12 @@ module tt_pulse_counter (
     input  wire        contact_bit,  // the pulse's contact bit (sampled or sticky rule)
     output wire [${CB1}:0] count,             // contact pulses in this window
     output wire [${CB1}:0] last_window_count, // contact pulses in the previous window
-    output wire        decide,       // this clock's pulse made the count exceed i_def
+${IDEF_PORT}    output wire        decide,       // this clock's pulse made the count exceed i_def
     output wire        window_closed, // this clock's index pulse closed the window
     output wire [${CB1}:0] window_count   // the closed window's count (last_window_count next)
 );
     localparam [${CB1}:0] WINDOW_PULSES = ${WP};  // pulses_per_rev * window_revs
-    localparam [${CB1}:0] I_DEF         = ${IDEF};
+${IDEF_DECL}
     localparam [${RB}:0] WINDOW_REVS   = ${WRL};
 
     reg [${CB1}:0] count_q   = ${CZERO};
@@ -151,7 +162,6 @@ endmodule
             ("RB", rb.to_string()),
             ("RB1", (rb - 1).to_string()),
             ("WP", lit(cb, c.window_pulses().into())),
-            ("IDEF", lit(cb, s.i_def.into())),
             ("WRL", lit(rb + 1, s.window_revs.into())),
             ("CZERO", lit(cb, 0)),
             ("CONE", lit(cb, 1)),
@@ -160,10 +170,21 @@ endmodule
             ("RONE1", lit(rb + 1, 1)),
             ("CB_1", (cb - 1).to_string()),
             ("ONE_REV", bool_lit(s.window_revs == 1)),
-            ("IDEF_ZERO", bool_lit(s.i_def == 0)),
+            (
+                "IDEF_ZERO",
+                if ctx.tunable {
+                    "idef_zero".to_string()
+                } else {
+                    bool_lit(s.i_def == 0)
+                },
+            ),
             (
                 "EXCEEDS_WIRE",
-                if s.i_def == 0 {
+                if ctx.tunable {
+                    "    wire             exceeds    = from_zero ? (inc && idef_zero) :\n\
+                     \x20                                 (inc ? reaches_q : exceeds_q);\n"
+                        .to_string()
+                } else if s.i_def == 0 {
                     "    wire             exceeds    = from_zero ? inc : (inc ? reaches_q : exceeds_q);\n"
                             .to_string()
                 } else {
@@ -172,19 +193,63 @@ endmodule
             ),
             ("REACH0", bool_lit(s.i_def == 0)),
             (
+                "REACH_RST",
+                if ctx.tunable {
+                    "idef_zero".to_string()
+                } else {
+                    bool_lit(s.i_def == 0)
+                },
+            ),
+            (
                 "FROM_ZERO_REACH",
-                match s.i_def {
-                    0 => "1'b1".to_string(),
-                    1 => "inc".to_string(),
-                    _ => "1'b0".to_string(),
+                if ctx.tunable {
+                    "(idef_zero || (idef_one && inc))".to_string()
+                } else {
+                    match s.i_def {
+                        0 => "1'b1".to_string(),
+                        1 => "inc".to_string(),
+                        _ => "1'b0".to_string(),
+                    }
                 },
             ),
             (
                 "AT_IDEF_M1",
-                if s.i_def == 0 {
+                if ctx.tunable {
+                    format!("(idef_zero || (count_q == I_DEF - {}))", lit(cb, 1))
+                } else if s.i_def == 0 {
                     "1'b1".to_string()
                 } else {
                     format!("(count_q == {})", lit(cb, u64::from(s.i_def) - 1))
+                },
+            ),
+            (
+                "IDEF_PORT",
+                if ctx.tunable {
+                    format!(
+                        "    input  wire [{}:0] i_def,        // run-time i_def (SPI register)\n",
+                        cb - 1
+                    )
+                } else {
+                    String::new()
+                },
+            ),
+            (
+                "IDEF_DECL",
+                if ctx.tunable {
+                    format!(
+                        "    wire [{cb1}:0] I_DEF     = i_def;  // run-time (changed only while disarmed)\n\
+                         \x20   wire        idef_zero = I_DEF == {zero};\n\
+                         \x20   wire        idef_one  = I_DEF == {one};",
+                        cb1 = cb - 1,
+                        zero = lit(cb, 0),
+                        one = lit(cb, 1)
+                    )
+                } else {
+                    format!(
+                        "    localparam [{}:0] I_DEF         = {};",
+                        cb - 1,
+                        lit(cb, s.i_def.into())
+                    )
                 },
             ),
         ],

@@ -16,6 +16,7 @@
 pub mod cosim;
 pub mod runner;
 pub mod speed;
+pub mod spi;
 
 use std::path::PathBuf;
 
