@@ -592,15 +592,15 @@ mod tests {
         let words = mcu_words(&c, 0, "", true);
         let mut fields = output_fields(&c).to_vec();
         fields.push(crate::OutputField {
-            name: "confirmed",
+            name: "future_flag",
             width: 1,
         });
         fields.push(crate::OutputField {
-            name: "faults",
+            name: "future_word",
             width: 7,
         });
         let extra: Vec<&str> = unshown(&words, &fields).iter().map(|f| f.name).collect();
-        assert_eq!(extra, ["confirmed", "faults"]);
+        assert_eq!(extra, ["future_flag", "future_word"]);
         // `count` in `last_window_count` is not a match for `count`'s word and vice versa.
         assert!(names_signal(
             "{21'd0, last_window_count}",
