@@ -1,6 +1,6 @@
-//! The SPI register interface of the chip top `tt_fpga_spi` ([`generate_spi`]): the
+//! The SPI register interface of the chip top `tt_fpga_spi` (`tooltouch_hdl_gen::generate_spi`): the
 //! run-time thresholds ([`Threshold`]), the register map ([`spi_registers`], derived from
-//! the MCU map [`crate::MCU_REGISTERS`] and the model's outputs), the frame format and
+//! the MCU map [`crate::mcu::MCU_REGISTERS`] and the model's outputs), the frame format and
 //! status bits, the settings CRC ([`settings_crc`]), and the model's value of every word
 //! ([`spi_word_values`]) that the SPI testbench compares with.
 //!
@@ -253,12 +253,15 @@ pub struct SpiRegister {
 /// The output fields no MCU word shows (every field a word names with the diagnostic
 /// counters readable counts as shown), in [`MeasureOutputs::LAYOUT`] order: each gets a
 /// word from [`SPI_EXTRA_BASE`], so a new model output is readable over SPI unchanged.
-pub fn extra_outputs(config: &MeasureConfig) -> Vec<crate::OutputField> {
+pub fn extra_outputs(config: &MeasureConfig) -> Vec<crate::outputs::OutputField> {
     unshown(&mcu_words(config, 0, "", true), &output_fields(config))
 }
 
 /// The fields of `fields` that no word of `words` names (at most 32 bits wide).
-fn unshown(words: &[String], fields: &[crate::OutputField]) -> Vec<crate::OutputField> {
+fn unshown(
+    words: &[String],
+    fields: &[crate::outputs::OutputField],
+) -> Vec<crate::outputs::OutputField> {
     fields
         .iter()
         .filter(|f| f.width <= MCU_DATA_BITS)
@@ -454,43 +457,26 @@ pub fn spi_word_values(
     values
 }
 
-/// Writes the SPI design for `config`: the kernel with the thresholds as input ports,
-/// the simulation top `tt_frontend` with those ports, the register interface `tt_spi`
-/// and the chip top [`SPI_TOP`] (files in compile order, the top last). Its own file set:
-/// its `tt_frontend` has more ports than [`crate::generate`]'s.
-pub fn generate_spi(config: &MeasureConfig, options: &Options) -> Design {
-    let mut ctx = crate::emit::Context::new(config, options);
-    ctx.tunable = true;
-    let mut files = crate::modules::design(&ctx);
-    files.retain(|f| f.name != format!("{}.v", crate::FPGA_TOP));
-    files.push(crate::modules::tt_spi::emit(&ctx));
-    files.push(crate::modules::tt_fpga_spi::emit(&ctx));
-    Design {
-        files,
-        config_hash: config.hash(),
-    }
-}
-
 /// Name of [`tied_frontend`]'s module.
 pub const TIED_TOP: &str = "tt_frontend_tied";
 /// Name of [`wrapped_frontend`]'s module.
 pub const WRAPPED_TOP: &str = "tt_frontend_wrapped";
 
-/// A module with the ports of [`crate::generate`]'s `tt_frontend` that instantiates the SPI
-/// design's `tt_frontend` ([`generate_spi`]) as `u` with every threshold tied to its reset
+/// A module with the ports of `tooltouch_hdl_gen::generate`'s `tt_frontend` that instantiates the SPI
+/// design's `tt_frontend` (`tooltouch_hdl_gen::generate_spi`) as `u` with every threshold tied to its reset
 /// value: what an equivalence check proves equal to [`wrapped_frontend`] (the SPI design
 /// with no write is the configured front end).
-pub fn tied_frontend(config: &MeasureConfig) -> crate::VerilogFile {
+pub fn tied_frontend(config: &MeasureConfig) -> crate::design::VerilogFile {
     frontend_wrapper(config, true)
 }
 
-/// The same wrapper around the constant design's `tt_frontend` ([`crate::generate`]), so
+/// The same wrapper around the constant design's `tt_frontend` (`tooltouch_hdl_gen::generate`), so
 /// that both sides of the equivalence name their registers alike (`u.…`).
-pub fn wrapped_frontend(config: &MeasureConfig) -> crate::VerilogFile {
+pub fn wrapped_frontend(config: &MeasureConfig) -> crate::design::VerilogFile {
     frontend_wrapper(config, false)
 }
 
-fn frontend_wrapper(config: &MeasureConfig, tied: bool) -> crate::VerilogFile {
+fn frontend_wrapper(config: &MeasureConfig, tied: bool) -> crate::design::VerilogFile {
     let name = if tied { TIED_TOP } else { WRAPPED_TOP };
     let s = config.settings();
     let fields = output_fields(config);
@@ -538,7 +524,7 @@ fn frontend_wrapper(config: &MeasureConfig, tied: bool) -> crate::VerilogFile {
          \x20       {arm_conn}.mcu_addr(mcu_addr), .mcu_rdata(mcu_rdata),\n{conns}\
          \x20       .irq(irq)\n    );\nendmodule\n`default_nettype wire\n",
         hash = config.hash(),
-        top = crate::TOP,
+        top = crate::design::TOP,
         what = if tied {
             "the SPI design's tt_frontend with its thresholds tied to the reset values"
         } else {
@@ -551,7 +537,7 @@ fn frontend_wrapper(config: &MeasureConfig, tied: bool) -> crate::VerilogFile {
         },
         arm_conn = if tied { ".arm_level(arm_level), " } else { "" },
     );
-    crate::VerilogFile {
+    crate::design::VerilogFile {
         name: format!("{name}.v"),
         text,
     }
@@ -591,11 +577,11 @@ mod tests {
         let c = MeasureConfig::default();
         let words = mcu_words(&c, 0, "", true);
         let mut fields = output_fields(&c).to_vec();
-        fields.push(crate::OutputField {
+        fields.push(crate::outputs::OutputField {
             name: "future_flag",
             width: 1,
         });
-        fields.push(crate::OutputField {
+        fields.push(crate::outputs::OutputField {
             name: "future_word",
             width: 7,
         });

@@ -59,7 +59,8 @@ extern crate std;
 #[cfg(feature = "testing")]
 pub mod testing;
 
-pub use measure::checks::{fault, Faults, MeasureChecks};
+pub use measure::checks::{fault, Faults};
+pub use measure::config::MeasureChecks;
 pub use measure::config::{MeasureConfig, MeasureSettings};
 pub use measure::events::{MeasureEvent, TimedEvent};
 pub use measure::frontend::{FrontEnd, Pins};

@@ -51,6 +51,7 @@ pub mod check;
 pub mod control;
 pub mod cosim;
 pub mod coverage;
+pub mod faults;
 pub mod formal;
 pub mod hdl;
 pub mod measure;
@@ -95,6 +96,9 @@ enum Command {
     /// Predict the decided diameter's bias and scatter from the settings (the error
     /// budget), optionally beside a simulation.
     Budget(budget::Args),
+    /// The fault campaign: how often a faulted lathe gets a wrong diameter through as a
+    /// good one (fault kind × level × method, each measurement classified).
+    Faults(faults::Args),
     /// Measure a reference part of known diameter with each method and contact rule and
     /// write the offsets as a calibration file (`measure --calibration` applies it).
     Calibrate(calibrate::Args),
@@ -181,6 +185,7 @@ pub fn main() -> ExitCode {
         Command::Measure(args) => measure::run(args),
         Command::Budget(args) => budget::run(args),
         Command::Calibrate(args) => calibrate::run(args),
+        Command::Faults(args) => faults::run(args),
         Command::Check(args) => check::run(args),
         Command::Vectors(args) => vectors::run(args),
         Command::Coverage(args) => coverage::run(args),

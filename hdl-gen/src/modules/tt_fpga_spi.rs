@@ -1,4 +1,4 @@
-//! `tt_fpga_spi.v`: the chip top of the SPI design ([`crate::SPI_TOP`]), the board top of
+//! `tt_fpga_spi.v`: the chip top of the SPI design ([`crate::spi::SPI_TOP`]), the board top of
 //! both boards (`hdl-gen/boards/*.pcf`): the board clock, the six measurement inputs, the
 //! SPI pins to the MCU and the register-now, interrupt and fault outputs.
 

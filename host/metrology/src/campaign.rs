@@ -395,7 +395,11 @@ impl CampaignSpec {
             });
         }
         for (i, &l) in self.levels.iter().enumerate() {
-            let most = self.kinds().iter().map(|k| k.max_level()).fold(f64::INFINITY, f64::min);
+            let most = self
+                .kinds()
+                .iter()
+                .map(|k| k.max_level())
+                .fold(f64::INFINITY, f64::min);
             if !(l.is_finite() && l > 0.0 && l <= most) {
                 return Err(CampaignError::Field {
                     field: "levels",
@@ -440,12 +444,18 @@ impl CampaignSpec {
     }
 }
 
+/// A decision method's name in reports: `counter`, `density`, `single pulse`.
+pub fn method_name(method: DecisionMethod) -> &'static str {
+    match method {
+        DecisionMethod::Counter => "counter",
+        DecisionMethod::Density => "density",
+        DecisionMethod::SinglePulse => "single pulse",
+    }
+}
+
 /// The settings of one method's runs.
 fn with_method(measure: &MeasureSettings, method: DecisionMethod) -> MeasureSettings {
-    MeasureSettings {
-        method,
-        ..*measure
-    }
+    MeasureSettings { method, ..*measure }
 }
 
 /// The lathe `base` measuring `n` times with `faults`.
@@ -478,9 +488,8 @@ fn clean_reference(
         .collect();
     let count = errors.len().max(1) as f64;
     let bias_um = errors.iter().sum::<f64>() / count;
-    let clean_sigma = (errors.iter().map(|e| (e - bias_um).powi(2)).sum::<f64>()
-        / (count - 1.0).max(1.0))
-    .sqrt();
+    let clean_sigma =
+        (errors.iter().map(|e| (e - bias_um).powi(2)).sum::<f64>() / (count - 1.0).max(1.0)).sqrt();
     let variant = Variant {
         method,
         rule: settings.contact_rule,
@@ -554,39 +563,39 @@ pub fn run(
         .enumerate()
         .filter(|(i, _)| shard.is_none_or(|(k, n)| i % n == k))
         .collect();
-    let results: Vec<CellResult> = mine
-        .par_iter()
-        .map(|&(index, key)| {
-            let reference = clean
-                .iter()
-                .find(|c| c.method == key.method)
-                .expect("a reference per method");
-            let config = with_method(measure, key.method)
-                .validate()
-                .map_err(|e| CampaignError::Field {
-                    field: "measure",
-                    reason: e.to_string(),
+    let results: Vec<CellResult> =
+        mine.par_iter()
+            .map(|&(index, key)| {
+                let reference = clean
+                    .iter()
+                    .find(|c| c.method == key.method)
+                    .expect("a reference per method");
+                let config = with_method(measure, key.method).validate().map_err(|e| {
+                    CampaignError::Field {
+                        field: "measure",
+                        reason: e.to_string(),
+                    }
                 })?;
-            let s = scenario(base, key.kind.faults(key.level), spec.measurements);
-            let run = measurement_cycle::run(&s, &config, &mut |_| {})?;
-            let mut counts = ClassCounts::default();
-            let mut worst: f64 = 0.0;
-            for m in &run.measurements {
-                let (class, error) = classify(m, reference);
-                counts.add(class);
-                if let Some(e) = error {
-                    worst = worst.max(e.abs());
+                let s = scenario(base, key.kind.faults(key.level), spec.measurements);
+                let run = measurement_cycle::run(&s, &config, &mut |_| {})?;
+                let mut counts = ClassCounts::default();
+                let mut worst: f64 = 0.0;
+                for m in &run.measurements {
+                    let (class, error) = classify(m, reference);
+                    counts.add(class);
+                    if let Some(e) = error {
+                        worst = worst.max(e.abs());
+                    }
                 }
-            }
-            progress();
-            Ok(CellResult {
-                index,
-                key,
-                counts,
-                worst_accepted_error_um: worst,
+                progress();
+                Ok(CellResult {
+                    index,
+                    key,
+                    counts,
+                    worst_accepted_error_um: worst,
+                })
             })
-        })
-        .collect::<Result<_, CampaignError>>()?;
+            .collect::<Result<_, CampaignError>>()?;
     Ok(CampaignResults {
         cells_total: cells.len(),
         shard,

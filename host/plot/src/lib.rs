@@ -8,6 +8,7 @@
 //! this module holds the pieces they share, so the plots look alike.
 
 pub mod budget;
+pub mod campaign;
 pub mod control;
 pub mod estimator;
 pub mod measure;

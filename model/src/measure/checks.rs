@@ -32,8 +32,8 @@
 //! when `t − t_fes ≥ fes_timeout_cycles`, `t_fes` being the time of the last FES pulse (or
 //! of the arm, if none came since).
 
+pub use crate::measure::config::MeasureChecks;
 use crate::measure::config::MeasureConfig;
-use crate::validation::{check, ConfigError};
 
 /// The fault bits of the `faults` output word, and their names.
 pub mod fault {
@@ -115,89 +115,6 @@ impl core::fmt::Display for Faults {
             }
             f.write_str(name)?;
         }
-        Ok(())
-    }
-}
-
-/// The checks' thresholds, as a user writes them (`[measure.checks]`): validated with the
-/// rest of the measurement settings and part of the configuration's hash.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
-pub struct MeasureChecks {
-    /// Raise `contact_at_arm` when the contact is closed at the arm's rising edge.
-    pub contact_at_arm: bool,
-    /// Check every revolution's FES pulse count against `pulses_per_rev ± pulse_tolerance`
-    /// (`pulses_lost`, `index_missing`).
-    pub revolutions: bool,
-    /// FES pulses a revolution may differ from `pulses_per_rev`, `0..=pulses_per_rev / 4`.
-    pub pulse_tolerance: u16,
-    /// Raise `scale_error` on an illegal scale transition while armed.
-    pub scale_errors: bool,
-    /// Raise `no_decision` when this many revolutions (index pulses) since arm brought no
-    /// decision, `0..=65535`; 0 turns the check off.
-    pub probe_revs: u16,
-    /// Raise `fes_timeout` after this many clock ticks without an FES pulse while armed,
-    /// `0..=2^32 − 1`; 0 turns the check off.
-    pub fes_timeout_cycles: u32,
-    /// Counting windows closed after the decision (the deciding one first) that must each
-    /// reach the confirmation level, `0..=16`; 0 confirms at the decision.
-    pub confirm_windows: u8,
-    /// The confirmation level, % of the window's FES pulses (counter and density
-    /// methods), `1..=100`.
-    pub confirm_percent: u8,
-}
-
-impl Default for MeasureChecks {
-    /// Every check on: a ±2-pulse revolution tolerance (the index may fall on either side
-    /// of a simultaneous FES edge), a probe fail after 100 revolutions (the default
-    /// approach decides within about 20), an FES watchdog of 65 536 ticks (1.3 ms at
-    /// 50 MHz: 18 FES periods at 800 rpm and 1024 ppr, any spindle above 45 rpm), and a
-    /// confirmation over 3 windows at a quarter of the window (half the papers' 50 %
-    /// decision level).
-    fn default() -> Self {
-        MeasureChecks {
-            contact_at_arm: true,
-            revolutions: true,
-            pulse_tolerance: 2,
-            scale_errors: true,
-            probe_revs: 100,
-            fes_timeout_cycles: 65_536,
-            confirm_windows: 3,
-            confirm_percent: 25,
-        }
-    }
-}
-
-impl MeasureChecks {
-    /// Every check off: the kernel as it was before the checks (never a fault, every
-    /// decision confirmed at once).
-    pub const OFF: MeasureChecks = MeasureChecks {
-        contact_at_arm: false,
-        revolutions: false,
-        pulse_tolerance: 0,
-        scale_errors: false,
-        probe_revs: 0,
-        fes_timeout_cycles: 0,
-        confirm_windows: 0,
-        confirm_percent: 100,
-    };
-
-    /// Checks the fields against `pulses_per_rev`; errors name the field (`checks.…`).
-    pub(crate) fn validate(&self, pulses_per_rev: u16) -> Result<(), ConfigError> {
-        check(
-            "checks.pulse_tolerance",
-            self.pulse_tolerance.into(),
-            0,
-            u64::from(pulses_per_rev / 4),
-        )?;
-        check("checks.confirm_windows", self.confirm_windows.into(), 0, 16)?;
-        check(
-            "checks.confirm_percent",
-            self.confirm_percent.into(),
-            1,
-            100,
-        )?;
         Ok(())
     }
 }

@@ -86,6 +86,13 @@ pub struct TimedEvent {
 }
 
 impl Measurement {
+    /// [`Self::observe`] `time`, then [`Self::apply`] `event`: one timestamped event.
+    #[inline]
+    pub fn apply_at(&mut self, time: u64, event: MeasureEvent) {
+        self.observe(time);
+        self.apply(event);
+    }
+
     /// Applies one event: the event level's whole step.
     #[inline]
     pub fn apply(&mut self, event: MeasureEvent) {

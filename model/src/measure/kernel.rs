@@ -64,13 +64,6 @@ impl Measurement {
         self.checks.observe(now, self.armed);
     }
 
-    /// [`Self::observe`] `time`, then [`Self::apply`] `event`: one timestamped event.
-    #[inline]
-    pub fn apply_at(&mut self, time: u64, event: crate::measure::events::MeasureEvent) {
-        self.observe(time);
-        self.apply(event);
-    }
-
     /// The CNC's arm line changed. A rising edge starts a measurement cycle: counts,
     /// charge, latches and the decision are cleared. A falling edge ends it; the results
     /// are held for the CNC to read until the next rising edge.

@@ -34,13 +34,23 @@ fn spec() -> CampaignSpec {
 
 #[test]
 fn every_faulted_measurement_is_flagged_and_the_clean_ones_are_right() {
-    let r = run(&spec(), &fast_lathe(), &MeasureSettings::default(), None, &|| {}).unwrap();
+    let r = run(
+        &spec(),
+        &fast_lathe(),
+        &MeasureSettings::default(),
+        None,
+        &|| {},
+    )
+    .unwrap();
     assert_eq!(r.cells_total, 3);
     assert_eq!(r.clean.len(), 1);
     let clean = &r.clean[0];
     assert_eq!(clean.counts.silent_harmless, 4, "{clean:?}");
     // The budget refuses this lathe's regime (a 3 µm clearance), so the σ is the clean run's.
-    assert!(clean.tolerance_um > 0.0 && clean.tolerance_um < 5.0, "{clean:?}");
+    assert!(
+        clean.tolerance_um > 0.0 && clean.tolerance_um < 5.0,
+        "{clean:?}"
+    );
     for c in &r.cells {
         assert_eq!(c.counts.total(), 4);
         // A third of the FES pulses lost, a bridge at a third of the arms (the others
@@ -63,7 +73,10 @@ fn shards_merge_into_the_whole_campaign() {
         .map(|k| run(&spec(), &base, &m, Some((k, 2)), &|| {}).unwrap())
         .collect();
     assert_eq!(merge(&parts).unwrap(), whole);
-    assert!(merge(&parts[..1]).unwrap_err().to_string().contains("slice 1/2 is missing"));
+    assert!(merge(&parts[..1])
+        .unwrap_err()
+        .to_string()
+        .contains("slice 1/2 is missing"));
     assert!(merge(&[whole.clone()]).is_err());
 }
 
@@ -71,7 +84,11 @@ fn shards_merge_into_the_whole_campaign() {
 fn bad_specs_are_named() {
     let mut s = spec();
     s.measurements = 0;
-    assert!(s.validate().unwrap_err().to_string().contains("measurements"));
+    assert!(s
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("measurements"));
     let mut s = spec();
     s.levels = vec![1.5];
     let e = s.validate().unwrap_err().to_string();
