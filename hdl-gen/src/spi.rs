@@ -10,7 +10,6 @@
 //! shifts out the low byte of [`SPI_STATUS_ADDR`]; then the addressed word (a read) or
 //! zeros (a write). A write takes effect when CS rises after exactly 40 bits.
 
-use crate::design::{Design, Options};
 use crate::mcu::{mcu_words, MCU_DATA_BITS, MCU_REGISTERS};
 use crate::outputs::output_fields;
 use tooltouch_model::measure::config::{bits_for, ChargeLaw};
