@@ -1,8 +1,8 @@
 //! `tooltouch check` never passes a short trace and reads every trace a device emits
 //! (through the built binary; exit codes 0 match, 1 mismatch, 2 bad input):
-//! - a DUT VCD that stops early (`head -n 96520 measure.vcd`) or runs on is a mismatch
-//!   naming both ends; a golden VCD cut short (at 700 kB) or with a zero-width output is
-//!   bad input;
+//! - a DUT VCD that stops early (`head -n 96520 measure.vcd`, at a clock's boundary) or
+//!   runs on is a mismatch naming both ends; a golden VCD cut short (at a line's end near
+//!   700 kB) or with a zero-width output is bad input;
 //! - a `.ttv` with bytes or a second stream after its END, or of another configuration,
 //!   is bad input; a shorter one is a mismatch naming both record counts;
 //! - force output streams (`tooltouch control --out`) and the firmware's own trace (its
@@ -53,12 +53,12 @@ fn a_dut_vcd_that_stops_early_is_a_mismatch_naming_both_ends() {
     let text_ = std::fs::read_to_string(&golden).unwrap();
     let w = work();
     let dut = w.path().join("dut.vcd");
-    // The case: `head -n 96520 measure.vcd > dut.vcd`.
-    let head: String = text_
-        .lines()
-        .take(96520)
-        .map(|l| format!("{l}\n"))
-        .collect();
+    // The case: `head -n 96520 measure.vcd > dut.vcd`, ended at a clock's
+    // boundary (before the last time line within them), so the trace stops early rather
+    // than in the middle of a clock's changes.
+    let lines: Vec<&str> = text_.lines().take(96520).collect();
+    let whole = lines.iter().rposition(|l| l.starts_with('#')).unwrap();
+    let head: String = lines[..whole].iter().map(|l| format!("{l}\n")).collect();
     std::fs::write(&dut, head).unwrap();
     let (code, out) = check(&golden, &dut);
     assert_eq!(code, Some(1), "{out}");
@@ -90,7 +90,9 @@ fn a_golden_vcd_cut_short_or_with_a_zero_width_output_is_bad_input() {
     let bytes = std::fs::read(&golden).unwrap();
     let w = work();
     let cut = w.path().join("cut.vcd");
-    std::fs::write(&cut, &bytes[..700_000]).unwrap();
+    // At a line's end, so the reader meets a whole file cut short, not a cut line.
+    let at = bytes[..700_000].iter().rposition(|&b| b == b'\n').unwrap() + 1;
+    std::fs::write(&cut, &bytes[..at]).unwrap();
     let (code, out) = check(&cut, &golden);
     assert_eq!(code, Some(2), "{out}");
     assert!(
@@ -178,7 +180,8 @@ fn bytes_or_a_second_stream_after_end_and_other_configurations_are_bad_input() {
     // A shorter stream: a mismatch naming both record counts.
     let records = bytes.len() - 10; // without END
     let short = w.path().join("short.ttv");
-    let n = tooltouch_model::wire::HEADER_LEN + 3 * (RECORD_HEADER_LEN + 32);
+    let n = tooltouch_model::wire::HEADER_LEN
+        + 3 * (RECORD_HEADER_LEN + tooltouch_model::wire::measure_outputs::OUTPUTS_LEN);
     let mut s = bytes[..n].to_vec();
     s.extend_from_slice(&bytes[records..]);
     std::fs::write(&short, s).unwrap();

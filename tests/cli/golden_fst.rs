@@ -29,7 +29,7 @@ fn vectors_and_measure_write_a_golden_fst_that_check_reads_like_the_vcd() {
     };
     for (e, d) in [(&vcd, &fst), (&fst, &vcd)] {
         let (code, out) = check(e, d);
-        assert!(code == Some(0) && out.contains("15 signals"), "{out}");
+        assert!(code == Some(0) && out.contains("17 signals"), "{out}");
     }
     // register_now's first rise flipped in the VCD: the same first mismatch whether the
     // golden side is the VCD or the FST.

@@ -68,7 +68,7 @@ fn linuxcnc_the_component_in_halrun_matches_the_golden_model_every_field_every_p
     assert!(o.status.success(), "{verdict}");
     assert!(
         verdict.starts_with(&format!(
-            "OK: {PERIODS} records × 15 fields and {PERIODS} force records × 14 fields"
+            "OK: {PERIODS} records × 17 fields and {PERIODS} force records × 14 fields"
         )),
         "{verdict}"
     );

@@ -120,6 +120,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                         averages_per_z: 1,
                     },
                     seed,
+                    faults: Default::default(),
                 }
             },
         )

@@ -746,9 +746,12 @@ mod tests {
     /// A check turned off makes its bin not applicable, with the setting named.
     #[test]
     fn a_check_turned_off_has_no_bin_to_reach() {
-        let mut settings = MeasureSettings::default();
-        settings.checks = tooltouch_model::MeasureChecks::OFF;
-        let config = settings.validate().unwrap();
+        let config = MeasureSettings {
+            checks: tooltouch_model::MeasureChecks::OFF,
+            ..MeasureSettings::default()
+        }
+        .validate()
+        .unwrap();
         let cov = coverage(&Stimulus::new(50_000_000), &config);
         let why: Vec<Option<&str>> = cov
             .bins

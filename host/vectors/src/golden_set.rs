@@ -315,3 +315,31 @@ impl GoldenSet {
         Ok(summary)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tooltouch_model::measure::frontend::{pin, Pins};
+
+    /// The summary lists each measurement cycle with its status: a clean one, then one
+    /// armed with the contact closed.
+    #[test]
+    fn the_summary_lists_each_measurement_cycle_with_its_faults() {
+        let config = MeasureConfig::default();
+        let mut s = Stimulus::new(50_000_000);
+        s.push(Pins(0), 10);
+        s.push(Pins(pin::ARM), 100);
+        s.push(Pins(0), 100);
+        s.push(Pins(pin::CONTACT), 100);
+        s.push(Pins(pin::CONTACT | pin::ARM), 100);
+        let summary = GoldenSet::from_pins(&config, s).summary(serde_json::Value::Null);
+        let l = u64::from(config.latency_cycles());
+        assert_eq!(
+            summary["measurements"],
+            serde_json::json!([
+                {"armed_at": 10 + l, "decided": false, "confirmed": false, "faults": []},
+                {"armed_at": 310 + l, "decided": false, "confirmed": false, "faults": ["contact_at_arm"]},
+            ])
+        );
+    }
+}

@@ -202,9 +202,16 @@ pub fn add_details(
             .iter()
             .find(|m| name_of(m) == dif.signal)
             .map_or(String::new(), |m| m.dut.clone());
+        let number = |v: &str| {
+            v.strip_prefix("0x")
+                .and_then(|h| u64::from_str_radix(h, 16).ok())
+        };
         lines.push(format!(
-            "  {:<22} {dut_path:<wide$}  expected {:<18} got {}",
-            dif.signal, dif.expected, dif.got
+            "  {:<22} {dut_path:<wide$}  expected {:<18} got {}{}",
+            dif.signal,
+            dif.expected,
+            dif.got,
+            super::fault_names(&dif.signal, number(&dif.expected), number(&dif.got))
         ));
     }
     lines.push(
