@@ -66,41 +66,25 @@ fn a_thousand_clean_measurements_raise_no_fault_and_every_decision_is_confirmed(
             (1000.0, 0.001),
             (800.0, 0.002),
         ] {
-            runs.push((
-                "defaults",
-                c.clone(),
-                with(&d, seed, rpm, feed, 20, Permanent),
-            ));
+            runs.push(("defaults", c, with(&d, seed, rpm, feed, 20, Permanent)));
         }
-        runs.push((
-            "defaults",
-            c.clone(),
-            with(&d, seed, 800.0, 0.001, 20, Decision),
-        ));
+        runs.push(("defaults", c, with(&d, seed, 800.0, 0.001, 20, Decision)));
     }
     for name in ["rig1.toml", "rig2.toml"] {
         let (c, r) = preset(name);
         for seed in 1..=3 {
             for (rpm, feed) in [(600.0, 0.001), (1000.0, 0.0015), (800.0, 0.0005)] {
-                runs.push((name, c.clone(), with(&r, seed, rpm, feed, 20, Permanent)));
+                runs.push((name, c, with(&r, seed, rpm, feed, 20, Permanent)));
             }
-            runs.push((name, c.clone(), with(&r, seed, 800.0, 0.001, 20, Decision)));
+            runs.push((name, c, with(&r, seed, 800.0, 0.001, 20, Decision)));
         }
     }
     let (c, f) = super::status::fast_lathe();
     for seed in 1..=4 {
         for (rpm, feed) in [(2400.0, 0.001), (3600.0, 0.002), (4800.0, 0.001)] {
-            runs.push((
-                "fast lathe",
-                c.clone(),
-                with(&f, seed, rpm, feed, 10, Permanent),
-            ));
+            runs.push(("fast lathe", c, with(&f, seed, rpm, feed, 10, Permanent)));
         }
-        runs.push((
-            "fast lathe",
-            c.clone(),
-            with(&f, seed, 4800.0, 0.001, 10, Decision),
-        ));
+        runs.push(("fast lathe", c, with(&f, seed, 4800.0, 0.001, 10, Decision)));
     }
     let measurements: u32 = runs.iter().map(|r| r.2.cycle.repeats).sum();
     assert!(measurements >= 1000, "{measurements}");
