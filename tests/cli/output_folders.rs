@@ -43,10 +43,15 @@ fn measure_replaces_its_files_and_removes_the_stale_vcd() {
     let out = w.path().join("out");
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
-    let o = measure(&toml, &out, &[]);
+    // 4800 rpm: at the demo lathe's 6000 rpm the glitch filter loses FES pulses (a fault).
+    let o = measure(&toml, &out, &["--rpm", "4800"]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(out.join("measure.vcd").is_file());
-    let o = measure(&toml, &out, &["--vcd", "none", "--i-def", "500"]);
+    let o = measure(
+        &toml,
+        &out,
+        &["--rpm", "4800", "--vcd", "none", "--i-def", "500"],
+    );
     assert!(o.status.success(), "{}", text(&o));
     assert_eq!(
         names(&out),
@@ -79,6 +84,42 @@ fn measure_replaces_its_files_and_removes_the_stale_vcd() {
 }
 
 #[test]
+fn measure_names_a_fault_shows_no_diameter_for_it_and_exits_1() {
+    // At 6000 rpm and 1 MHz the 4-clock glitch filter loses FES pulses: `pulses_lost`.
+    let w = tempfile::tempdir().unwrap();
+    let toml = w.path().join("fast.toml");
+    std::fs::write(&toml, FAST).unwrap();
+    let out = w.path().join("out");
+    let o = measure(&toml, &out, &["--rpm", "6000", "--vcd", "none"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("—   FAULT pulses_lost\n")
+            && t.contains("status: 0/1 confirmed; 1 faulted")
+            && t.contains("(1 faulted) (exit code 1)"),
+        "{t}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let m = &json["measurements"][0];
+    assert_eq!(m["fault_names"], serde_json::json!(["pulses_lost"]));
+    assert_eq!(
+        (m["faults"].as_u64(), m["accepted"].as_bool()),
+        (Some(2), Some(false))
+    );
+    assert!(m["diameter_mm"].is_null());
+    assert_eq!(json["summary"]["faulted"], 1);
+    // The same lathe at 4800 rpm is clean: every measurement confirmed.
+    let o = measure(&toml, &out, &["--rpm", "4800", "--vcd", "none"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("status: 1/1 confirmed, no fault"),
+        "{}",
+        text(&o)
+    );
+}
+
+#[test]
 fn measure_exits_1_when_a_measurement_does_not_decide() {
     let w = tempfile::tempdir().unwrap();
     let toml = w.path().join("fast.toml");
@@ -88,7 +129,7 @@ fn measure_exits_1_when_a_measurement_does_not_decide() {
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
     assert!(
         text(&o).contains("decided 0/1")
-            && text(&o).contains("1 of 1 measurements did not decide (exit code 1)"),
+            && text(&o).contains("1 of 1 measurements did not decide or were not accepted ("),
         "{}",
         text(&o)
     );

@@ -87,6 +87,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                     // The levels' agreement, not the path: no loads, so the
                     // clearance below clears the surface.
                     spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
+                    faults: Default::default(),
                     slow: vec![SlowHarmonic {
                         amplitude_um: slow_um,
                         period_revs: 2.3,

@@ -27,6 +27,9 @@ fn small() -> (MeasureConfig, Stimulus) {
         clock_hz: 1_000_000,
         rpm: 1_000_000.0 * 60.0 / (64.0 * 20.0),
         feed_mm_per_rev: 0.001,
+        // No loads: at 46 875 rpm the default spindle path lifts the surface above the
+        // clearance, and the contact is closed at arm (the status's `contact_at_arm`).
+        spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
         cycle: CycleSettings {
             repeats: 1,
             retract_mm_per_s: 1.0,

@@ -269,9 +269,18 @@ impl Driver {
                     count.get_or_insert(count_at(k));
                 }
             }
-            contact_fraction.push(
-                crate::lathe::electrics::covered(&chunk.contact, a, used) as f64 / (b - a) as f64,
-            );
+            // A piece of a revolution fed only while waiting for the confirmation (permanent
+            // contact seen, the decision's reaction long past) is no revolution of the
+            // approach's pattern: left out, so the last fraction stays the permanent one.
+            let awaiting_confirmation = permanent.is_some()
+                && used < b
+                && watch.decision.is_some_and(|k| k + watch.reaction < a);
+            if !awaiting_confirmation {
+                contact_fraction.push(
+                    crate::lathe::electrics::covered(&chunk.contact, a, used) as f64
+                        / (b - a) as f64,
+                );
+            }
             if used < b || watch.stop_after.is_some_and(|s| s < used) {
                 break;
             }
