@@ -114,6 +114,9 @@ pub struct FrontEnd {
     previous: u8,
     /// Per pin: clocks `sync2` has differed from `filtered`, `0..=glitch_cycles`.
     stable: [u8; pin::COUNT],
+    /// Clocks done since reset: the next clock is clock number `clocks` (from 0), the
+    /// time of the events it applies and of the kernel's FES watchdog.
+    clocks: u64,
     measurement: Measurement,
 }
 
@@ -127,21 +130,23 @@ impl FrontEnd {
             filtered: 0,
             previous: 0,
             stable: [0; pin::COUNT],
+            clocks: 0,
             measurement: Measurement::new(config),
         }
     }
 
     /// One rising clock edge with the input pins `pins`. Returns the edges the kernel
     /// acted on in this clock.
-    #[inline]
+    #[inline(always)]
     pub fn clock(&mut self, pins: Pins) -> Edges {
         let edges = Edges {
             changed: self.filtered ^ self.previous,
             levels: self.filtered,
         };
+        let now = self.clocks;
+        self.clocks = now + 1;
         if edges.changed != 0 {
-            let m = &mut self.measurement;
-            edges.for_each_event(|e| m.apply(e));
+            self.apply_edges(edges, now);
         }
         self.previous = self.filtered;
         let differ = self.sync2 ^ self.filtered;
@@ -153,8 +158,34 @@ impl FrontEnd {
         edges
     }
 
+    /// The kernel's update for the edges of clock number `now`, in canonical order (as
+    /// [`Edges::for_each_event`] lists them), written out with no closure so that the
+    /// whole clock inlines into a caller's loop and its registers can stay in the CPU's.
+    #[inline(always)]
+    fn apply_edges(&mut self, edges: Edges, now: u64) {
+        let (changed, levels) = (edges.changed, edges.levels);
+        let m = &mut self.measurement;
+        m.observe(now);
+        if changed & pin::ARM != 0 {
+            m.on_arm(levels & pin::ARM != 0);
+        }
+        if changed & pin::CONTACT != 0 {
+            m.on_contact(levels & pin::CONTACT != 0);
+        }
+        if changed & levels & pin::INDEX != 0 {
+            m.on_index();
+        }
+        if changed & levels & pin::FES != 0 {
+            m.on_fes();
+        }
+        if changed & (pin::SCALE_A | pin::SCALE_B) != 0 {
+            m.on_scale(levels & pin::SCALE_A != 0, levels & pin::SCALE_B != 0);
+        }
+    }
+
     /// Glitch filter step: a differing bit is taken once it has differed for
     /// `glitch_cycles` earlier clocks too; a bit that agrees resets its counter.
+    #[inline(always)]
     fn filter(&mut self, differ: u8) {
         for (i, stable) in self.stable.iter_mut().enumerate() {
             let bit = 1u8 << i;
@@ -183,6 +214,8 @@ impl FrontEnd {
         let mut k = 0;
         while k < cycles {
             if self.is_settled(pins) {
+                // Settled clocks change no register; only the time moves on.
+                self.clocks += cycles - k;
                 return k;
             }
             let edges = self.clock(pins);
@@ -205,9 +238,14 @@ impl FrontEnd {
             && self.stable == [0; pin::COUNT]
     }
 
-    /// Every output, as registered after the last clock.
+    /// Every output, as registered after the last clock (clock number `clocks − 1`).
     pub fn outputs(&self) -> MeasureOutputs {
-        self.measurement.outputs()
+        self.measurement.outputs_at(self.clocks.saturating_sub(1))
+    }
+
+    /// Clocks done since reset.
+    pub fn clocks(&self) -> u64 {
+        self.clocks
     }
 
     /// The kernel (read-only).
@@ -335,6 +373,13 @@ mod tests {
         assert!(fe.is_settled(pins));
         let before = fe;
         fe.clock(pins);
-        assert_eq!(fe, before);
+        // Only the time moves on.
+        assert_eq!(
+            fe,
+            FrontEnd {
+                clocks: before.clocks + 1,
+                ..before
+            }
+        );
     }
 }
