@@ -244,7 +244,7 @@ fn load_calibration(
     let file: Calibration = serde_json::from_str(&text)
         .with_context(|| format!("reading the calibration file {}", path.display()))?;
     let entry = file
-        .entry_for(config, scenario.feed_mm_per_rev, scenario.rpm)
+        .entry_for_machine(config, scenario)
         .with_context(|| format!("--calibration {}", path.display()))?;
     Ok(entry.clone())
 }

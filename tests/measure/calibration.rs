@@ -19,6 +19,7 @@ use tooltouch_metrology::calibration::{
 use tooltouch_metrology::simulate::config_of;
 use tooltouch_model::measure::config::DecisionMethod;
 use tooltouch_model::MeasureSettings;
+use tooltouch_plant::lathe::LatheScenario;
 use tooltouch_settings::Settings;
 
 const REPEATS: u32 = 60;
@@ -124,6 +125,43 @@ fn a_file_from_another_configuration_feed_or_speed_is_refused() {
         cal.entry_for(&density, machine.feed_mm_per_rev, machine.rpm),
         Err(CalibrationError::NoEntry { .. })
     ));
+    // What moves the path and the count: another scale, a lighter pass, no loads.
+    assert!(cal.entry_for_machine(&config, &machine).is_ok());
+    let other_scale = LatheScenario {
+        scale_resolution_um: 0.5,
+        ..machine.clone()
+    };
+    assert!(matches!(
+        cal.entry_for_machine(&config, &other_scale),
+        Err(CalibrationError::OtherResolution { .. })
+    ));
+    let mut lighter = machine.clone();
+    lighter.spindle_path.cutting_force_n = 10.0;
+    let e = cal.entry_for_machine(&config, &lighter).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            CalibrationError::OtherSpindlePath {
+                field: "spindle_path.cutting_force_n",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    // The message states how far the path's offset moves (the budget's path model).
+    assert!(
+        e.to_string().contains("+2.92 µm in the file's state"),
+        "{e}"
+    );
+    let mut unloaded = machine.clone();
+    unloaded.spindle_path.loads = false;
+    assert!(matches!(
+        cal.entry_for_machine(&config, &unloaded),
+        Err(CalibrationError::OtherSpindlePath {
+            field: "spindle_path.loads",
+            ..
+        })
+    ));
     let mut bad = cal.clone();
     bad.format = "something else".into();
     assert!(matches!(
@@ -156,7 +194,7 @@ fn calibrate_then_measure_with_the_file_and_refuse_another_configuration() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(&file).unwrap();
-    assert!(text.contains("tooltouch-calibration/2"), "{text}");
+    assert!(text.contains("tooltouch-calibration/3"), "{text}");
     let measure = |extra: &[&str]| {
         std::process::Command::new(bin)
             .args(["measure", "--no-progress", "--vcd", "none", "--out"])

@@ -27,10 +27,10 @@ use tooltouch_model::measure::calibration::CalibrationRecord;
 use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
 use tooltouch_model::{MeasureConfig, MeasureSettings};
 use tooltouch_plant::lathe::surface::mix;
-use tooltouch_plant::lathe::LatheScenario;
+use tooltouch_plant::lathe::{LatheScenario, SpindlePath};
 
 /// The calibration file's format name.
-pub const FORMAT: &str = "tooltouch-calibration/2";
+pub const FORMAT: &str = "tooltouch-calibration/3";
 
 /// The reference part.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -64,6 +64,10 @@ pub struct CalibrationEntry {
     pub offset_um: f64,
     /// The scale's resolution, µm per count (on the radius).
     pub scale_resolution_um: f64,
+    /// The spindle's supports and loads the calibration was made under (the cutting force
+    /// of the pass it serves, the belt load, the unbalance, the play): they set the path
+    /// difference, the largest part of the offset (docs/accuracy.md, "The spindle path").
+    pub spindle_path: SpindlePath,
     /// The offset in scale counts as the firmware subtracts it from the latched position:
     /// `round(offset_um / (2 · scale_resolution_um))`, halves away from zero.
     pub offset_counts: i32,
@@ -166,6 +170,39 @@ pub enum CalibrationError {
     /// The calibration does not fit the configuration's scale position.
     #[error("{0}")]
     Record(String),
+    /// The file was made with another scale resolution.
+    #[error(
+        "the calibration was made with a {file} µm scale, this run's scale counts {run} µm: \
+         its offset_counts are counts of the other scale, and the quantization differs; \
+         recalibrate with this scale"
+    )]
+    OtherResolution {
+        /// The file's resolution, µm per count.
+        file: f64,
+        /// This run's, µm per count.
+        run: f64,
+    },
+    /// The file was made with the spindle in another state of load (another cutting force,
+    /// belt load, unbalance, play or none of the loads).
+    #[error(
+        "the calibration was made with {field} = {file}, this run has {run}: the spindle's \
+         path while measuring moves with its loads (its offset from the machining path \
+         {file_offset_um:+.2} µm in the file's state, {run_offset_um:+.2} µm in this run's, \
+         radius; the budget's path term follows it) and the calibration's offset with it; \
+         recalibrate in this state"
+    )]
+    OtherSpindlePath {
+        /// The first field that differs (`spindle_path.cutting_force_n`, …).
+        field: &'static str,
+        /// Its value in the file (`loads`: 1 or 0).
+        file: f64,
+        /// Its value in this run.
+        run: f64,
+        /// The path's offset in the file's state, µm (radius).
+        file_offset_um: f64,
+        /// The path's offset in this run's state, µm (radius).
+        run_offset_um: f64,
+    },
     /// The file was made at another spindle speed.
     #[error(
         "the calibration was made at {file} rpm, this run measures at {run} rpm: the speed \
@@ -256,6 +293,7 @@ pub fn calibrate(
             rpm: machine.rpm,
             offset_um: sim.bias_vs_mean_um,
             scale_resolution_um: machine.scale_resolution_um,
+            spindle_path: machine.spindle_path.clone(),
             offset_counts: offset_counts(sim.bias_vs_mean_um, machine.scale_resolution_um).ok_or(
                 CalibrationError::Counts {
                     offset_um: sim.bias_vs_mean_um,
@@ -278,6 +316,59 @@ pub fn calibrate(
 }
 
 impl Calibration {
+    /// The entry for a run with `config` on the machine `scenario`: refused as
+    /// [`Self::entry_for`] refuses (its feed and speed), and when the file was made with
+    /// another scale resolution or with the spindle in another state of load.
+    pub fn entry_for_machine(
+        &self,
+        config: &MeasureConfig,
+        scenario: &LatheScenario,
+    ) -> Result<&CalibrationEntry, CalibrationError> {
+        let entry = self.entry_for(config, scenario.feed_mm_per_rev, scenario.rpm)?;
+        let run = scenario.scale_resolution_um;
+        if (entry.scale_resolution_um - run).abs() > 1e-9 * run.abs() {
+            return Err(CalibrationError::OtherResolution {
+                file: entry.scale_resolution_um,
+                run,
+            });
+        }
+        let fields = |p: &SpindlePath| {
+            [
+                ("spindle_path.loads", if p.loads { 1.0 } else { 0.0 }),
+                ("spindle_path.cutting_force_n", p.cutting_force_n),
+                ("spindle_path.belt_load_n", p.belt_load_n),
+                ("spindle_path.unbalance_g_mm", p.unbalance_g_mm),
+                ("spindle_path.unbalance_phase_rad", p.unbalance_phase_rad),
+                ("spindle_path.machining_rpm", p.machining_rpm),
+                ("spindle_path.clearance_um", p.clearance_um),
+                ("spindle_path.span_mm", p.span_mm),
+                ("spindle_path.overhang_mm", p.overhang_mm),
+                (
+                    "spindle_path.front_stiffness_n_per_um",
+                    p.front_stiffness_n_per_um,
+                ),
+                (
+                    "spindle_path.rear_stiffness_n_per_um",
+                    p.rear_stiffness_n_per_um,
+                ),
+            ]
+        };
+        let differs = fields(&entry.spindle_path)
+            .into_iter()
+            .zip(fields(&scenario.spindle_path))
+            .find(|((_, a), (_, b))| (a - b).abs() > 1e-9 * a.abs().max(b.abs()));
+        if let Some(((field, file), (_, run))) = differs {
+            return Err(CalibrationError::OtherSpindlePath {
+                field,
+                file,
+                run,
+                file_offset_um: entry.spindle_path.difference(scenario.rpm).offset_um,
+                run_offset_um: scenario.spindle_path.difference(scenario.rpm).offset_um,
+            });
+        }
+        Ok(entry)
+    }
+
     /// The entry for a run with `config` approaching at `feed_mm_per_rev` with the spindle
     /// at `rpm`: refused when the file is of another format, holds no entry for the method
     /// and rule, was made with another configuration, at another feed or at another speed
