@@ -244,6 +244,24 @@ pub fn settle_periods(power_lag_s: f64, s: &ForceSettings) -> Result<u8, String>
     ))
 }
 
+/// The tracking's per-sample gain for a measured-power lag of `power_lag_s` seconds sampled
+/// at `sample_hz` (docs/wear.md, "Cuts shorter than the hold"): `1 − e^(−1/(f_s·τ))`, the
+/// step of a first-order lag from one sample to the next; 1 for no lag. Err for a negative
+/// or non-finite lag.
+pub fn power_lag_gain(power_lag_s: f64, sample_hz: u16) -> Result<Fx, String> {
+    if !(power_lag_s.is_finite() && power_lag_s >= 0.0) {
+        return Err(format!("power lag {power_lag_s} s: must be 0 or more"));
+    }
+    let fs = f64::from(sample_hz.max(1));
+    let gain = if power_lag_s > 0.0 {
+        1.0 - (-1.0 / (fs * power_lag_s)).exp()
+    } else {
+        1.0
+    };
+    // At least one LSB: a lag so long that the gain rounds to 0 would never track.
+    Ok(Fx::from_num(gain).max(Fx::DELTA))
+}
+
 /// The wear scenario: idle at the first cut's speed for `idle_s`, then the cuts in order;
 /// the CNC selects each cut's condition set at its start.
 #[derive(Clone, Debug, PartialEq)]
@@ -316,6 +334,8 @@ pub struct WearRun {
     pub allowed: Vec<f64>,
     /// Alarm latched.
     pub alarm: Vec<bool>,
+    /// The monitor could not judge (`wear_blind`).
+    pub blind: Vec<bool>,
     /// Flank wear, mm.
     pub vb: Vec<f64>,
     /// First alarm time, s.
@@ -408,6 +428,9 @@ impl WearScenario {
         // The ringing's envelope adds to the lag it comes before (conservative).
         let lag = self.power_lag + self.transients.map_or(0.0, |t| t.envelope_s());
         s.wear.settle_periods = settle_periods(lag, &s)?;
+        // Tracking replicates the lag alone: the ringing has a mean delay of 2ζ/ω_n (a few
+        // ms), which the guard covers.
+        s.wear.power_lag_gain = Some(power_lag_gain(self.power_lag, s.sample_hz)?);
         s.wear.validate().map_err(|e| e.to_string())?;
         Ok(s.wear)
     }
@@ -518,6 +541,7 @@ impl WearScenario {
                 out.power.push(o.wear_power.to_num());
                 out.allowed.push(o.wear_allowed.to_num());
                 out.alarm.push(o.wear_alarm);
+                out.blind.push(o.wear_blind);
                 out.vb.push(vb);
                 if o.wear_alarm && out.alarm_at.is_none() {
                     out.alarm_at = Some(tt);
