@@ -244,6 +244,39 @@ pub fn settle_periods(power_lag_s: f64, s: &ForceSettings) -> Result<u8, String>
     ))
 }
 
+/// The scatter of measured power about the model, a fraction of the allowed motor power
+/// `[P]`: the milling paper's Fig. 5 points lie within about 5 % of its model lines, and
+/// what it measured is the spindle's motor-side power with its idle part (docs/wear.md,
+/// "Fig. 6"). A threshold separates a new tool from a worn one only if the new tool's
+/// motor power sits below `[P]` by more than this.
+pub const MODEL_SCATTER: f64 = 0.05;
+
+impl WearScenario {
+    /// Refuses a new tool whose motor power `p_i + P̄/η` (W7, W9) comes within
+    /// [`MODEL_SCATTER`] of `[P]` in some cut: the model's own scatter could lift it over the
+    /// threshold. Err names the cut, both powers and the margin.
+    pub fn check_new_tool_margin(&self, new_vb_mm: f64) -> Result<(), String> {
+        let eta = self.milling.efficiency;
+        for (i, c) in self.cuts.iter().enumerate() {
+            let allowed =
+                c.idle_power + self.milling.mean_power(self.vb_limit_mm, &c.conditions) / eta;
+            let new = c.idle_power + self.milling.mean_power(new_vb_mm, &c.conditions) / eta;
+            let margin = allowed - new;
+            if margin <= MODEL_SCATTER * allowed {
+                return Err(format!(
+                    "cut {} (depth {} mm): the new tool (VB {new_vb_mm} mm) draws {new:.0} W of motor power against [P] = {allowed:.0} W at [VB] = {} mm, {margin:.0} W ({:.1} %) below it: within the model's {:.0} % scatter, so the threshold cannot tell it from a worn tool (raise vb_limit_mm or lower new_vb_mm)",
+                    i + 1,
+                    c.conditions.depth_mm,
+                    self.vb_limit_mm,
+                    100.0 * margin / allowed,
+                    100.0 * MODEL_SCATTER
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The tracking's per-sample gain for a measured-power lag of `power_lag_s` seconds sampled
 /// at `sample_hz` (docs/wear.md, "Cuts shorter than the hold"): `1 − e^(−1/(f_s·τ))`, the
 /// step of a first-order lag from one sample to the next; 1 for no lag. Err for a negative

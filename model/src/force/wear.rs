@@ -310,12 +310,12 @@ impl WearMonitor {
     /// (a period without samples keeps `T̃`).
     fn track_period(&mut self) {
         let t = &mut self.track;
-        if let Some(avg) = t.sum.checked_div(Fx::from_num(t.count)) {
-            if t.count > 0 {
-                t.tracked = t.tracked.saturating_add(
-                    avg.saturating_sub(t.tracked) >> u32::from(self.s.lowpass_shift),
-                );
-            }
+        // The count as I32F32 (a u16 always fits); 0 samples: no average, T̃ kept.
+        let count = Fx::from_bits(i64::from(t.count) << 32);
+        if let Some(avg) = t.sum.checked_div(count) {
+            t.tracked = t
+                .tracked
+                .saturating_add(avg.saturating_sub(t.tracked) >> u32::from(self.s.lowpass_shift));
         }
         t.sum = Fx::ZERO;
         t.count = 0;
