@@ -353,7 +353,7 @@ const FX_FIELDS: [FxField; 5] = [
 ];
 /// The flag outputs: name and accessor.
 type FlagField = (&'static str, fn(&ModelOutputs) -> bool);
-const FLAG_FIELDS: [FlagField; 7] = [
+const FLAG_FIELDS: [FlagField; 8] = [
     ("saturated", |o| o.saturated),
     ("fast_estimate", |o| o.fast_estimate),
     ("control_enabled", |o| o.control_enabled),
@@ -361,6 +361,7 @@ const FLAG_FIELDS: [FlagField; 7] = [
     ("identified", |o| o.identified),
     ("wear_over", |o| o.wear_over),
     ("wear_alarm", |o| o.wear_alarm),
+    ("wear_blind", |o| o.wear_blind),
 ];
 
 /// Every output of the force path after one event.
@@ -411,6 +412,11 @@ impl ForceOutputs {
     #[getter]
     fn wear_alarm(&self) -> bool {
         self.inner.wear_alarm
+    }
+    /// The wear monitor cannot judge: its threshold is still above the conditions' own.
+    #[getter]
+    fn wear_blind(&self) -> bool {
+        self.inner.wear_blind
     }
     /// Bad CNC commands, saturating at 255.
     #[getter]

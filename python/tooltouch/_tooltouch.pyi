@@ -401,6 +401,9 @@ class ForceOutputs:
     def wear_alarm(self) -> bool:
         """Wear alarm latched (change the tool)."""
     @property
+    def wear_blind(self) -> bool:
+        """The wear monitor cannot judge: its threshold is still above the conditions' own."""
+    @property
     def bad_events(self) -> int:
         """Bad CNC commands (condition index out of range), saturating at 255."""
     @property

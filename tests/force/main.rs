@@ -14,4 +14,5 @@ mod vectors;
 mod wear_presets;
 mod wear_scenario;
 mod wear_settle;
+mod wear_short_cuts;
 mod wear_transients;

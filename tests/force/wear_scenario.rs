@@ -69,13 +69,19 @@ fn fixed_point_monitor_matches_its_float_reference() {
     let config = sc.config(false).unwrap();
     let run = sc.run(&WORN_TOOL, &config);
     let settings = config.settings().wear;
-    let mut fixed = WearMonitor::new(&settings);
-    let mut float = WearF::new(&settings);
+    let shift = config.settings().lowpass_shift;
+    let mut fixed = WearMonitor::new(&settings, shift);
+    let mut float = WearF::new(&settings, shift);
+    let spp = config.settings().samples_per_period;
     // the true period-mean motor power of the worn-tool run as the monitor's input
     for (i, &p) in run.power_true.iter().enumerate() {
         if i == run.t.len() / 2 {
             fixed.select(1);
             float.select(1);
+        }
+        for _ in 0..spp {
+            fixed.on_sample();
+            float.on_sample();
         }
         let st = fixed.step(Fx::from_num(p));
         let y = float.step(p);
@@ -86,6 +92,7 @@ fn fixed_point_monitor_matches_its_float_reference() {
         );
         assert!((st.allowed.to_num::<f64>() - float.allowed).abs() < 0.01);
         assert_eq!(st.alarm, float.alarm, "period {i}");
+        assert_eq!(st.blind, float.blind, "period {i}");
     }
     // replaying the recorded events through a fresh kernel reproduces the run's alarm
     let mut k = tooltouch_model::force::kernel::ForceKernel::new(&config);

@@ -16,9 +16,9 @@
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tooltouch_model::force::config::ForceSettings;
-use tooltouch_model::force::wear::DEFAULT_SETTLE_PERIODS;
+use tooltouch_model::force::wear::{DEFAULT_POWER_LAG_GAIN, DEFAULT_SETTLE_PERIODS};
 use tooltouch_plant::milling::{
-    settle_periods, Conditions, Cut, Tool, WearScenario, NEW_TOOL, SETTLE_TOLERANCE,
+    power_lag_gain, settle_periods, Conditions, Cut, Tool, WearScenario, NEW_TOOL, SETTLE_TOLERANCE,
 };
 
 /// A tool worn to twice the 0.3 mm limit (the paper's worn tools: 1.7 to 2.2 × its 0.5 mm).
@@ -100,6 +100,15 @@ fn the_default_hold_is_derived_from_the_default_lag_and_filters() {
     let s = ForceSettings::default();
     assert_eq!(settle_periods(0.3, &s), Ok(DEFAULT_SETTLE_PERIODS));
     assert_eq!(s.wear.settle_periods, DEFAULT_SETTLE_PERIODS);
+    // The tracking's gain for the same lag, within the LSB of its decimal literal.
+    let gain = power_lag_gain(0.3, s.sample_hz).unwrap();
+    assert!((gain - DEFAULT_POWER_LAG_GAIN).abs() <= tooltouch_model::units::Fx::DELTA);
+    assert_eq!(s.wear.power_lag_gain, Some(DEFAULT_POWER_LAG_GAIN));
+    assert!(power_lag_gain(-1.0, 1000).is_err());
+    assert_eq!(
+        power_lag_gain(0.0, 1000),
+        Ok(tooltouch_model::units::Fx::ONE)
+    );
     // No lag: the filters alone; a slower lag needs more; a lag too long for 255 periods
     // is refused naming the limit.
     assert!(settle_periods(0.0, &s).unwrap() < DEFAULT_SETTLE_PERIODS);
@@ -116,8 +125,14 @@ fn without_the_hold_the_reversed_cuts_false_alarm_at_21_5_s() {
     let config = sc.config(false).unwrap();
     let mut s = *config.settings();
     s.wear.settle_periods = 0;
+    s.wear.power_lag_gain = None;
     let run = sc.run(&NEW_TOOL, &s.validate().unwrap());
     assert_eq!(run.alarm_at, Some(21.5), "the false alarm the hold removes");
+    // Tracking needs no hold: the threshold falls as the power does.
+    s.wear.power_lag_gain = config.settings().wear.power_lag_gain;
+    assert!(s.wear.power_lag_gain.is_some(), "the scenario tracks");
+    let run = sc.run(&NEW_TOOL, &s.validate().unwrap());
+    assert_eq!(run.alarm_at, None, "tracking, no hold");
 }
 
 #[test]

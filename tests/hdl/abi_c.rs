@@ -263,7 +263,8 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
             | u64::from(o.identifying) << 3
             | u64::from(o.identified) << 4
             | u64::from(o.wear_over) << 5
-            | u64::from(o.wear_alarm) << 6;
+            | u64::from(o.wear_alarm) << 6
+            | u64::from(o.wear_blind) << 7;
         let want: Vec<u64> = [
             u64::from(period),
             u64::from(o.override_pct),

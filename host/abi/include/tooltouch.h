@@ -199,6 +199,8 @@ typedef struct TtForceOutputs {
   uint8_t wear_alarm;
   // Bad CNC commands, saturating at 255.
   uint8_t bad_events;
+  // The wear monitor cannot judge (its threshold still above the conditions' own).
+  uint8_t wear_blind;
   // Estimated cutting force, N, I32F32 bits.
   int64_t force_estimate;
   // Dynamometer force (period average), N, I32F32 bits.

@@ -112,6 +112,7 @@ pub unsafe extern "C" fn tt_force_outputs(
             wear_over: o.wear_over.into(),
             wear_alarm: o.wear_alarm.into(),
             bad_events: o.bad_events,
+            wear_blind: o.wear_blind.into(),
             force_estimate: o.force_estimate.to_bits(),
             force_measured: o.force_measured.to_bits(),
             wear_power: o.wear_power.to_bits(),

@@ -277,6 +277,8 @@ pub struct TtForceOutputs {
     pub wear_alarm: u8,
     /// Bad CNC commands, saturating at 255.
     pub bad_events: u8,
+    /// The wear monitor cannot judge (its threshold still above the conditions' own).
+    pub wear_blind: u8,
     /// Estimated cutting force, N, I32F32 bits.
     pub force_estimate: i64,
     /// Dynamometer force (period average), N, I32F32 bits.

@@ -81,6 +81,7 @@ pin out bit identifying "no-load identification is running";
 pin out bit identified "friction comes from an identification";
 pin out bit wear_over "the wear monitor's power is at or above its threshold";
 pin out bit wear_alarm "wear alarm latched (stop, change the tool)";
+pin out bit wear_blind "the wear monitor cannot judge: its threshold is still above the conditions' own (after a lighter cut)";
 pin out u32 bad_events "bad CNC commands, saturating at 255";
 pin out s32 force_estimate_hi "estimated cutting force, N, I32F32 bits 63..32";
 pin out u32 force_estimate_lo "estimated cutting force, I32F32 bits 31..0";
@@ -324,6 +325,7 @@ FUNCTION(update) {
     split(v[11], &wear_power_hi, &wear_power_lo);
     split(v[12], &wear_allowed_hi, &wear_allowed_lo);
     split(v[13], &coulomb_hi, &coulomb_lo);
+    wear_blind = v[14];
     force_estimate = v[9] / 4294967296.0;
     wear_power = v[11] / 4294967296.0;
     rate_mismatch = sample_hz == 0 || period != 1000000000L / (long)sample_hz;

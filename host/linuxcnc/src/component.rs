@@ -236,11 +236,11 @@ fn number(n: usize) -> String {
 
 /// The force words: the model has no list of its force outputs (yet); written here once.
 const FORCE_WORDS: &str = "/* Number of force output words. */
-#define TT_HAL_FORCE_WORDS 14
+#define TT_HAL_FORCE_WORDS 15
 
-/* The 14 force outputs: override_pct saturated fast_estimate control_enabled identifying
+/* The 15 force outputs: override_pct saturated fast_estimate control_enabled identifying
  * identified wear_over wear_alarm bad_events, then the I32F32 bits of force_estimate
- * force_measured wear_power wear_allowed coulomb. */
+ * force_measured wear_power wear_allowed coulomb, then wear_blind. */
 static inline void tt_hal_force_words(const TtForceOutputs *f, int64_t w[TT_HAL_FORCE_WORDS]) {
     w[0] = f->override_pct;
     w[1] = f->saturated;
@@ -256,6 +256,7 @@ static inline void tt_hal_force_words(const TtForceOutputs *f, int64_t w[TT_HAL_
     w[11] = f->wear_power;
     w[12] = f->wear_allowed;
     w[13] = f->coulomb;
+    w[14] = f->wear_blind;
 }
 
 ";

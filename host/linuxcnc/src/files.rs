@@ -33,7 +33,7 @@ pub const MEASURE_PINS: [(&str, char); 15] = [
 
 /// Sampler 1: the 14 force outputs (each I32F32 value as its high and low words), then the
 /// `overruns` health pin.
-pub const FORCE_PINS: [(&str, char); 20] = [
+pub const FORCE_PINS: [(&str, char); 21] = [
     ("override-pct", 'u'),
     ("saturated", 'b'),
     ("fast-estimate", 'b'),
@@ -53,6 +53,7 @@ pub const FORCE_PINS: [(&str, char); 20] = [
     ("wear-allowed-lo", 'u'),
     ("coulomb-hi", 's'),
     ("coulomb-lo", 'u'),
+    ("wear-blind", 'b'),
     ("overruns", 'u'),
 ];
 
@@ -188,8 +189,9 @@ pub fn force_outputs(r: &[i64]) -> Result<(ForceOutputs, u32), String> {
             wear_power: fx(13)?,
             wear_allowed: fx(15)?,
             coulomb: fx(17)?,
+            wear_blind: flag(r[19], n(19))?,
         },
-        fit(r[19], n(19))?,
+        fit(r[20], n(20))?,
     ))
 }
 
@@ -274,6 +276,7 @@ mod tests {
             override_pct: 120,
             force_estimate: Fx::lit("-12.5"),
             coulomb: Fx::from_bits(i64::MIN + 7),
+            wear_blind: true,
             ..Default::default()
         };
         let mline: Vec<i64> = m.fields().iter().map(|x| x.1).collect();
@@ -288,7 +291,7 @@ mod tests {
         ] {
             fline.extend(bits(v));
         }
-        fline.push(0);
+        fline.extend([1, 0]);
         assert_eq!(measure_outputs(&mline).unwrap(), m);
         assert_eq!(force_outputs(&fline).unwrap().0, f);
         let text = format!(

@@ -244,6 +244,57 @@ pub fn settle_periods(power_lag_s: f64, s: &ForceSettings) -> Result<u8, String>
     ))
 }
 
+/// The scatter of measured power about the model, a fraction of the allowed motor power
+/// `[P]`: the milling paper's Fig. 5 points lie within about 5 % of its model lines, and
+/// what it measured is the spindle's motor-side power with its idle part (docs/wear.md,
+/// "Fig. 6"). A threshold separates a new tool from a worn one only if the new tool's
+/// motor power sits below `[P]` by more than this.
+pub const MODEL_SCATTER: f64 = 0.05;
+
+impl WearScenario {
+    /// Refuses a new tool whose motor power `p_i + P̄/η` (W7, W9) comes within
+    /// [`MODEL_SCATTER`] of `[P]` in some cut: the model's own scatter could lift it over the
+    /// threshold. Err names the cut, both powers and the margin.
+    pub fn check_new_tool_margin(&self, new_vb_mm: f64) -> Result<(), String> {
+        let eta = self.milling.efficiency;
+        for (i, c) in self.cuts.iter().enumerate() {
+            let allowed =
+                c.idle_power + self.milling.mean_power(self.vb_limit_mm, &c.conditions) / eta;
+            let new = c.idle_power + self.milling.mean_power(new_vb_mm, &c.conditions) / eta;
+            let margin = allowed - new;
+            if margin <= MODEL_SCATTER * allowed {
+                return Err(format!(
+                    "cut {} (depth {} mm): the new tool (VB {new_vb_mm} mm) draws {new:.0} W of motor power against [P] = {allowed:.0} W at [VB] = {} mm, {margin:.0} W ({:.1} %) below it: within the model's {:.0} % scatter, so the threshold cannot tell it from a worn tool (raise vb_limit_mm or lower new_vb_mm)",
+                    i + 1,
+                    c.conditions.depth_mm,
+                    self.vb_limit_mm,
+                    100.0 * margin / allowed,
+                    100.0 * MODEL_SCATTER
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The tracking's per-sample gain for a measured-power lag of `power_lag_s` seconds sampled
+/// at `sample_hz` (docs/wear.md, "Cuts shorter than the hold"): `1 − e^(−1/(f_s·τ))`, the
+/// step of a first-order lag from one sample to the next; 1 for no lag. Err for a negative
+/// or non-finite lag.
+pub fn power_lag_gain(power_lag_s: f64, sample_hz: u16) -> Result<Fx, String> {
+    if !(power_lag_s.is_finite() && power_lag_s >= 0.0) {
+        return Err(format!("power lag {power_lag_s} s: must be 0 or more"));
+    }
+    let fs = f64::from(sample_hz.max(1));
+    let gain = if power_lag_s > 0.0 {
+        1.0 - (-1.0 / (fs * power_lag_s)).exp()
+    } else {
+        1.0
+    };
+    // At least one LSB: a lag so long that the gain rounds to 0 would never track.
+    Ok(Fx::from_num(gain).max(Fx::DELTA))
+}
+
 /// The wear scenario: idle at the first cut's speed for `idle_s`, then the cuts in order;
 /// the CNC selects each cut's condition set at its start.
 #[derive(Clone, Debug, PartialEq)]
@@ -316,6 +367,8 @@ pub struct WearRun {
     pub allowed: Vec<f64>,
     /// Alarm latched.
     pub alarm: Vec<bool>,
+    /// The monitor could not judge (`wear_blind`).
+    pub blind: Vec<bool>,
     /// Flank wear, mm.
     pub vb: Vec<f64>,
     /// First alarm time, s.
@@ -408,6 +461,9 @@ impl WearScenario {
         // The ringing's envelope adds to the lag it comes before (conservative).
         let lag = self.power_lag + self.transients.map_or(0.0, |t| t.envelope_s());
         s.wear.settle_periods = settle_periods(lag, &s)?;
+        // Tracking replicates the lag alone: the ringing has a mean delay of 2ζ/ω_n (a few
+        // ms), which the guard covers.
+        s.wear.power_lag_gain = Some(power_lag_gain(self.power_lag, s.sample_hz)?);
         s.wear.validate().map_err(|e| e.to_string())?;
         Ok(s.wear)
     }
@@ -518,6 +574,7 @@ impl WearScenario {
                 out.power.push(o.wear_power.to_num());
                 out.allowed.push(o.wear_allowed.to_num());
                 out.alarm.push(o.wear_alarm);
+                out.blind.push(o.wear_blind);
                 out.vb.push(vb);
                 if o.wear_alarm && out.alarm_at.is_none() {
                     out.alarm_at = Some(tt);

@@ -276,9 +276,13 @@ impl WearPlan {
             new_tool,
             worn_tool,
         };
-        // The monitor must take it (a hold that fits, values the model accepts).
+        // The monitor must take it (a hold that fits, values the model accepts), and the
+        // threshold must be able to tell the new tool from a worn one.
         plan.scenario
             .config(false)
+            .map_err(|e| format!("[wear] {e}"))?;
+        plan.scenario
+            .check_new_tool_margin(plan.new_tool.vb_start)
             .map_err(|e| format!("[wear] {e}"))?;
         Ok(plan)
     }
@@ -361,5 +365,14 @@ mod tests {
         .unwrap();
         let w = ok.monitor_settings(&ForceSettings::default()).unwrap();
         assert_eq!(usize::from(w.set_count), MAX_CONDITION_SETS);
+    }
+
+    #[test]
+    fn a_new_tool_inside_the_models_scatter_is_refused() {
+        // The Table-2 Z = 1 preset at [VB] = 0.5 mm: the new tool 31 W (5.0 %) under [P].
+        let text = "teeth = 1\nvb_limit_mm = 0.5\nnew_vb_mm = 0.0\nworn_vb_mm = 1.1\nlowpass_shift = 5\nidle_power = [{ speed_m_per_min = 18, watts = 150 }]\ncuts = [{ depth_mm = 4, speed_m_per_min = 18, feed_mm_per_rev = 0.8, seconds = 30 }]\n";
+        let e = plan(text).unwrap_err();
+        assert!(e.contains("scatter") && e.contains("cut 1"), "{e}");
+        assert!(plan(&text.replace("vb_limit_mm = 0.5", "vb_limit_mm = 0.55")).is_ok());
     }
 }

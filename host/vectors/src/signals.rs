@@ -4,7 +4,7 @@
 use tooltouch_model::force::kernel::ForceOutputs;
 
 /// Every force output as `(name, value)`; fixed-point values as their raw I32F32 bits.
-pub fn force_signals(o: &ForceOutputs) -> [(&'static str, i64); 14] {
+pub fn force_signals(o: &ForceOutputs) -> [(&'static str, i64); 15] {
     [
         ("override_pct", o.override_pct.into()),
         ("saturated", o.saturated.into()),
@@ -14,6 +14,7 @@ pub fn force_signals(o: &ForceOutputs) -> [(&'static str, i64); 14] {
         ("identified", o.identified.into()),
         ("wear_over", o.wear_over.into()),
         ("wear_alarm", o.wear_alarm.into()),
+        ("wear_blind", o.wear_blind.into()),
         ("bad_events", o.bad_events.into()),
         ("force_estimate (I32F32 bits)", o.force_estimate.to_bits()),
         ("force_measured (I32F32 bits)", o.force_measured.to_bits()),

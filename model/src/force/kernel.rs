@@ -53,6 +53,9 @@ pub struct ForceOutputs {
     pub wear_over: bool,
     /// Wear alarm latched (change the tool).
     pub wear_alarm: bool,
+    /// The wear monitor cannot judge: its threshold is still above the selected
+    /// conditions' `[P]` (after a lighter cut was selected; `WearStatus::blind`).
+    pub wear_blind: bool,
     /// Bad CNC commands (condition index out of range), saturating at 255.
     pub bad_events: u8,
     /// Estimated cutting force F̂_c, N.
@@ -89,7 +92,7 @@ impl ForceKernel {
     pub fn new(config: &ForceConfig) -> ForceKernel {
         let s = config.settings();
         let estimator = Estimator::new(&s.estimator, config.period());
-        let wear = WearMonitor::new(&s.wear);
+        let wear = WearMonitor::new(&s.wear, s.lowpass_shift);
         let status = wear.status();
         ForceKernel {
             reference: s.reference,
@@ -113,7 +116,10 @@ impl ForceKernel {
     /// Applies one event (see [`ForceEvent`]).
     pub fn apply(&mut self, event: ForceEvent) {
         match event {
-            ForceEvent::Sample(codes) => self.sampler.on_sample(&codes),
+            ForceEvent::Sample(codes) => {
+                self.sampler.on_sample(&codes);
+                self.wear.on_sample();
+            }
             ForceEvent::Tick => self.on_tick(),
             ForceEvent::Identify(true) => self.estimator.start_identification(),
             ForceEvent::Identify(false) => self.estimator.finish_identification(),
@@ -137,6 +143,7 @@ impl ForceKernel {
         let st = self.wear.status();
         self.out.wear_allowed = st.allowed;
         self.out.wear_alarm = st.alarm;
+        self.out.wear_blind = st.blind;
         self.out.identifying = self.estimator.identifying();
         self.out.identified = self.estimator.identified();
         self.out.coulomb = self.estimator.coulomb();
@@ -161,6 +168,7 @@ impl ForceKernel {
         self.out.force_measured = sig.force_measured;
         self.out.wear_power = st.power;
         self.out.wear_over = st.over;
+        self.out.wear_blind = st.blind;
     }
 
     /// Every output after the last event.

@@ -292,7 +292,7 @@ fn the_wear_monitors_registers_follow_a_lowering_selection() {
         idle_power: f(200),
     };
     s.set_count = 2;
-    let mut w = WearMonitor::new(&s);
+    let mut w = WearMonitor::new(&s, 1);
     assert_eq!(get(&snapshot(&w), "wear.filtered").raw, None);
     let high = w.status().allowed;
     for _ in 0..3 {

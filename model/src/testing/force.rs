@@ -196,6 +196,11 @@ pub fn settings_from(kind: u8, w: &[u64]) -> ForceSettings {
             Threshold::Constant(w.positive(mega))
         },
         settle_periods: w.u8(0, 255),
+        power_lag_gain: if w.one_in(2) {
+            None
+        } else {
+            Some(w.positive(Fx::ONE))
+        },
     };
     ForceSettings {
         sample_hz,

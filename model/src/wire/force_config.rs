@@ -19,6 +19,7 @@
 //!       set_count × (mean_power_limit fx, idle_power fx)
 //!       threshold tag u8: 0 updating | 1 constant, then its power fx
 //!       settle_periods u8 (version 2)
+//!       power_lag_gain tag u8: 0 none | 1 some, then its gain fx (version 3)
 //! ```
 //! A new field is appended to both [`ForceConfig::canonical_bytes`] and
 //! [`decode_force_settings`] with a new [`FORCE_CONFIG_FORMAT_VERSION`].
@@ -33,7 +34,7 @@ use crate::force::wear::{ConditionSet, Threshold, WearSettings, MAX_CONDITION_SE
 use crate::units::Fx;
 
 /// Version of the force configuration's canonical encoding; part of [`ForceConfig::hash`].
-pub const FORCE_CONFIG_FORMAT_VERSION: u16 = 2;
+pub const FORCE_CONFIG_FORMAT_VERSION: u16 = 3;
 
 /// Largest canonical force configuration, bytes ([`ForceConfig::canonical_bytes`]' buffer).
 pub const FORCE_CONFIG_MAX: usize = 512;
@@ -143,6 +144,13 @@ impl ForceConfig {
             }
         }
         w.put(&[wr.settle_periods]);
+        match wr.power_lag_gain {
+            None => w.put(&[0]),
+            Some(g) => {
+                w.put(&[1]);
+                w.fx(g);
+            }
+        }
         (w.buf, w.n)
     }
 
@@ -289,6 +297,10 @@ pub fn decode_force_settings(bytes: &[u8]) -> Result<ForceSettings, ForceEncodin
         _ => Threshold::Constant(c.fx()?),
     };
     let settle_periods = c.u8()?;
+    let power_lag_gain = match c.tag(2)? {
+        0 => None,
+        _ => Some(c.fx()?),
+    };
     if c.at != bytes.len() {
         return Err(ForceEncodingError { at: c.at });
     }
@@ -322,6 +334,7 @@ pub fn decode_force_settings(bytes: &[u8]) -> Result<ForceSettings, ForceEncodin
             debounce_periods,
             threshold,
             settle_periods,
+            power_lag_gain,
         },
     })
 }

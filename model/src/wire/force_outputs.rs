@@ -4,7 +4,7 @@
 //! ```text
 //! 0      override_pct u8
 //! 1      flags u8: saturated, fast_estimate, control_enabled, identifying, identified,
-//!        wear_over, wear_alarm from bit 0 (bit 7 must be 0)
+//!        wear_over, wear_alarm, wear_blind from bit 0
 //! 2      bad_events u8
 //! 3..43  force_estimate, force_measured, wear_power, wear_allowed, coulomb: the raw
 //!        I32F32 bits, i64 LE each
@@ -35,8 +35,7 @@ mod flag {
     pub const IDENTIFIED: u8 = 1 << 4;
     pub const WEAR_OVER: u8 = 1 << 5;
     pub const WEAR_ALARM: u8 = 1 << 6;
-    /// No output uses it: a record with it set is rejected.
-    pub const UNUSED: u8 = 1 << 7;
+    pub const WEAR_BLIND: u8 = 1 << 7;
 }
 
 /// Bytes of one fixed-point value (the i64 of its I32F32 bits).
@@ -53,7 +52,8 @@ pub fn encode_force_outputs(o: &ForceOutputs) -> [u8; FORCE_OUTPUTS_LEN] {
         | bit(o.identifying, flag::IDENTIFYING)
         | bit(o.identified, flag::IDENTIFIED)
         | bit(o.wear_over, flag::WEAR_OVER)
-        | bit(o.wear_alarm, flag::WEAR_ALARM);
+        | bit(o.wear_alarm, flag::WEAR_ALARM)
+        | bit(o.wear_blind, flag::WEAR_BLIND);
     out[at::BAD_EVENTS] = o.bad_events;
     let values = [
         o.force_estimate,
@@ -69,9 +69,9 @@ pub fn encode_force_outputs(o: &ForceOutputs) -> [u8; FORCE_OUTPUTS_LEN] {
 }
 
 /// Decodes [`encode_force_outputs`]' bytes; `None` if `p` is not [`FORCE_OUTPUTS_LEN`]
-/// long or has unknown flag bits.
+/// long (every flag bit is an output).
 pub fn decode_force_outputs(p: &[u8]) -> Option<ForceOutputs> {
-    if p.len() != FORCE_OUTPUTS_LEN || p[at::FLAGS] & flag::UNUSED != 0 {
+    if p.len() != FORCE_OUTPUTS_LEN {
         return None;
     }
     let mut v = [Fx::ZERO; 5];
@@ -88,6 +88,7 @@ pub fn decode_force_outputs(p: &[u8]) -> Option<ForceOutputs> {
         identified: f & flag::IDENTIFIED != 0,
         wear_over: f & flag::WEAR_OVER != 0,
         wear_alarm: f & flag::WEAR_ALARM != 0,
+        wear_blind: f & flag::WEAR_BLIND != 0,
         bad_events: p[at::BAD_EVENTS],
         force_estimate: v[0],
         force_measured: v[1],
@@ -132,6 +133,7 @@ mod tests {
             identified: true,
             wear_over: false,
             wear_alarm: true,
+            wear_blind: false,
             bad_events: 0x07,
             force_estimate: Fx::lit("1.5"),
             force_measured: Fx::from_bits(-1),
@@ -156,10 +158,16 @@ mod tests {
             ..ForceOutputs::default()
         };
         assert_eq!(encode_force_outputs(&other)[1], 0b10_1001);
-        // Bit 7 is no output; wrong lengths are no record.
+        // Bit 7 is wear_blind; wrong lengths are no record.
         let mut b = bytes;
         b[1] |= 0x80;
-        assert_eq!(decode_force_outputs(&b), None);
+        assert_eq!(
+            decode_force_outputs(&b),
+            Some(ForceOutputs {
+                wear_blind: true,
+                ..o
+            })
+        );
         assert_eq!(decode_force_outputs(&bytes[..42]), None);
         let mut long = [0u8; 44];
         long[..43].copy_from_slice(&bytes);
@@ -168,7 +176,7 @@ mod tests {
 
     proptest! {
         #[test]
-        fn any_outputs_round_trip(bytes in any::<[u8; 3]>(), flags in 0u8..0x80, values in any::<[i64; 5]>(), time in any::<u64>()) {
+        fn any_outputs_round_trip(bytes in any::<[u8; 3]>(), flags in any::<u8>(), values in any::<[i64; 5]>(), time in any::<u64>()) {
             let [override_pct, bad_events, _] = bytes;
             let [force_estimate, force_measured, wear_power, wear_allowed, coulomb] = values.map(Fx::from_bits);
             let o = ForceOutputs {
@@ -180,6 +188,7 @@ mod tests {
                 identified: flags & 16 != 0,
                 wear_over: flags & 32 != 0,
                 wear_alarm: flags & 64 != 0,
+                wear_blind: flags & 128 != 0,
                 bad_events,
                 force_estimate,
                 force_measured,

@@ -165,7 +165,7 @@ int main(int argc, char **argv) {
         CHECK(tt_force_outputs(force, &f));
         unsigned flags = f.saturated | f.fast_estimate << 1 | f.control_enabled << 2 |
                          f.identifying << 3 | f.identified << 4 | f.wear_over << 5 |
-                         f.wear_alarm << 6;
+                         f.wear_alarm << 6 | f.wear_blind << 7;
         printf("f %x %x %x %x %" PRIx64 " %" PRIx64 " %" PRIx64 " %" PRIx64 " %" PRIx64 "\n",
                index++, f.override_pct, flags, f.bad_events, (uint64_t)f.force_estimate,
                (uint64_t)f.force_measured, (uint64_t)f.wear_power, (uint64_t)f.wear_allowed,

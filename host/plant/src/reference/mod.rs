@@ -15,7 +15,7 @@ use tooltouch_model::force::config::{ForceSettings, ForceSource};
 use tooltouch_model::force::control::fuzzy::{NO_RULE, SETS};
 use tooltouch_model::force::control::{Controller, ControllerSettings};
 use tooltouch_model::force::sampling::{AdcCodes, ADC_MAX, ADC_MID};
-use tooltouch_model::force::wear::{Threshold, WearSettings};
+use tooltouch_model::force::wear::{Threshold, WearSettings, GUARD_SHIFT};
 use tooltouch_model::units::Fx;
 
 /// I32F32 → f64.
@@ -534,11 +534,13 @@ pub fn controller_f(settings: &ControllerSettings, h: f64, o: u8) -> Box<dyn Con
     c
 }
 
-/// Float wear monitor.
+/// Float wear monitor, mirroring `tooltouch_model::force::wear::WearMonitor`: the settling
+/// hold, or with `power_lag_gain` the tracked threshold (the selected one through the
+/// replica of the power's chain, plus the guard).
 #[derive(Clone, Debug)]
 pub struct WearF {
     s: WearSettings,
-    /// Allowed power compared (during a settling hold the held one), W.
+    /// Allowed power compared (during a settling hold the held one, tracking `T̃` + guard), W.
     pub allowed: f64,
     selected: f64,
     held: f64,
@@ -547,11 +549,17 @@ pub struct WearF {
     count: u32,
     /// Alarm latched.
     pub alarm: bool,
+    /// A tool more than 1/64 of the selected threshold over it could pass.
+    pub blind: bool,
+    sample_k: f64,
+    /// Replica: lag, sampled, period sum, samples, tracked T̃.
+    track: [f64; 4],
+    track_n: u32,
 }
 
 impl WearF {
-    /// Condition set 0 selected.
-    pub fn new(s: &WearSettings) -> WearF {
+    /// Condition set 0 selected; `sample_shift` is the sampling low-pass's.
+    pub fn new(s: &WearSettings, sample_shift: u8) -> WearF {
         let mut w = WearF {
             s: *s,
             allowed: 0.0,
@@ -561,10 +569,14 @@ impl WearF {
             filtered: None,
             count: 0,
             alarm: false,
+            blind: false,
+            sample_k: 0.5f64.powi(i32::from(sample_shift.clamp(1, 8))),
+            track: [0.0; 4],
+            track_n: 0,
         };
         w.select(0);
         w.hold_left = 0;
-        w.allowed = w.selected;
+        w.allowed = w.compared();
         w
     }
     /// Selects a condition set; a lower threshold than the one compared starts the
@@ -583,14 +595,41 @@ impl WearF {
                 self.held = before;
                 self.hold_left = u32::from(self.s.settle_periods);
             }
+            if self.filtered.is_none() {
+                self.track = [self.selected, self.selected, 0.0, self.selected];
+                self.track_n = 0;
+                self.hold_left = 0;
+            }
             self.allowed = self.compared();
+            self.blind = self.unseen() > self.selected / 64.0;
         }
     }
     fn compared(&self) -> f64 {
-        if self.hold_left > 0 {
+        if self.s.power_lag_gain.is_some() {
+            let t = self.track[3];
+            t + (self.selected - t).abs() / f64::from(1u32 << GUARD_SHIFT)
+        } else if self.hold_left > 0 {
             self.selected.max(self.held)
         } else {
             self.selected
+        }
+    }
+    /// How far over its limit a tool may be and still pass, W (the model's `unseen`).
+    fn unseen(&self) -> f64 {
+        if self.s.power_lag_gain.is_some() {
+            (self.selected - self.track[3]).abs() / f64::from(1u32 << GUARD_SHIFT)
+        } else {
+            (self.compared() - self.selected).max(0.0)
+        }
+    }
+    /// One ADC sample (tracking only).
+    pub fn on_sample(&mut self) {
+        if let Some(g) = self.s.power_lag_gain {
+            let t = &mut self.track;
+            t[0] += (self.selected - t[0]) * f(g);
+            t[1] += (t[0] - t[1]) * self.sample_k;
+            t[2] += t[1];
+            self.track_n += 1;
         }
     }
     /// One period; returns the low-passed power.
@@ -601,7 +640,16 @@ impl WearF {
             Some(y) => y + k * (p - y),
         };
         self.filtered = Some(y);
+        if self.s.power_lag_gain.is_some() {
+            if self.track_n > 0 {
+                let avg = self.track[2] / f64::from(self.track_n);
+                self.track[3] += (avg - self.track[3]) * k;
+            }
+            self.track[2] = 0.0;
+            self.track_n = 0;
+        }
         let limit = self.compared();
+        self.blind = self.unseen() > self.selected / 64.0;
         let over = y >= limit;
         self.hold_left = self.hold_left.saturating_sub(1);
         self.allowed = limit;
@@ -646,7 +694,7 @@ impl ReferenceStack {
             sampler: SamplerF::new(s.lowpass_shift),
             estimator: EstimatorF::new(s),
             controller: controller_f(&s.controller, h, s.manual_override),
-            wear: WearF::new(&s.wear),
+            wear: WearF::new(&s.wear, s.lowpass_shift),
             enabled: false,
             override_pct: s.manual_override,
             override_cont: f64::from(s.manual_override),
@@ -658,7 +706,10 @@ impl ReferenceStack {
     pub fn apply(&mut self, ev: tooltouch_model::force::events::ForceEvent) {
         use tooltouch_model::force::events::ForceEvent as E;
         match ev {
-            E::Sample(c) => self.sampler.on_sample(&c),
+            E::Sample(c) => {
+                self.sampler.on_sample(&c);
+                self.wear.on_sample();
+            }
             E::Tick => {
                 let avg = self.sampler.on_tick();
                 self.estimate = self.estimator.step(&avg);
