@@ -183,7 +183,7 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
             | u64::from(o.density_armed) << 4
             | u64::from(o.density_fired) << 5
             | u64::from(o.confirmed) << 6
-            | u64::from(o.faults != 0) << 7;
+            | u64::from(o.faults) << 8;
         let hash = measure.hash();
         let mut mcu = vec![
             status,
@@ -198,7 +198,6 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
             bits[7],
             hash & 0xffff_ffff,
             hash >> 32,
-            bits[16],
         ];
         mcu.resize(16, 0);
         mcu.extend([u64::from(o.revolutions), u64::from(o.pulses)]);

@@ -26,9 +26,9 @@ pub(crate) fn c_outputs(o: &MeasureOutputs) -> TtMeasureOutputs {
 }
 
 /// The MCU register file's word at `addr` (the map of `tooltouch_hdl_gen::MCU_REGISTERS`:
-/// status (bit 6 confirmed, bit 7 `faults != 0`), positions sign-extended from
-/// `scale_bits`, counts, charge, diagnostic counters (0 unless `diagnostics`), scale
-/// errors, configuration hash, the fault word at 12; 0 elsewhere).
+/// status (flags in bits 6..0, the faults word in bits 14..8), positions sign-extended from
+/// `scale_bits`, counts, charge, diagnostic counters (0 unless `diagnostics`), scale errors,
+/// configuration hash; 0 elsewhere).
 pub(crate) fn mcu_word(
     config: &MeasureConfig,
     hash: u64,
@@ -53,7 +53,7 @@ pub(crate) fn mcu_word(
         | u32::from(o.density_armed) << 4
         | u32::from(o.density_fired) << 5
         | u32::from(o.confirmed) << 6
-        | u32::from(o.faults != 0) << 7;
+        | u32::from(o.faults) << 8;
     match addr {
         0 => status,
         1 => sign_extend(bits[6]),
@@ -67,7 +67,6 @@ pub(crate) fn mcu_word(
         9 => u32::from(o.scale_errors),
         10 => hash as u32,
         11 => (hash >> 32) as u32,
-        12 => u32::from(o.faults),
         _ => 0,
     }
 }
