@@ -183,7 +183,10 @@ mod tests {
         assert_ne!(c.force.hash(), FirmwareConfig::default().force.hash());
         let bytes = c.baked_bytes();
         assert!(bytes.starts_with(MAGIC));
-        assert_eq!(u16::from_le_bytes([bytes[8], bytes[9]]), 31);
+        assert_eq!(
+            usize::from(u16::from_le_bytes([bytes[8], bytes[9]])),
+            tooltouch_model::wire::measure_config::CANONICAL_CONFIG_LEN
+        );
 
         std::fs::write(&path, "[force]\ncontroller = \"bang-bang\"\n").unwrap();
         let e = format!("{:#}", FirmwareConfig::load(Some(&path)).unwrap_err());

@@ -189,165 +189,207 @@ impl SweepSpec {
     }
 
     /// Every point of the sweep, in a fixed order (the point's index is its position),
-    /// each validated by the model's configuration.
+    /// each validated by the model's configuration. The order: method, contact rule,
+    /// charge bits, charge law and its steps, then the thresholds (fire, re-arm, glitch,
+    /// scale bits, window, `i_def`), the last varying fastest.
     pub fn points(&self) -> Result<Vec<Point>, SpecError> {
-        if !(1..=1000).contains(&self.scenarios) {
-            return Err(err(
-                "scenarios",
-                format!("{} is out of range: allowed 1..=1000", self.scenarios),
-            ));
-        }
-        let a = &self.approach;
-        if !(1..=10_000).contains(&a.revolutions) {
-            return Err(err(
-                "approach.revolutions",
-                format!("{} is out of range: allowed 1..=10000", a.revolutions),
-            ));
-        }
-        let Axes {
-            methods,
-            rules,
-            laws,
-            charge_bits,
-            scale_bits,
-            glitch,
-            i_def,
-            window,
-            cp,
-            dp,
-            cs,
-            ds,
-            fire,
-            rearm,
-        } = self.axes()?;
-        let linear = laws.iter().filter(|l| **l == Law::Linear).count();
-        let exponential = laws.len() - linear;
-        let factors: [(&str, usize); 10] = [
-            ("method", methods.len()),
-            ("contact_rule", rules.len()),
-            ("charge_bits", charge_bits.len()),
-            (
-                "law × steps",
-                (linear.saturating_mul(cp.len()).saturating_mul(dp.len())).saturating_add(
-                    exponential
-                        .saturating_mul(cs.len())
-                        .saturating_mul(ds.len()),
-                ),
-            ),
-            ("fire_percent", fire.len()),
-            ("rearm_percent", rearm.len()),
-            ("glitch_cycles", glitch.len()),
-            ("scale_bits", scale_bits.len()),
-            ("window_revs", window.len()),
-            ("i_def", i_def.len()),
-        ];
-        check_sweep_size("measurement sweep", &factors)?;
+        self.check_run_sizes()?;
+        let axes = self.axes()?;
+        check_sweep_size("measurement sweep", &axes.factors())?;
+        let thresholds = axes.thresholds();
         let mut out = Vec::new();
-        for &method in &methods {
-            for &rule in &rules {
-                for &cb in &charge_bits {
-                    let full = (1u32 << cb) - 1;
-                    let mut law_list = Vec::new();
-                    for &law in &laws {
-                        match law {
-                            Law::Linear => {
-                                for &c in &cp {
-                                    for &d in &dp {
-                                        law_list.push((
-                                            ChargeLaw::Linear {
-                                                charge_step: (full / c).max(1),
-                                                discharge_step: (full / d).max(1),
-                                            },
-                                            AnalogLaw::Linear {
-                                                charge_per_pulse: 1.0 / f64::from(c),
-                                                discharge_per_pulse: 1.0 / f64::from(d),
-                                            },
-                                        ));
-                                    }
-                                }
-                            }
-                            Law::Exponential => {
-                                for &c in &cs {
-                                    for &d in &ds {
-                                        let (c, d) = (c as u8, d as u8);
-                                        law_list.push((
-                                            ChargeLaw::Exponential {
-                                                charge_shift: c,
-                                                discharge_shift: d,
-                                            },
-                                            AnalogLaw::Exponential {
-                                                charge_shift: c,
-                                                discharge_shift: d,
-                                            },
-                                        ));
-                                    }
-                                }
-                            }
-                        }
-                    }
-                    for (law, analog) in law_list {
-                        for &fp in &fire {
-                            for &rp in &rearm {
-                                for &g in &glitch {
-                                    for &sb in &scale_bits {
-                                        for &w in &window {
-                                            for &i in &i_def {
-                                                let s = MeasureSettings {
-                                                    pulses_per_rev: a.pulses_per_rev,
-                                                    i_def: i,
-                                                    window_revs: w as u8,
-                                                    contact_rule: rule,
-                                                    charge_bits: cb as u8,
-                                                    charge_law: law,
-                                                    fire_threshold: (u64::from(full)
-                                                        * u64::from(fp)
-                                                        / 100)
-                                                        .max(1)
-                                                        as u32,
-                                                    rearm_threshold: (u64::from(full)
-                                                        * u64::from(rp)
-                                                        / 100)
-                                                        as u32,
-                                                    glitch_cycles: g as u8,
-                                                    scale_bits: sb as u8,
-                                                    method,
-                                                    // The checks change no decision
-                                                    // (they add the status outputs).
-                                                    checks: MeasureChecks::default(),
-                                                };
-                                                s.validate().map_err(|e| {
-                                                    let param = match e.field {
-                                                        "fire_threshold" => "fire_percent",
-                                                        "rearm_threshold" => "rearm_percent",
-                                                        "charge_step" => "charge_pulses",
-                                                        "discharge_step" => "discharge_pulses",
-                                                        f => f,
-                                                    };
-                                                    err(param, e.to_string())
-                                                })?;
-                                                let window =
-                                                    f64::from(a.pulses_per_rev) * f64::from(w);
-                                                out.push(Point {
-                                                    settings: s,
-                                                    intent: Intent {
-                                                        method,
-                                                        window_revs: w as u8,
-                                                        count_fraction: f64::from(i) / window,
-                                                        law: analog,
-                                                        fire_fraction: f64::from(fp) / 100.0,
-                                                    },
-                                                });
-                                            }
-                                        }
-                                    }
-                                }
-                            }
+        for &method in &axes.methods {
+            for &rule in &axes.rules {
+                for &charge_bits in &axes.charge_bits {
+                    for law in axes.laws_for(charge_bits) {
+                        for t in &thresholds {
+                            out.push(self.point(method, rule, charge_bits, law, t)?);
                         }
                     }
                 }
             }
         }
         Ok(out)
+    }
+
+    /// The number of scenarios and the approach's revolutions inside their ranges.
+    fn check_run_sizes(&self) -> Result<(), SpecError> {
+        if !(1..=1000).contains(&self.scenarios) {
+            return Err(err(
+                "scenarios",
+                format!("{} is out of range: allowed 1..=1000", self.scenarios),
+            ));
+        }
+        let revolutions = self.approach.revolutions;
+        if !(1..=10_000).contains(&revolutions) {
+            return Err(err(
+                "approach.revolutions",
+                format!("{revolutions} is out of range: allowed 1..=10000"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// One point: the settings of one combination, validated (an error names the spec's
+    /// parameter), and what they are meant to do.
+    fn point(
+        &self,
+        method: DecisionMethod,
+        contact_rule: ContactRule,
+        charge_bits: u32,
+        (charge_law, analog): (ChargeLaw, AnalogLaw),
+        t: &Thresholds,
+    ) -> Result<Point, SpecError> {
+        let pulses_per_rev = self.approach.pulses_per_rev;
+        let full = u64::from((1u32 << charge_bits) - 1);
+        let s = MeasureSettings {
+            pulses_per_rev,
+            i_def: t.i_def,
+            window_revs: t.window as u8,
+            contact_rule,
+            charge_bits: charge_bits as u8,
+            charge_law,
+            fire_threshold: (full * u64::from(t.fire) / 100).max(1) as u32,
+            rearm_threshold: (full * u64::from(t.rearm) / 100) as u32,
+            glitch_cycles: t.glitch as u8,
+            scale_bits: t.scale_bits as u8,
+            method,
+            // The checks change no decision (they add the status outputs).
+            checks: MeasureChecks::default(),
+        };
+        s.validate().map_err(|e| {
+            let param = match e.field {
+                "fire_threshold" => "fire_percent",
+                "rearm_threshold" => "rearm_percent",
+                "charge_step" => "charge_pulses",
+                "discharge_step" => "discharge_pulses",
+                f => f,
+            };
+            err(param, e.to_string())
+        })?;
+        let window = f64::from(pulses_per_rev) * f64::from(t.window);
+        Ok(Point {
+            settings: s,
+            intent: Intent {
+                method,
+                window_revs: t.window as u8,
+                count_fraction: f64::from(t.i_def) / window,
+                law: analog,
+                fire_fraction: f64::from(t.fire) / 100.0,
+            },
+        })
+    }
+}
+
+/// One combination of the sweep's thresholds (percent of full charge, clocks, bits,
+/// revolutions, pulses).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Thresholds {
+    fire: u32,
+    rearm: u32,
+    glitch: u32,
+    scale_bits: u32,
+    window: u32,
+    i_def: u32,
+}
+
+impl Axes {
+    /// Each axis's number of values, the law's steps counted per law: what the sweep's
+    /// size is the product of.
+    fn factors(&self) -> [(&'static str, usize); 10] {
+        let linear = self.laws.iter().filter(|l| **l == Law::Linear).count();
+        let exponential = self.laws.len() - linear;
+        let steps = (linear
+            .saturating_mul(self.cp.len())
+            .saturating_mul(self.dp.len()))
+        .saturating_add(
+            exponential
+                .saturating_mul(self.cs.len())
+                .saturating_mul(self.ds.len()),
+        );
+        [
+            ("method", self.methods.len()),
+            ("contact_rule", self.rules.len()),
+            ("charge_bits", self.charge_bits.len()),
+            ("law × steps", steps),
+            ("fire_percent", self.fire.len()),
+            ("rearm_percent", self.rearm.len()),
+            ("glitch_cycles", self.glitch.len()),
+            ("scale_bits", self.scale_bits.len()),
+            ("window_revs", self.window.len()),
+            ("i_def", self.i_def.len()),
+        ]
+    }
+
+    /// Every charge law with its steps for a `charge_bits` capacitor, in the spec's
+    /// order, with the analog law it stands for.
+    fn laws_for(&self, charge_bits: u32) -> Vec<(ChargeLaw, AnalogLaw)> {
+        let full = (1u32 << charge_bits) - 1;
+        let mut out = Vec::new();
+        for &law in &self.laws {
+            match law {
+                Law::Linear => {
+                    for &c in &self.cp {
+                        for &d in &self.dp {
+                            out.push((
+                                ChargeLaw::Linear {
+                                    charge_step: (full / c).max(1),
+                                    discharge_step: (full / d).max(1),
+                                },
+                                AnalogLaw::Linear {
+                                    charge_per_pulse: 1.0 / f64::from(c),
+                                    discharge_per_pulse: 1.0 / f64::from(d),
+                                },
+                            ));
+                        }
+                    }
+                }
+                Law::Exponential => {
+                    for &c in &self.cs {
+                        for &d in &self.ds {
+                            let (c, d) = (c as u8, d as u8);
+                            out.push((
+                                ChargeLaw::Exponential {
+                                    charge_shift: c,
+                                    discharge_shift: d,
+                                },
+                                AnalogLaw::Exponential {
+                                    charge_shift: c,
+                                    discharge_shift: d,
+                                },
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Every combination of the thresholds, `i_def` varying fastest.
+    fn thresholds(&self) -> Vec<Thresholds> {
+        let mut out = Vec::new();
+        for &fire in &self.fire {
+            for &rearm in &self.rearm {
+                for &glitch in &self.glitch {
+                    for &scale_bits in &self.scale_bits {
+                        for &window in &self.window {
+                            for &i_def in &self.i_def {
+                                out.push(Thresholds {
+                                    fire,
+                                    rearm,
+                                    glitch,
+                                    scale_bits,
+                                    window,
+                                    i_def,
+                                });
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        out
     }
 }
 

@@ -294,6 +294,7 @@ impl MeasurementChecks {
     }
 
     /// The arm rose with the contact at `contact`: a new measurement cycle.
+    #[inline]
     pub fn on_arm(&mut self, contact: bool) {
         self.faults = 0;
         if contact {
@@ -320,6 +321,7 @@ impl MeasurementChecks {
     /// An index pulse while armed. `window_closed`: it ended a counting window, which
     /// counted `window_count` contact pulses; `decided`: a decision is latched;
     /// `revolutions`: index pulses since arm, this one included.
+    #[inline]
     pub fn on_index(
         &mut self,
         window_closed: bool,
@@ -347,6 +349,7 @@ impl MeasurementChecks {
     }
 
     /// The decision latched the position (once per measurement cycle).
+    #[inline]
     pub fn on_decision(&mut self) {
         if self.confirm_windows == 0 {
             self.confirmed = true;
@@ -356,6 +359,7 @@ impl MeasurementChecks {
     }
 
     /// An illegal scale transition while armed.
+    #[inline]
     pub fn on_scale_error(&mut self) {
         self.raise(fault::SCALE_ERROR);
     }
@@ -371,10 +375,12 @@ impl MeasurementChecks {
     }
 
     /// Whether the decision is confirmed.
+    #[inline]
     pub fn confirmed(&self) -> bool {
         self.confirmed
     }
     /// Time now, ticks (the last observed).
+    #[inline]
     pub fn now(&self) -> u64 {
         self.now
     }

@@ -41,6 +41,7 @@ impl DensityDetector {
     }
 
     /// Empties and re-arms the capacitor.
+    #[inline]
     pub fn reset(&mut self) {
         self.charge = 0;
         self.armed = true;
@@ -84,6 +85,7 @@ impl DensityDetector {
     /// One FES pulse. Updates the charge, then fires if armed and the charge has reached
     /// the fire threshold (returns `true` on that pulse only), or re-arms if disarmed and
     /// the charge is below the re-arm threshold.
+    #[inline]
     pub fn on_pulse(&mut self, contact: bool) -> bool {
         self.charge = self.next_charge(contact);
         if self.armed {
@@ -199,14 +201,17 @@ impl DensityDetector {
     }
 
     /// Charge, LSBs of full scale.
+    #[inline]
     pub fn charge(&self) -> u32 {
         self.charge
     }
     /// Whether the detector can fire.
+    #[inline]
     pub fn armed(&self) -> bool {
         self.armed
     }
     /// Whether it has fired since the last reset.
+    #[inline]
     pub fn fired(&self) -> bool {
         self.fired
     }

@@ -87,6 +87,7 @@ pub struct TimedEvent {
 
 impl Measurement {
     /// Applies one event: the event level's whole step.
+    #[inline]
     pub fn apply(&mut self, event: MeasureEvent) {
         match event {
             MeasureEvent::Arm(level) => self.on_arm(level),

@@ -137,7 +137,7 @@ impl FrontEnd {
 
     /// One rising clock edge with the input pins `pins`. Returns the edges the kernel
     /// acted on in this clock.
-    #[inline]
+    #[inline(always)]
     pub fn clock(&mut self, pins: Pins) -> Edges {
         let edges = Edges {
             changed: self.filtered ^ self.previous,
@@ -146,9 +146,7 @@ impl FrontEnd {
         let now = self.clocks;
         self.clocks = now + 1;
         if edges.changed != 0 {
-            let m = &mut self.measurement;
-            m.observe(now);
-            edges.for_each_event(|e| m.apply(e));
+            self.apply_edges(edges, now);
         }
         self.previous = self.filtered;
         let differ = self.sync2 ^ self.filtered;
@@ -160,8 +158,34 @@ impl FrontEnd {
         edges
     }
 
+    /// The kernel's update for the edges of clock number `now`, in canonical order (as
+    /// [`Edges::for_each_event`] lists them), written out with no closure so that the
+    /// whole clock inlines into a caller's loop and its registers can stay in the CPU's.
+    #[inline(always)]
+    fn apply_edges(&mut self, edges: Edges, now: u64) {
+        let (changed, levels) = (edges.changed, edges.levels);
+        let m = &mut self.measurement;
+        m.observe(now);
+        if changed & pin::ARM != 0 {
+            m.on_arm(levels & pin::ARM != 0);
+        }
+        if changed & pin::CONTACT != 0 {
+            m.on_contact(levels & pin::CONTACT != 0);
+        }
+        if changed & levels & pin::INDEX != 0 {
+            m.on_index();
+        }
+        if changed & levels & pin::FES != 0 {
+            m.on_fes();
+        }
+        if changed & (pin::SCALE_A | pin::SCALE_B) != 0 {
+            m.on_scale(levels & pin::SCALE_A != 0, levels & pin::SCALE_B != 0);
+        }
+    }
+
     /// Glitch filter step: a differing bit is taken once it has differed for
     /// `glitch_cycles` earlier clocks too; a bit that agrees resets its counter.
+    #[inline(always)]
     fn filter(&mut self, differ: u8) {
         for (i, stable) in self.stable.iter_mut().enumerate() {
             let bit = 1u8 << i;

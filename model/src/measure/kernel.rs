@@ -74,6 +74,7 @@ impl Measurement {
     /// The CNC's arm line changed. A rising edge starts a measurement cycle: counts,
     /// charge, latches and the decision are cleared. A falling edge ends it; the results
     /// are held for the CNC to read until the next rising edge.
+    #[inline]
     pub fn on_arm(&mut self, level: bool) {
         if level && !self.armed {
             self.checks.on_arm(self.contact);
@@ -89,6 +90,7 @@ impl Measurement {
 
     /// The contact line changed to `level`. A rising edge sets the sticky bit and, while
     /// armed, latches the first-contact position (and decides, for single-pulse method).
+    #[inline]
     pub fn on_contact(&mut self, level: bool) {
         self.contact = level;
         if level {
@@ -104,6 +106,7 @@ impl Measurement {
     }
 
     /// An index pulse (start of a revolution).
+    #[inline]
     pub fn on_index(&mut self) {
         if self.armed {
             let closed = self.counter.on_index();
@@ -120,6 +123,7 @@ impl Measurement {
     /// An FES pulse: forms the pulse's contact bit by the configured rule, consumes the
     /// sticky bit, and while armed feeds the counter and the capacitor; the configured
     /// detector's decision latches the position.
+    #[inline]
     pub fn on_fes(&mut self) {
         self.on_fes_raises();
     }
@@ -146,7 +150,7 @@ impl Measurement {
 
     /// A detector decided: latches the position (once per cycle) and starts the
     /// confirmation. Whether it latched.
-    #[cold]
+    #[inline]
     fn decide(&mut self) -> bool {
         let latched = self.decision.capture(self.scale.position());
         if latched {
@@ -211,6 +215,7 @@ impl Measurement {
     }
 
     /// New levels of the scale's A and B lines.
+    #[inline]
     pub fn on_scale(&mut self, a: bool, b: bool) {
         if self.scale.on_ab(a, b) && self.armed {
             self.checks.on_scale_error();

@@ -18,6 +18,7 @@ impl PositionLatch {
     }
     /// Captures `position` (scale counts) unless a position is already held. Returns
     /// whether it captured.
+    #[inline]
     pub fn capture(&mut self, position: i32) -> bool {
         if self.valid {
             return false;
@@ -27,14 +28,17 @@ impl PositionLatch {
         true
     }
     /// Empties the latch (the held position reads 0).
+    #[inline]
     pub fn clear(&mut self) {
         *self = Self::new();
     }
     /// Whether a position is held.
+    #[inline]
     pub fn valid(&self) -> bool {
         self.valid
     }
     /// The held position, scale counts (0 when empty).
+    #[inline]
     pub fn position(&self) -> i32 {
         self.position
     }

@@ -42,6 +42,7 @@ impl PulseCounter {
     }
 
     /// Clears counts and the decision (start of a measurement cycle).
+    #[inline]
     pub fn reset(&mut self) {
         self.count = 0;
         self.last_window_count = 0;
@@ -112,6 +113,7 @@ impl PulseCounter {
 
     /// One index pulse: at the end of a window the count moves to `last_window_count` and
     /// restarts from zero. Returns whether it ended a window.
+    #[inline]
     pub fn on_index(&mut self) -> bool {
         self.revs_in_window = self.revs_in_window.saturating_add(1);
         if self.revs_in_window >= self.window_revs {
@@ -124,10 +126,12 @@ impl PulseCounter {
     }
 
     /// Contact pulses in the current window.
+    #[inline]
     pub fn count(&self) -> u32 {
         self.count
     }
     /// The previous window's final count.
+    #[inline]
     pub fn last_window_count(&self) -> u32 {
         self.last_window_count
     }

@@ -49,6 +49,7 @@ impl QuadratureDecoder {
     /// New levels of lines A and B. Counts ±1 per legal transition (wrapping at
     /// `scale_bits`); a double change counts an error (saturating at 255). Returns whether
     /// the transition was illegal.
+    #[inline]
     pub fn on_ab(&mut self, a: bool, b: bool) -> bool {
         let phase = phase_of(a, b);
         let mut illegal = false;
@@ -66,6 +67,7 @@ impl QuadratureDecoder {
     }
 
     /// Position, scale counts, sign-extended from `scale_bits`.
+    #[inline]
     pub fn position(&self) -> i32 {
         let raw = self.raw_position;
         if raw & self.sign_bit != 0 {
@@ -79,6 +81,7 @@ impl QuadratureDecoder {
         self.raw_position
     }
     /// Illegal transitions since power-on (saturating at 255).
+    #[inline]
     pub fn errors(&self) -> u8 {
         self.errors
     }

@@ -23,12 +23,14 @@
 //! model in the loop) use [`open_loop_stimulus`].
 
 pub mod electrics;
+pub mod faults;
 pub mod scale;
 pub mod spindle;
 pub mod spindle_path;
 pub mod surface;
 
 pub use electrics::{ContactElectrics, Intervals};
+pub use faults::LatheFaults;
 pub use scale::Motion;
 pub use spindle::{SlowHarmonic, Spindle};
 pub use spindle_path::{PathDifference, SpindlePath};
@@ -149,6 +151,10 @@ pub struct LatheScenario {
     pub electrics: ContactElectrics,
     /// The measurement cycle.
     pub cycle: CycleSettings,
+    /// Machine faults on the pins (none by default; written to a settings file only when
+    /// there are some).
+    #[serde(skip_serializing_if = "LatheFaults::is_none")]
+    pub faults: LatheFaults,
     /// Seed of every random stream.
     pub seed: u64,
 }
@@ -187,6 +193,7 @@ impl Default for LatheScenario {
             random_um: 0.15,
             electrics: ContactElectrics::default(),
             cycle: CycleSettings::default(),
+            faults: LatheFaults::default(),
             seed: 1,
         }
     }
@@ -373,6 +380,7 @@ impl LatheScenario {
             1.0,
             100_000.0,
         )?;
+        self.faults.validate()?;
         Ok(())
     }
 
@@ -397,6 +405,8 @@ pub struct Chunk {
     pub count_changes: Vec<(u64, i64)>,
     /// First touch of the approach, if it happened in this span.
     pub touch: Option<u64>,
+    /// The arm line's level over the span.
+    pub arm: bool,
 }
 
 impl Chunk {
@@ -432,6 +442,8 @@ pub struct Lathe {
     count: i64,
     home_count: i64,
     first_touch: Option<u64>,
+    /// The clock at which the arm rose, while it is high.
+    arm_rise: Option<u64>,
 }
 
 impl Lathe {
@@ -454,6 +466,7 @@ impl Lathe {
             count: home_count,
             home_count,
             first_touch: None,
+            arm_rise: None,
             spindle,
             scenario: scenario.clone(),
         };
@@ -655,13 +668,25 @@ impl Lathe {
             pins = pins.with(bit, level);
         }
         stimulus.push(pins, k_b - k);
+        let segments = faults::inject(
+            &s.faults,
+            &stimulus.segments,
+            k_a,
+            &faults::Context {
+                spindle: &self.spindle,
+                clock_hz: s.clock_hz,
+                seed: s.seed,
+                arm_rise: arm.then_some(self.arm_rise.unwrap_or(k_a)),
+            },
+        );
         Chunk {
             start: k_a,
             end: k_b,
-            segments: stimulus.segments,
+            segments,
             contact,
             count_changes,
             touch,
+            arm,
         }
     }
 
@@ -675,6 +700,11 @@ impl Lathe {
             if t < end {
                 self.first_touch = Some(t);
             }
+        }
+        if !chunk.arm {
+            self.arm_rise = None;
+        } else if end > chunk.start {
+            self.arm_rise.get_or_insert(chunk.start);
         }
     }
 }
