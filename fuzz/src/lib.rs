@@ -221,6 +221,7 @@ pub fn abi(data: &[u8]) {
         no_panic(tt_measurement_new(config, &mut m));
         no_panic(tt_force_new(config, &mut f));
         let mut registers = [0u64; TT_OUTPUT_COUNT as usize];
+        let mut time = 0u64;
         for chunk in drive.chunks(4) {
             let [a, b, c, d] = [0, 1, 2, 3].map(|i| chunk.get(i).copied().unwrap_or(0));
             no_panic(tt_frontend_clock(fe, a));
@@ -245,8 +246,27 @@ pub fn abi(data: &[u8]) {
                 scale_a: d & 1,
                 scale_b: d >> 1 & 1,
                 pulses: u32::from_le_bytes([a, b, c, d]),
+                // Mostly forwards, now and then backwards (refused, never a panic).
+                time: if d == 0xff {
+                    time / 2
+                } else {
+                    time + u64::from(a)
+                },
             };
-            no_panic(tt_measurement_apply(m, &event));
+            if tt_measurement_apply(m, &event) == TtStatus::Ok {
+                time = event.time;
+            }
+            let observed = tt_measurement_observe(m, time + u64::from(c));
+            no_panic(observed);
+            if observed == TtStatus::Ok {
+                time += u64::from(c);
+            }
+            let mut outputs = TtMeasureOutputs::default();
+            no_panic(tt_measurement_outputs_at(
+                m,
+                time + u64::from(d),
+                &mut outputs,
+            ));
             let force = TtForceEvent {
                 kind: c,
                 on: d,

@@ -22,6 +22,7 @@ mod tune;
 mod vcd;
 
 use pyo3::prelude::*;
+use tooltouch_model::measure::checks::fault;
 use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::MeasureOutputs;
 
@@ -61,5 +62,13 @@ fn _tooltouch(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PIN_SCALE_B", pin::SCALE_B)?;
     m.add("PIN_NAMES", pin::NAMES.to_vec())?;
     m.add("OUTPUT_NAMES", output_names())?;
+    m.add("FAULT_NAMES", fault::NAMES.to_vec())?;
+    m.add("FAULT_CONTACT_AT_ARM", fault::CONTACT_AT_ARM)?;
+    m.add("FAULT_PULSES_LOST", fault::PULSES_LOST)?;
+    m.add("FAULT_INDEX_MISSING", fault::INDEX_MISSING)?;
+    m.add("FAULT_SCALE_ERROR", fault::SCALE_ERROR)?;
+    m.add("FAULT_NO_DECISION", fault::NO_DECISION)?;
+    m.add("FAULT_FES_TIMEOUT", fault::FES_TIMEOUT)?;
+    m.add("FAULT_UNCONFIRMED", fault::UNCONFIRMED)?;
     Ok(())
 }

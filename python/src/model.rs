@@ -1,13 +1,19 @@
 //! The measurement model for Python: `Outputs`, `Event`, the cycle-level `FrontEnd` (one
 //! clock, a batched run over a numpy array, the exact fast-forward `advance`) and the
-//! event-level `Measurement`. Each wraps the `tooltouch-model` type by value; nothing is
-//! recomputed here.
+//! event-level `Measurement` (each event at its time, the model's `apply_at`). Each wraps
+//! the `tooltouch-model` type by value; nothing is recomputed here.
+//!
+//! Time: the FES watchdog makes `faults` change with time alone while armed (the model
+//! evaluates it lazily at the time the outputs are read), so the batched runs read the
+//! outputs at every clock while armed, and `run_segments` finds the clock a settled span
+//! times out at.
 
 use crate::settings::Settings;
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use tooltouch_model::measure::checks::Faults;
 use tooltouch_model::measure::frontend::{pin, FrontEnd as ModelFrontEnd, Pins};
 use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement as ModelMeasurement};
 
@@ -94,6 +100,23 @@ impl Outputs {
     #[getter]
     fn pulses(&self) -> u32 {
         self.inner.pulses
+    }
+    /// The decision was confirmed by the contact pattern after it.
+    #[getter]
+    fn confirmed(&self) -> bool {
+        self.inner.confirmed
+    }
+    /// Fault conditions latched since arm, one bit each (`FAULT_*`, named by
+    /// `FAULT_NAMES` from bit 0). Accept a measurement only when `confirmed` and no fault.
+    #[getter]
+    fn faults(&self) -> u8 {
+        self.inner.faults
+    }
+    /// The names of the latched faults, in bit order (`["pulses_lost", "no_decision"]`;
+    /// empty when none).
+    #[getter]
+    fn fault_names(&self) -> Vec<&'static str> {
+        Faults(self.inner.faults).names().collect()
     }
 
     /// Every output as `{name: int}` in `OUTPUT_NAMES` order (flags 0/1).
@@ -244,9 +267,8 @@ fn checked_pins(pins: u8) -> PyResult<Pins> {
 /// The cycle-level front end (RTL semantics), from reset.
 #[pyclass(module = "tooltouch")]
 pub struct FrontEnd {
+    /// The model's front end; it counts its clocks (the time of its FES watchdog).
     inner: ModelFrontEnd,
-    /// Clocks since reset, every way of clocking counted.
-    clocks: u64,
 }
 
 /// One growing array per output, filled clock by clock and handed to numpy at the end.
@@ -267,6 +289,8 @@ struct OutputColumns {
     density_fired: Vec<bool>,
     revolutions: Vec<u16>,
     pulses: Vec<u32>,
+    confirmed: Vec<bool>,
+    faults: Vec<u8>,
 }
 
 /// `Vec::with_capacity(n)` for every column.
@@ -280,7 +304,8 @@ impl OutputColumns {
     fn with_capacity(n: usize) -> Self {
         columns_with_capacity!(n; armed, contact, register_now, decision_position,
             first_contact, first_contact_position, position, scale_errors, count,
-            last_window_count, charge, density_armed, density_fired, revolutions, pulses)
+            last_window_count, charge, density_armed, density_fired, revolutions, pulses,
+            confirmed, faults)
     }
 
     #[inline]
@@ -300,6 +325,8 @@ impl OutputColumns {
         self.density_fired.push(o.density_fired);
         self.revolutions.push(o.revolutions);
         self.pulses.push(o.pulses);
+        self.confirmed.push(o.confirmed);
+        self.faults.push(o.faults);
     }
 
     fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -328,6 +355,8 @@ impl OutputColumns {
         d.set_item("density_fired", PyArray1::from_vec(py, self.density_fired))?;
         d.set_item("revolutions", PyArray1::from_vec(py, self.revolutions))?;
         d.set_item("pulses", PyArray1::from_vec(py, self.pulses))?;
+        d.set_item("confirmed", PyArray1::from_vec(py, self.confirmed))?;
+        d.set_item("faults", PyArray1::from_vec(py, self.faults))?;
         Ok(d)
     }
 }
@@ -339,7 +368,6 @@ impl FrontEnd {
     fn new(settings: &Settings) -> FrontEnd {
         FrontEnd {
             inner: ModelFrontEnd::new(&settings.config),
-            clocks: 0,
         }
     }
 
@@ -347,7 +375,6 @@ impl FrontEnd {
     /// 3 fes, 4 scale_a, 5 scale_b); returns the outputs registered by it.
     fn step(&mut self, pins: u8) -> PyResult<Outputs> {
         self.inner.clock(checked_pins(pins)?);
-        self.clocks += 1;
         Ok(Outputs {
             inner: self.inner.outputs(),
         })
@@ -356,7 +383,7 @@ impl FrontEnd {
     /// One clock per element of `pins` (a 1-D uint8 array, pin bytes as for `step`);
     /// returns `{output name: array}`, element `k` the output after clock `k`. dtypes:
     /// flags bool, positions int32, scale_errors uint8, revolutions uint16, the rest
-    /// uint32.
+    /// uint32, faults uint8.
     fn run<'py>(
         &mut self,
         py: Python<'py>,
@@ -371,24 +398,22 @@ impl FrontEnd {
         }
         let mut columns = OutputColumns::with_capacity(pins.len());
         // The outputs are the kernel's registers, and the kernel changes only in a clock
-        // with edges: the other clocks repeat the last outputs without recomputing them.
+        // with edges, or with time while armed (the FES watchdog): the other clocks repeat
+        // the last outputs without recomputing them.
         let mut outputs = self.inner.outputs();
         for &p in pins {
-            if !self.inner.clock(Pins(p)).is_empty() {
+            if !self.inner.clock(Pins(p)).is_empty() || outputs.armed {
                 outputs = self.inner.outputs();
             }
             columns.push(&outputs);
         }
-        self.clocks += pins.len() as u64;
         columns.into_dict(py)
     }
 
     /// `cycles` clocks with `pins` held, skipping exactly the clocks after the front end
     /// has settled; returns the clocks simulated one by one (the rest changed nothing).
     fn advance(&mut self, pins: u8, cycles: u64) -> PyResult<u64> {
-        let clocked = self.inner.advance(checked_pins(pins)?, cycles, |_, _| {});
-        self.clocks += cycles;
-        Ok(clocked)
+        Ok(self.inner.advance(checked_pins(pins)?, cycles, |_, _| {}))
     }
 
     /// Run-length clocking: segment `i` holds `pins[i]` (uint8) for `cycles[i]` clocks
@@ -422,22 +447,42 @@ impl FrontEnd {
         let mut at = Vec::new();
         let mut last: Option<MeasureOutputs> = None;
         for (&p, &n) in pins.iter().zip(cycles) {
-            let (p, end) = (Pins(p), self.clocks + u64::from(n));
-            while self.clocks < end {
-                if last.is_some() && self.inner.is_settled(p) {
-                    self.clocks = end;
+            let (p, end) = (Pins(p), self.inner.clocks() + u64::from(n));
+            while self.inner.clocks() < end {
+                let clock = self.inner.clocks();
+                if let Some(held) = last.filter(|_| self.inner.is_settled(p)) {
+                    // Settled: no register changes, only the watchdog's time may show. It
+                    // expires at most once and stays, so the first clock whose outputs
+                    // differ is found by bisection.
+                    let m = self.inner.measurement();
+                    if m.outputs_at(end - 1) != held {
+                        let (mut lo, mut hi) = (clock, end - 1);
+                        while lo < hi {
+                            let mid = lo + (hi - lo) / 2;
+                            if m.outputs_at(mid) != held {
+                                hi = mid;
+                            } else {
+                                lo = mid + 1;
+                            }
+                        }
+                        let o = m.outputs_at(lo);
+                        at.push(lo);
+                        columns.push(&o);
+                        last = Some(o);
+                    }
+                    self.inner.advance(p, end - clock, |_, _| {});
                     break;
                 }
                 let edges = self.inner.clock(p);
-                if last.is_none() || !edges.is_empty() {
+                let armed = last.is_some_and(|o| o.armed);
+                if last.is_none() || !edges.is_empty() || armed {
                     let o = self.inner.outputs();
                     if last != Some(o) {
-                        at.push(self.clocks);
+                        at.push(clock);
                         columns.push(&o);
                         last = Some(o);
                     }
                 }
-                self.clocks += 1;
             }
         }
         let d = columns.into_dict(py)?;
@@ -445,10 +490,11 @@ impl FrontEnd {
         Ok(d)
     }
 
-    /// Clocks since reset (`step`, `run`, `advance` and `run_segments` all count).
+    /// Clocks since reset (`step`, `run`, `advance` and `run_segments` all count): the
+    /// time of the FES watchdog.
     #[getter]
     fn clocks(&self) -> u64 {
-        self.clocks
+        self.inner.clocks()
     }
 
     /// Whether clocking with `pins` held would change no register.
@@ -487,19 +533,60 @@ impl Measurement {
         }
     }
 
-    /// Applies one event; returns the outputs after it.
-    fn apply(&mut self, event: &Event) -> Outputs {
-        self.inner.apply(event.inner);
-        Outputs {
+    /// Applies one event at `time` (ticks of the stream's clock, as a `.ttv` record's;
+    /// the model's `apply_at`: the FES watchdog sees the time first); returns the outputs
+    /// after it. A time before the last is a `ValueError`.
+    fn apply(&mut self, event: &Event, time: u64) -> PyResult<Outputs> {
+        self.not_before(time)?;
+        self.inner.apply_at(time, event.inner);
+        Ok(Outputs {
             inner: self.inner.outputs(),
-        }
+        })
     }
 
-    /// The current outputs.
+    /// The stream's clock reads `now` ticks, with no event (the FES watchdog latches if it
+    /// expired); returns the outputs then.
+    fn observe(&mut self, now: u64) -> PyResult<Outputs> {
+        self.not_before(now)?;
+        self.inner.observe(now);
+        Ok(Outputs {
+            inner: self.inner.outputs(),
+        })
+    }
+
+    /// The outputs at time `now` (not before the last event's or observed time), the FES
+    /// watchdog evaluated then; changes nothing.
+    fn outputs_at(&self, now: u64) -> PyResult<Outputs> {
+        self.not_before(now)?;
+        Ok(Outputs {
+            inner: self.inner.outputs_at(now),
+        })
+    }
+
+    /// The outputs at the last event's or observed time.
     #[getter]
     fn outputs(&self) -> Outputs {
         Outputs {
             inner: self.inner.outputs(),
         }
+    }
+
+    /// The last event's or observed time, ticks.
+    #[getter]
+    fn time(&self) -> u64 {
+        self.inner.checks().now()
+    }
+}
+
+impl Measurement {
+    /// A `ValueError` when `time` is before the kernel's time.
+    fn not_before(&self, time: u64) -> PyResult<()> {
+        let now = self.inner.checks().now();
+        if time < now {
+            return Err(PyValueError::new_err(format!(
+                "time {time} is before the time already reached, {now}; time never goes backwards"
+            )));
+        }
+        Ok(())
     }
 }

@@ -114,7 +114,8 @@ def test_event_level_measurement_equals_the_clis_expected_outputs(fast_run):
     for event, outputs in itertools.zip_longest(events, expected):
         assert event is not None and outputs is not None, "not one outputs record per event"
         assert event.time == outputs.time
-        assert measurement.apply(event.value) == outputs.value, f"event {compared} at {event.time}"
+        got = measurement.apply(event.value, event.time)
+        assert got == outputs.value, f"event {compared} at {event.time}"
         compared += 1
     assert compared > 1000
     assert measurement.outputs.register_now

@@ -90,7 +90,7 @@ def test_every_record_kind_is_typed_and_written_back_byte_for_byte(tmp_path):
     from its typed value to the same bytes."""
     settings = tooltouch.Settings()
     force = tooltouch.ForceSettings.design("adaptive")
-    measure_outputs = tooltouch.Measurement(settings).apply(tooltouch.Event.arm(True))
+    measure_outputs = tooltouch.Measurement(settings).apply(tooltouch.Event.arm(True), 0)
     force_outputs = tooltouch.ForceKernel(force).apply(tooltouch.ForceEvent.control(True))
     typed = tmp_path / "typed.ttv"
     with tooltouch.TtvWriter(typed, "events", 1000, settings=settings, force_hash=force.force_hash) as w:

@@ -9,6 +9,14 @@ stubs for units and fixed-point formats, and docs/python.md for a scoreboard.
 """
 
 from ._tooltouch import (
+    FAULT_CONTACT_AT_ARM,
+    FAULT_FES_TIMEOUT,
+    FAULT_INDEX_MISSING,
+    FAULT_NAMES,
+    FAULT_NO_DECISION,
+    FAULT_PULSES_LOST,
+    FAULT_SCALE_ERROR,
+    FAULT_UNCONFIRMED,
     OUTPUT_NAMES,
     PIN_ARM,
     PIN_CONTACT,
@@ -41,6 +49,14 @@ from ._tooltouch import (
 )
 
 __all__ = [
+    "FAULT_CONTACT_AT_ARM",
+    "FAULT_FES_TIMEOUT",
+    "FAULT_INDEX_MISSING",
+    "FAULT_NAMES",
+    "FAULT_NO_DECISION",
+    "FAULT_PULSES_LOST",
+    "FAULT_SCALE_ERROR",
+    "FAULT_UNCONFIRMED",
     "OUTPUT_NAMES",
     "PIN_ARM",
     "PIN_CONTACT",

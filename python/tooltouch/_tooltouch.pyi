@@ -28,7 +28,24 @@ PIN_SCALE_B: int
 PIN_NAMES: List[str]
 """Pin names by bit position, as the VCD signals (the Verilog ports are ``pin_<name>``)."""
 OUTPUT_NAMES: List[str]
-"""The 15 output names, in the order of the VCD, the Verilog ports and ``Outputs.as_dict``."""
+"""The 17 output names, in the order of the VCD, the Verilog ports and ``Outputs.as_dict``."""
+FAULT_NAMES: List[str]
+"""The fault conditions' names by bit position of ``Outputs.faults`` (``contact_at_arm`` ...
+``unconfirmed``), as in docs/measure.md and the firmware's decision line."""
+FAULT_CONTACT_AT_ARM: int
+"""Fault bit 0 (1): the contact was closed when the arm rose."""
+FAULT_PULSES_LOST: int
+"""Fault bit 1 (2): a revolution of fewer than ``pulses_per_rev - pulse_tolerance`` FES pulses."""
+FAULT_INDEX_MISSING: int
+"""Fault bit 2 (4): more than ``pulses_per_rev + pulse_tolerance`` FES pulses without an index."""
+FAULT_SCALE_ERROR: int
+"""Fault bit 3 (8): an illegal scale transition since arm."""
+FAULT_NO_DECISION: int
+"""Fault bit 4 (16): no decision within ``probe_revs`` revolutions of the arm."""
+FAULT_FES_TIMEOUT: int
+"""Fault bit 5 (32): no FES pulse for ``fes_timeout_cycles`` ticks while armed."""
+FAULT_UNCONFIRMED: int
+"""Fault bit 6 (64): the contact fell back in a confirmation window after the decision."""
 
 class Settings:
     """Validated settings: the CLI's settings file, ``[measure]`` (the model) and
@@ -113,6 +130,16 @@ class Outputs:
     @property
     def pulses(self) -> int:
         """FES pulses since arm, wrapping at 2**32."""
+    @property
+    def confirmed(self) -> bool:
+        """The decision was confirmed by the contact pattern after it."""
+    @property
+    def faults(self) -> int:
+        """Fault conditions latched since arm, one bit each (``FAULT_*``, 7 bits). Accept a
+        measurement only when ``confirmed`` and ``faults == 0``; alarm on any fault."""
+    @property
+    def fault_names(self) -> List[str]:
+        """The latched faults' names in bit order (``FAULT_NAMES``); empty when none."""
     def as_dict(self) -> Dict[str, int]:
         """``{name: value}`` in ``OUTPUT_NAMES`` order; flags 0/1, positions signed."""
     def register_bits(self, settings: Settings) -> List[int]:
@@ -163,7 +190,7 @@ class FrontEnd:
     def run(self, pins: npt.NDArray[np.uint8]) -> Dict[str, npt.NDArray[Any]]:
         """One clock per element of ``pins``; ``{name: array}`` with element ``k`` the
         output after clock ``k``. dtypes: flags bool, positions int32, scale_errors
-        uint8, revolutions uint16, the others uint32. The loop runs in Rust."""
+        uint8, revolutions uint16, faults uint8, the others uint32. The loop runs in Rust."""
     def advance(self, pins: int, cycles: int) -> int:
         """``cycles`` clocks with ``pins`` held, exactly skipping those after the front
         end settled; returns the clocks simulated one by one."""
@@ -192,10 +219,22 @@ class Measurement:
     """The event-level measurement kernel (firmware semantics) from reset."""
 
     def __init__(self, settings: Settings) -> None: ...
-    def apply(self, event: Event) -> Outputs:
-        """Applies one event; the outputs after it."""
+    def apply(self, event: Event, time: int) -> Outputs:
+        """Applies one event at ``time`` (ticks of the stream's clock, a ``.ttv`` record's
+        ``time``; the FES watchdog sees the time first); the outputs after it.
+        ``ValueError`` if ``time`` is before the last event's or observed time."""
+    def observe(self, now: int) -> Outputs:
+        """The stream's clock reads ``now`` ticks with no event (the FES watchdog latches
+        if it expired); the outputs then. ``ValueError`` if ``now`` goes backwards."""
+    def outputs_at(self, now: int) -> Outputs:
+        """The outputs at ``now`` (not before the last time), the watchdog evaluated then;
+        changes nothing."""
     @property
-    def outputs(self) -> Outputs: ...
+    def outputs(self) -> Outputs:
+        """The outputs at the last event's or observed time."""
+    @property
+    def time(self) -> int:
+        """The last event's or observed time, ticks."""
 
 class Record:
     """One record of a ``.ttv`` stream."""

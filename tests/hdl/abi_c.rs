@@ -66,7 +66,12 @@ pub fn write_config(settings: &Path, out: &Path) {
     assert!(o.status.success(), "cosim config: {}", text(&o));
 }
 
+/// The measurement's FES watchdog, ticks: short, so that the C program's event stream
+/// reaches it.
+const FES_TIMEOUT: u64 = 50;
+
 const SETTINGS: &str = "[measure]\npulses_per_rev = 16\ni_def = 4\nglitch_cycles = 1\n\
+                        [measure.checks]\nfes_timeout_cycles = 50\n\
                         [force]\ncontroller = \"fuzzy\"\nkp_percent = 80\n";
 
 fn next(state: &mut u64) -> u64 {
@@ -159,7 +164,8 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
         let got = hex_words(line);
         assert_eq!(got[..2], [k, u64::from(pins)], "cycle {k}: {line}");
         let want = o.register_bits(&measure);
-        for (i, (w, g)) in want.iter().zip(&got[2..17]).enumerate() {
+        let n = want.len();
+        for (i, (w, g)) in want.iter().zip(&got[2..2 + n]).enumerate() {
             assert_eq!(
                 w, g,
                 "cycle {k}: signal {} expected 0x{w:x} got 0x{g:x}",
@@ -195,7 +201,8 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
         ];
         mcu.resize(16, 0);
         mcu.extend([u64::from(o.revolutions), u64::from(o.pulses)]);
-        for (a, (w, g)) in mcu.iter().zip(&got[17..]).enumerate() {
+        assert_eq!(got.len(), 2 + n + mcu.len(), "cycle {k}: {line}");
+        for (a, (w, g)) in mcu.iter().zip(&got[2 + n..]).enumerate() {
             let name = match tooltouch_hdl_gen::MCU_REGISTERS.get(a) {
                 Some(r) => r.name,
                 None if a < 16 => "unmapped",
@@ -212,32 +219,66 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
         "the random pins never led to a decision: a weak test"
     );
 
-    // Event level.
+    // Event level, every event at its time.
+    assert_eq!(
+        u64::from(measure.settings().checks.fes_timeout_cycles),
+        FES_TIMEOUT
+    );
     let mut m = Measurement::new(&measure);
     let events = [
-        MeasureEvent::Arm(true),
-        MeasureEvent::Contact(true),
-        MeasureEvent::Fes,
-        MeasureEvent::Scale { a: true, b: false },
-        MeasureEvent::Scale { a: true, b: true },
-        MeasureEvent::Index,
-        MeasureEvent::Fes,
-        MeasureEvent::Contact(false),
-        MeasureEvent::PresetPulses(u32::MAX),
-        MeasureEvent::Fes,
-        MeasureEvent::Arm(false),
+        (0, MeasureEvent::Arm(true)),
+        (3, MeasureEvent::Contact(true)),
+        (10, MeasureEvent::Fes),
+        (10, MeasureEvent::Scale { a: true, b: false }),
+        (12, MeasureEvent::Scale { a: true, b: true }),
+        (20, MeasureEvent::Index),
+        (25, MeasureEvent::Fes),
+        (40, MeasureEvent::Contact(false)),
+        (41, MeasureEvent::PresetPulses(u32::MAX)),
+        (200, MeasureEvent::Fes),
+        (201, MeasureEvent::Arm(false)),
     ];
-    for (i, e) in events.iter().enumerate() {
-        m.apply(*e);
+    for (i, (time, e)) in events.iter().enumerate() {
+        m.apply_at(*time, *e);
         let line = lines.next().expect("an event line");
         let got = hex_words(line);
-        assert_eq!(got[0], i as u64, "{line}");
+        assert_eq!(got[..2], [i as u64, *time], "{line}");
         assert_eq!(
-            got[1..],
+            got[2..],
             m.outputs().register_bits(&measure),
-            "event {i} ({e:?})"
+            "event {i} ({e:?}) at {time}"
         );
     }
+    use tooltouch_model::measure::checks::fault;
+    // The FES at 200 came 175 ticks after the last: the watchdog latched, held after the arm.
+    assert_eq!(m.outputs().faults & fault::FES_TIMEOUT, fault::FES_TIMEOUT);
+    // Armed again at 300 with no FES: clean at 340, timed out at 350 and after.
+    m.apply_at(300, MeasureEvent::Arm(true));
+    for read in [340u64, 400] {
+        let o = m.outputs_at(read);
+        let want = vec![
+            read,
+            u64::from(o.armed),
+            u64::from(o.pulses),
+            u64::from(o.confirmed),
+            u64::from(o.faults),
+        ];
+        let line = lines.next().expect("a read line");
+        assert_eq!(hex_words(line), want, "read at {read}: {line}");
+    }
+    assert_eq!(m.outputs_at(340).faults, 0);
+    assert_eq!(m.outputs_at(400).faults, fault::FES_TIMEOUT);
+    m.observe(400);
+    let line = lines.next().expect("an observe line");
+    let got = hex_words(line);
+    assert_eq!(got[0], 400, "{line}");
+    assert_eq!(
+        got[1..],
+        m.outputs().register_bits(&measure),
+        "observed at 400"
+    );
+    let names = lines.next().expect("the fault names");
+    assert_eq!(names, format!("faults {}", fault::NAMES.join(" ")));
 
     // Force kernel.
     let mut kernel = ForceKernel::new(&config.force);

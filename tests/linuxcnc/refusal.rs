@@ -31,9 +31,10 @@ fn linuxcnc_a_bad_or_foreign_configuration_refuses_to_load() {
             format!("{}", cut.display()),
             format!("{hash:016x}"),
             format!(
-                "tooltouch: configuration {} does not decode: {}: the configuration file's measurement configuration says 31 bytes, 10 are left (the HAL file names measure_hash={hash:016x})",
+                "tooltouch: configuration {} does not decode: {}: the configuration file's measurement configuration says {} bytes, 10 are left (the HAL file names measure_hash={hash:016x})",
                 cut.display(),
-                cut.display()
+                cut.display(),
+                tooltouch_model::wire::measure_config::CANONICAL_CONFIG_LEN
             ),
         ),
     ];

@@ -11,21 +11,38 @@ use std::path::PathBuf;
 use tooltouch_linuxcnc::files::{
     dut_outputs, golden_outputs, header, outputs_stream, streamer_text,
 };
-use tooltouch_linuxcnc::size_loop::{latched_um, replay_with, run, table, SizeLoopSettings};
+use tooltouch_linuxcnc::size_loop::{
+    alarms, reading, replay_with, run, servo_pulse_tolerance, table, SizeLoopSettings,
+};
 use tooltouch_settings::firmware_config::FirmwareConfig;
 use tooltouch_vectors::output::write_file;
+
+/// The bit-for-bit run's settings with the revolution check's tolerance for the servo rate:
+/// at 3000 rpm a 1 ms period holds 51.2 FES pulses of 1024 per revolution
+/// ([`servo_pulse_tolerance`]).
+const SETTINGS: &str = "[measure]\nmethod = \"counter\"\n[measure.checks]\npulse_tolerance = 64\n\
+                        [force]\ncontroller = \"pi\"\nkp_percent = 80\n";
 
 #[test]
 fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
     let dir = work_dir();
     let settings = dir.path().join("settings.toml");
-    std::fs::write(&settings, crate::bit_for_bit::SETTINGS).unwrap();
+    std::fs::write(&settings, SETTINGS).unwrap();
     let config_file = dir.path().join("config.ttc");
     write_config(&settings, &config_file);
     let config = FirmwareConfig::load(Some(&settings)).expect("the settings load");
     let (measure, force) = (config.measure, config.force);
     let loop_settings = SizeLoopSettings::default();
+    assert!(
+        measure.settings().checks.pulse_tolerance
+            >= servo_pulse_tolerance(
+                measure.settings().pulses_per_rev,
+                loop_settings.rpm,
+                f64::from(force.settings().sample_hz)
+            )
+    );
     let golden = run(&loop_settings, &measure, &force);
+    assert_eq!(alarms(&golden), [], "a clean machine alarms");
     let rows = &golden.stream;
     std::fs::write(dir.path().join("stim.txt"), streamer_text(rows)).unwrap();
     let hal = stream_hal_file(
@@ -63,16 +80,16 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
     let verdict = text(&o);
     assert!(o.status.success(), "{verdict}");
     println!("{verdict}");
-    // The loop from HAL's latched positions.
-    let latched: Vec<Option<f64>> = golden
+    // The loop from HAL's readings: its latched positions, confirmed and fault pins.
+    let readings: Vec<_> = golden
         .touches
         .iter()
         .map(|t| {
             let m = dut.get(t.read_at).map(|d| d.0).unwrap_or_default();
-            latched_um(m.register_now, m.decision_position, loop_settings.scale_um)
+            reading(&m, loop_settings.scale_um)
         })
         .collect();
-    let from_hal = replay_with(&loop_settings, &golden, &latched);
+    let from_hal = replay_with(&loop_settings, &golden, &readings);
     assert_eq!(from_hal, golden.rows);
     let lines = table(&loop_settings, &golden);
     for line in &lines {

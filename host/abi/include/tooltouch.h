@@ -10,11 +10,15 @@
 #include <stdint.h>
 
 // Version of this ABI (functions, structures, constants); [`tt_abi_version`] returns it.
-#define TT_ABI_VERSION 1
+//
+// Version 2 (the measurement status): `TtMeasureOutputs` gained `confirmed` and `faults`,
+// `TtMeasureEvent` gained `time`, `TT_OUTPUT_COUNT` is 17; new `TT_FAULT_*`,
+// [`tt_fault_name`], [`tt_measurement_observe`], [`tt_measurement_outputs_at`].
+#define TT_ABI_VERSION 2
 
 // Number of measurement outputs ([`TtMeasureOutputs`] fields, [`tt_frontend_registers`]
 // entries), in the model's order ([`tt_output_name`] names them).
-#define TT_OUTPUT_COUNT 15
+#define TT_OUTPUT_COUNT 17
 
 // Number of MCU register addresses (`mcu_addr` is 4 bits wide).
 #define TT_MCU_ADDRESSES 16
@@ -55,6 +59,35 @@
 // Test event: the FES pulse count since arm becomes `pulses`.
 #define TT_MEASURE_EVENT_PRESET_PULSES 7
 
+// Fault bit of [`TtMeasureOutputs::faults`]: the contact was closed when the arm rose
+// (coolant bridge, tool already touching).
+#define TT_FAULT_CONTACT_AT_ARM (1 << 0)
+
+// Fault bit: a revolution (index to index) of fewer than `pulses_per_rev − pulse_tolerance`
+// FES pulses.
+#define TT_FAULT_PULSES_LOST (1 << 1)
+
+// Fault bit: more than `pulses_per_rev + pulse_tolerance` FES pulses without an index.
+#define TT_FAULT_INDEX_MISSING (1 << 2)
+
+// Fault bit: an illegal scale transition since arm.
+#define TT_FAULT_SCALE_ERROR (1 << 3)
+
+// Fault bit: no decision within `probe_revs` revolutions of the arm (probe fail).
+#define TT_FAULT_NO_DECISION (1 << 4)
+
+// Fault bit: no FES pulse for `fes_timeout_cycles` ticks while armed (FES watchdog).
+#define TT_FAULT_FES_TIMEOUT (1 << 5)
+
+// Fault bit: the contact fell back in a confirmation window after the decision.
+#define TT_FAULT_UNCONFIRMED (1 << 6)
+
+// Number of fault conditions: the width of `faults`, bits ([`tt_fault_name`] names each).
+#define TT_FAULT_COUNT 7
+
+// Every fault bit.
+#define TT_FAULT_ALL 127
+
 // [`TtForceEvent::kind`]: one ADC sample of every channel, `adc` (the wire kind byte).
 #define TT_FORCE_EVENT_SAMPLE 32
 
@@ -81,7 +114,8 @@ typedef enum TtStatus {
   TT_STATUS_NULL_POINTER = 1,
   // The configuration bytes do not decode or do not validate.
   TT_STATUS_BAD_CONFIG = 2,
-  // An argument is out of its range (a pin bit above bit 5, an unknown event kind, …).
+  // An argument is out of its range (a pin bit above bit 5, an unknown event kind, a
+  // time before the last, …).
   TT_STATUS_BAD_ARGUMENT = 3,
   // A file could not be read.
   TT_STATUS_IO = 4,
@@ -135,9 +169,14 @@ typedef struct TtMeasureOutputs {
   uint16_t revolutions;
   // FES pulses since arm, wrapping at 2^32.
   uint32_t pulses;
+  // The decision was confirmed by the contact pattern after it (0 or 1).
+  uint8_t confirmed;
+  // Fault conditions latched since arm, one bit each (`TT_FAULT_*`); accept a reading
+  // only with `confirmed` 1 and `faults` 0, alarm on any fault.
+  uint8_t faults;
 } TtMeasureOutputs;
 
-// One event-level measurement input.
+// One event-level measurement input at its time.
 typedef struct TtMeasureEvent {
   // `TT_MEASURE_EVENT_*`.
   uint8_t kind;
@@ -149,6 +188,10 @@ typedef struct TtMeasureEvent {
   uint8_t scale_b;
   // Preset pulses: the new FES pulse count.
   uint32_t pulses;
+  // When the event happened, ticks of the stream's clock (the unit of
+  // `fes_timeout_cycles`: FPGA clocks for a vector stream); never before the last event's
+  // or observed time. Last, so that a C initialiser that omits it gives time 0.
+  uint64_t time;
 } TtMeasureEvent;
 
 // One ADC sample of every channel, 12-bit codes (unipolar speed and power, the others
@@ -228,8 +271,13 @@ const char *tt_last_error(void);
 // in the Verilog ports and VCD signals, NUL-terminated and static; NULL if out of range.
 const char *tt_output_name(uint32_t index);
 
+// The name of fault bit `bit` (`0..TT_FAULT_COUNT`: bit 0 is `TT_FAULT_CONTACT_AT_ARM`)
+// as in the model, the docs and the firmware's decision line (`contact_at_arm`, …),
+// NUL-terminated and static; NULL if out of range.
+const char *tt_fault_name(uint32_t bit);
+
 // Makes a configuration from `len` bytes at `bytes` (see the crate documentation: the
-// file `tooltouch cosim config` writes, or a measurement configuration's 31 canonical
+// file `tooltouch cosim config` writes, or a measurement configuration's 42 canonical
 // bytes) and stores its handle in `*out`; free it with [`tt_config_free`].
 //
 // # Safety
@@ -360,21 +408,40 @@ enum TtStatus tt_measurement_new(const struct TtConfig *config, struct TtMeasure
 // `measurement` is NULL or a live handle from this library.
 void tt_measurement_free(struct TtMeasurement *measurement);
 
-// Applies one event.
+// Applies one event at its `time` (the model's `apply_at(time, event)`: the time is
+// observed first, so the FES watchdog latches if it expired before the event). A time
+// before the last event's or observed time is BadArgument and changes nothing.
 //
 // # Safety
 // `measurement` is NULL or a live handle; `event` is NULL or readable.
 enum TtStatus tt_measurement_apply(struct TtMeasurement *measurement,
                                    const struct TtMeasureEvent *event);
 
-// Every output after the last event, into `*out`.
+// The stream's clock reads `now` ticks, with no event (the model's `observe`): the FES
+// watchdog latches if it expired. A time before the last is BadArgument.
+//
+// # Safety
+// `measurement` is NULL or a live handle.
+enum TtStatus tt_measurement_observe(struct TtMeasurement *measurement, uint64_t now);
+
+// Every output at time `now` (ticks, not before the last event's or observed time; the
+// model's `outputs_at`: the FES watchdog evaluated at `now`), into `*out`. Changes nothing.
+//
+// # Safety
+// `measurement` is NULL or a live handle; `out` is NULL or writable.
+enum TtStatus tt_measurement_outputs_at(const struct TtMeasurement *measurement,
+                                        uint64_t now,
+                                        struct TtMeasureOutputs *out);
+
+// Every output at the last event's or observed time, into `*out`.
 //
 // # Safety
 // `measurement` is NULL or a live handle; `out` is NULL or writable.
 enum TtStatus tt_measurement_outputs(const struct TtMeasurement *measurement,
                                      struct TtMeasureOutputs *out);
 
-// Every output as register bits (as [`tt_frontend_registers`]) into `out[]`.
+// Every output as register bits (as [`tt_frontend_registers`]) at the last event's or
+// observed time into `out[]`.
 //
 // # Safety
 // `measurement` is NULL or a live handle; `out` is NULL or points to `TT_OUTPUT_COUNT`

@@ -4,7 +4,7 @@
 use super::*;
 
 /// Decodes a configuration from `bytes`: the file `tooltouch cosim config` writes, or the
-/// measurement configuration's 31 canonical bytes alone (force path: default settings).
+/// measurement configuration's 42 canonical bytes alone (`CANONICAL_CONFIG_LEN`) (force path: default settings).
 /// `origin` prefixes every message (a file's name and a colon, or nothing).
 pub(crate) fn decode_configuration(bytes: &[u8], origin: &str) -> Result<TtConfig, Failure> {
     let bad = |m: fmt::Arguments<'_>| fail(TtStatus::BadConfig, format_args!("{origin}{m}"));
@@ -72,7 +72,7 @@ pub(crate) fn decode_configuration(bytes: &[u8], origin: &str) -> Result<TtConfi
 }
 
 /// Makes a configuration from `len` bytes at `bytes` (see the crate documentation: the
-/// file `tooltouch cosim config` writes, or a measurement configuration's 31 canonical
+/// file `tooltouch cosim config` writes, or a measurement configuration's 42 canonical
 /// bytes) and stores its handle in `*out`; free it with [`tt_config_free`].
 ///
 /// # Safety

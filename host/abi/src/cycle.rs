@@ -20,6 +20,8 @@ pub(crate) fn c_outputs(o: &MeasureOutputs) -> TtMeasureOutputs {
         charge: o.charge,
         revolutions: o.revolutions,
         pulses: o.pulses,
+        confirmed: o.confirmed.into(),
+        faults: o.faults,
     }
 }
 

@@ -1,5 +1,5 @@
 //! The measurement kernel at event level, `TtMeasurement` (firmware semantics: one event
-//! per call).
+//! per call, at its time: the model's `apply_at(time, event)`).
 
 use super::*;
 
@@ -58,7 +58,22 @@ pub(crate) fn measure_event(e: &TtMeasureEvent) -> Result<MeasureEvent, Failure>
     })
 }
 
-/// Applies one event.
+/// `time` if it is not before the kernel's time (the last event's or observed), else a
+/// BadArgument failure naming both.
+fn not_before(m: &TtMeasurement, time: u64, what: &str) -> Result<u64, Failure> {
+    let now = m.measurement.checks().now();
+    if time < now {
+        return Err(fail(
+            TtStatus::BadArgument,
+            format_args!("{what} {time} is before the time already reached, {now}; time never goes backwards"),
+        ));
+    }
+    Ok(time)
+}
+
+/// Applies one event at its `time` (the model's `apply_at(time, event)`: the time is
+/// observed first, so the FES watchdog latches if it expired before the event). A time
+/// before the last event's or observed time is BadArgument and changes nothing.
 ///
 /// # Safety
 /// `measurement` is NULL or a live handle; `event` is NULL or readable.
@@ -75,12 +90,53 @@ pub unsafe extern "C" fn tt_measurement_apply(
                 deref(event, "event")?,
             )
         };
-        m.measurement.apply(measure_event(e)?);
+        let event = measure_event(e)?;
+        let time = not_before(m, e.time, "the event's time")?;
+        m.measurement.apply_at(time, event);
         Ok(())
     })
 }
 
-/// Every output after the last event, into `*out`.
+/// The stream's clock reads `now` ticks, with no event (the model's `observe`): the FES
+/// watchdog latches if it expired. A time before the last is BadArgument.
+///
+/// # Safety
+/// `measurement` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn tt_measurement_observe(
+    measurement: *mut TtMeasurement,
+    now: u64,
+) -> TtStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let m = unsafe { deref_mut(measurement, "measurement") }?;
+        let now = not_before(m, now, "time")?;
+        m.measurement.observe(now);
+        Ok(())
+    })
+}
+
+/// Every output at time `now` (ticks, not before the last event's or observed time; the
+/// model's `outputs_at`: the FES watchdog evaluated at `now`), into `*out`. Changes nothing.
+///
+/// # Safety
+/// `measurement` is NULL or a live handle; `out` is NULL or writable.
+#[no_mangle]
+pub unsafe extern "C" fn tt_measurement_outputs_at(
+    measurement: *const TtMeasurement,
+    now: u64,
+    out: *mut TtMeasureOutputs,
+) -> TtStatus {
+    guard(|| {
+        // SAFETY: the caller's contract.
+        let (m, out) = unsafe { (deref(measurement, "measurement")?, deref_mut(out, "out")?) };
+        let now = not_before(m, now, "time")?;
+        *out = c_outputs(&m.measurement.outputs_at(now));
+        Ok(())
+    })
+}
+
+/// Every output at the last event's or observed time, into `*out`.
 ///
 /// # Safety
 /// `measurement` is NULL or a live handle; `out` is NULL or writable.
@@ -97,7 +153,8 @@ pub unsafe extern "C" fn tt_measurement_outputs(
     })
 }
 
-/// Every output as register bits (as [`tt_frontend_registers`]) into `out[]`.
+/// Every output as register bits (as [`tt_frontend_registers`]) at the last event's or
+/// observed time into `out[]`.
 ///
 /// # Safety
 /// `measurement` is NULL or a live handle; `out` is NULL or points to `TT_OUTPUT_COUNT`

@@ -7,14 +7,22 @@
 //! | --- | --- | --- | --- |
 //! | [`TtConfig`] | `MeasureConfig` + `ForceConfig` | [`tt_config_from_bytes`], [`tt_config_from_file`] | — |
 //! | [`TtFrontEnd`] | cycle level, `FrontEnd` | [`tt_frontend_new`] | [`tt_frontend_clock`], [`tt_frontend_advance`] |
-//! | [`TtMeasurement`] | event level, `Measurement` | [`tt_measurement_new`] | [`tt_measurement_apply`] |
+//! | [`TtMeasurement`] | event level, `Measurement` | [`tt_measurement_new`] | [`tt_measurement_apply`] (each event at its `time`), [`tt_measurement_observe`] |
 //! | [`TtForce`] | force kernel, `ForceKernel` | [`tt_force_new`] | [`tt_force_apply`] |
 //!
 //! The configuration comes from a settings file's canonical bytes: the file
 //! `tooltouch cosim config --config settings.toml --out config.ttc` writes (`TTFWCFG1`, then
 //! the measurement and the force configuration's canonical bytes, each after its length as
-//! a little-endian u16), or the 31 bytes of the measurement configuration alone (the force
+//! a little-endian u16), or the 42 bytes of the measurement configuration alone (the force
 //! path then runs the default force settings).
+//!
+//! The measurement status: [`TtMeasureOutputs`] ends with `confirmed` and `faults`, one bit
+//! per fault condition latched since arm (`TT_FAULT_*`, named by [`tt_fault_name`]); a
+//! caller accepts a reading only when `confirmed` is 1 and `faults` is 0. The event level is
+//! told the time: every [`TtMeasureEvent`] carries its `time` (ticks of the stream's clock,
+//! never going backwards), so the FES watchdog sees the caller's stream exactly as the
+//! model's `apply_at(time, event)` does; [`tt_measurement_observe`] moves the time with no
+//! event, [`tt_measurement_outputs_at`] reads the outputs at a later time.
 //!
 //! Rules every function keeps: it returns a [`TtStatus`] (0 is success) and writes its
 //! results through out-pointers; a failure leaves a message naming the culprit for
@@ -41,6 +49,7 @@ use tooltouch_model::force::config::{ForceConfig, ForceSettings};
 use tooltouch_model::force::events::ForceEvent;
 use tooltouch_model::force::kernel::ForceKernel;
 use tooltouch_model::force::sampling::AdcCodes;
+use tooltouch_model::measure::checks::fault;
 use tooltouch_model::measure::frontend::pin;
 use tooltouch_model::wire::force_config::decode_force_settings;
 use tooltouch_model::wire::kind;
@@ -48,7 +57,11 @@ use tooltouch_model::wire::measure_config::{decode_config, CANONICAL_CONFIG_LEN}
 use tooltouch_model::{FrontEnd, MeasureConfig, MeasureEvent, MeasureOutputs, Measurement, Pins};
 
 /// Version of this ABI (functions, structures, constants); [`tt_abi_version`] returns it.
-pub const TT_ABI_VERSION: u32 = 1;
+///
+/// Version 2 (the measurement status): `TtMeasureOutputs` gained `confirmed` and `faults`,
+/// `TtMeasureEvent` gained `time`, `TT_OUTPUT_COUNT` is 17; new `TT_FAULT_*`,
+/// [`tt_fault_name`], [`tt_measurement_observe`], [`tt_measurement_outputs_at`].
+pub const TT_ABI_VERSION: u32 = 2;
 
 /// Number of measurement outputs ([`TtMeasureOutputs`] fields, [`tt_frontend_registers`]
 /// entries), in the model's order ([`tt_output_name`] names them).
@@ -88,6 +101,27 @@ pub const TT_MEASURE_EVENT_SCALE: u8 = 0x06;
 /// Test event: the FES pulse count since arm becomes `pulses`.
 pub const TT_MEASURE_EVENT_PRESET_PULSES: u8 = 0x07;
 
+/// Fault bit of [`TtMeasureOutputs::faults`]: the contact was closed when the arm rose
+/// (coolant bridge, tool already touching).
+pub const TT_FAULT_CONTACT_AT_ARM: u8 = 1 << 0;
+/// Fault bit: a revolution (index to index) of fewer than `pulses_per_rev − pulse_tolerance`
+/// FES pulses.
+pub const TT_FAULT_PULSES_LOST: u8 = 1 << 1;
+/// Fault bit: more than `pulses_per_rev + pulse_tolerance` FES pulses without an index.
+pub const TT_FAULT_INDEX_MISSING: u8 = 1 << 2;
+/// Fault bit: an illegal scale transition since arm.
+pub const TT_FAULT_SCALE_ERROR: u8 = 1 << 3;
+/// Fault bit: no decision within `probe_revs` revolutions of the arm (probe fail).
+pub const TT_FAULT_NO_DECISION: u8 = 1 << 4;
+/// Fault bit: no FES pulse for `fes_timeout_cycles` ticks while armed (FES watchdog).
+pub const TT_FAULT_FES_TIMEOUT: u8 = 1 << 5;
+/// Fault bit: the contact fell back in a confirmation window after the decision.
+pub const TT_FAULT_UNCONFIRMED: u8 = 1 << 6;
+/// Number of fault conditions: the width of `faults`, bits ([`tt_fault_name`] names each).
+pub const TT_FAULT_COUNT: u32 = 7;
+/// Every fault bit.
+pub const TT_FAULT_ALL: u8 = 0x7f;
+
 /// [`TtForceEvent::kind`]: one ADC sample of every channel, `adc` (the wire kind byte).
 pub const TT_FORCE_EVENT_SAMPLE: u8 = 0x20;
 /// Control period tick.
@@ -123,6 +157,17 @@ const _: () = {
     assert!(TT_FORCE_EVENT_CONDITIONS == kind::CONDITIONS);
     assert!(TT_FORCE_EVENT_TOOL_CHANGED == kind::TOOL_CHANGED);
     assert!(TT_OUTPUT_COUNT as usize == MeasureOutputs::FIELD_COUNT);
+    assert!(TT_FAULT_CONTACT_AT_ARM == fault::CONTACT_AT_ARM);
+    assert!(TT_FAULT_PULSES_LOST == fault::PULSES_LOST);
+    assert!(TT_FAULT_INDEX_MISSING == fault::INDEX_MISSING);
+    assert!(TT_FAULT_SCALE_ERROR == fault::SCALE_ERROR);
+    assert!(TT_FAULT_NO_DECISION == fault::NO_DECISION);
+    assert!(TT_FAULT_FES_TIMEOUT == fault::FES_TIMEOUT);
+    assert!(TT_FAULT_UNCONFIRMED == fault::UNCONFIRMED);
+    assert!(TT_FAULT_COUNT as usize == fault::COUNT);
+    assert!(TT_FAULT_ALL == fault::ALL);
+    // The crate documentation names the canonical configuration's length.
+    assert!(CANONICAL_CONFIG_LEN == 42);
 };
 
 /// What a call did: 0 success, otherwise why not ([`tt_last_error`] says more).
@@ -135,7 +180,8 @@ pub enum TtStatus {
     NullPointer = 1,
     /// The configuration bytes do not decode or do not validate.
     BadConfig = 2,
-    /// An argument is out of its range (a pin bit above bit 5, an unknown event kind, …).
+    /// An argument is out of its range (a pin bit above bit 5, an unknown event kind, a
+    /// time before the last, …).
     BadArgument = 3,
     /// A file could not be read.
     Io = 4,
@@ -205,9 +251,14 @@ pub struct TtMeasureOutputs {
     pub revolutions: u16,
     /// FES pulses since arm, wrapping at 2^32.
     pub pulses: u32,
+    /// The decision was confirmed by the contact pattern after it (0 or 1).
+    pub confirmed: u8,
+    /// Fault conditions latched since arm, one bit each (`TT_FAULT_*`); accept a reading
+    /// only with `confirmed` 1 and `faults` 0, alarm on any fault.
+    pub faults: u8,
 }
 
-/// One event-level measurement input.
+/// One event-level measurement input at its time.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TtMeasureEvent {
@@ -221,6 +272,10 @@ pub struct TtMeasureEvent {
     pub scale_b: u8,
     /// Preset pulses: the new FES pulse count.
     pub pulses: u32,
+    /// When the event happened, ticks of the stream's clock (the unit of
+    /// `fes_timeout_cycles`: FPGA clocks for a vector stream); never before the last event's
+    /// or observed time. Last, so that a C initialiser that omits it gives time 0.
+    pub time: u64,
 }
 
 /// One ADC sample of every channel, 12-bit codes (unipolar speed and power, the others
@@ -410,25 +465,41 @@ pub extern "C" fn tt_last_error() -> *const c_char {
         .unwrap_or(EMPTY.as_ptr())
 }
 
-/// Bytes of a name in [`OUTPUT_NAMES`]: the longest output name and its NUL fit.
-const OUTPUT_NAME_BYTES: usize = 32;
+/// Bytes of a name in [`OUTPUT_NAMES`] and [`FAULT_NAMES`]: the longest name and its NUL
+/// fit.
+const NAME_BYTES: usize = 32;
 
 /// Every output's name as in `MeasureOutputs::LAYOUT` (the model's one list), NUL-padded.
-static OUTPUT_NAMES: [[u8; OUTPUT_NAME_BYTES]; MeasureOutputs::FIELD_COUNT] = output_names();
-
-/// [`OUTPUT_NAMES`], made at compile time (a name too long fails the build).
-const fn output_names() -> [[u8; OUTPUT_NAME_BYTES]; MeasureOutputs::FIELD_COUNT] {
-    let mut out = [[0u8; OUTPUT_NAME_BYTES]; MeasureOutputs::FIELD_COUNT];
+static OUTPUT_NAMES: [[u8; NAME_BYTES]; MeasureOutputs::FIELD_COUNT] = {
+    let mut out = [[0u8; NAME_BYTES]; MeasureOutputs::FIELD_COUNT];
     let mut i = 0;
     while i < MeasureOutputs::FIELD_COUNT {
-        let name = MeasureOutputs::LAYOUT[i].0.as_bytes();
-        assert!(name.len() < OUTPUT_NAME_BYTES, "an output name is too long");
-        let mut j = 0;
-        while j < name.len() {
-            out[i][j] = name[j];
-            j += 1;
-        }
+        out[i] = c_name(MeasureOutputs::LAYOUT[i].0);
         i += 1;
+    }
+    out
+};
+
+/// Every fault's name as in the model's `fault::NAMES`, by bit position, NUL-padded.
+static FAULT_NAMES: [[u8; NAME_BYTES]; fault::COUNT] = {
+    let mut out = [[0u8; NAME_BYTES]; fault::COUNT];
+    let mut i = 0;
+    while i < fault::COUNT {
+        out[i] = c_name(fault::NAMES[i]);
+        i += 1;
+    }
+    out
+};
+
+/// `name` as a NUL-padded C string, made at compile time (a name too long fails the build).
+const fn c_name(name: &str) -> [u8; NAME_BYTES] {
+    let name = name.as_bytes();
+    assert!(name.len() < NAME_BYTES, "a name is too long");
+    let mut out = [0u8; NAME_BYTES];
+    let mut j = 0;
+    while j < name.len() {
+        out[j] = name[j];
+        j += 1;
     }
     out
 }
@@ -440,6 +511,17 @@ pub extern "C" fn tt_output_name(index: u32) -> *const c_char {
     usize::try_from(index)
         .ok()
         .and_then(|i| OUTPUT_NAMES.get(i))
+        .map_or(core::ptr::null(), |name| name.as_ptr().cast::<c_char>())
+}
+
+/// The name of fault bit `bit` (`0..TT_FAULT_COUNT`: bit 0 is `TT_FAULT_CONTACT_AT_ARM`)
+/// as in the model, the docs and the firmware's decision line (`contact_at_arm`, …),
+/// NUL-terminated and static; NULL if out of range.
+#[no_mangle]
+pub extern "C" fn tt_fault_name(bit: u32) -> *const c_char {
+    usize::try_from(bit)
+        .ok()
+        .and_then(|i| FAULT_NAMES.get(i))
         .map_or(core::ptr::null(), |name| name.as_ptr().cast::<c_char>())
 }
 

@@ -186,9 +186,10 @@ fn the_event_level_and_the_force_kernel_equal_the_model() {
                 MeasureEvent::Fes,
             ),
         ];
-        for (c, e) in events {
+        for (time, (mut c, e)) in (0u64..).map(|t| t * 7).zip(events) {
+            c.time = time;
             assert_eq!(tt_measurement_apply(m, &c), TtStatus::Ok);
-            model.apply(e);
+            model.apply_at(time, e);
             let mut got = TtMeasureOutputs::default();
             tt_measurement_outputs(m, &mut got);
             assert_eq!(got, c_outputs(&model.outputs()), "{e:?}");
@@ -267,8 +268,10 @@ fn bad_input_is_a_status_and_a_message() {
         );
         assert!(last_error().contains("i_def"), "{}", last_error());
         let mut file = b"TTFWCFG1".to_vec();
-        file.extend_from_slice(&31u16.to_le_bytes());
-        file.extend_from_slice(&MeasureConfig::default().canonical_bytes().0[..31]);
+        file.extend_from_slice(&(CANONICAL_CONFIG_LEN as u16).to_le_bytes());
+        file.extend_from_slice(
+            &MeasureConfig::default().canonical_bytes().0[..CANONICAL_CONFIG_LEN],
+        );
         assert_eq!(
             tt_config_from_bytes(file.as_ptr(), file.len(), &mut config),
             TtStatus::BadConfig
@@ -303,7 +306,7 @@ fn bad_input_is_a_status_and_a_message() {
         assert!(last_error().contains("MCU address 16"));
         let mut width = 0;
         assert_eq!(
-            tt_config_output_width(config, 15, &mut width),
+            tt_config_output_width(config, 17, &mut width),
             TtStatus::BadArgument
         );
         assert_eq!(tt_config_output_width(config, 3, &mut width), TtStatus::Ok);
@@ -342,8 +345,38 @@ fn bad_input_is_a_status_and_a_message() {
         };
         assert_eq!(tt_force_apply(f, &e), TtStatus::BadArgument);
         assert!(last_error().contains("force event kind 0x02"));
-        assert!(tt_output_name(15).is_null());
+        assert_eq!(tt_config_output_width(config, 16, &mut width), TtStatus::Ok);
+        assert_eq!(width, 7);
+        assert!(tt_output_name(17).is_null());
         assert_eq!(CStr::from_ptr(tt_output_name(14)), c"pulses");
+        assert_eq!(CStr::from_ptr(tt_output_name(16)), c"faults");
+        // Time never goes backwards: refused, nothing changes.
+        let at = |time| TtMeasureEvent {
+            kind: TT_MEASURE_EVENT_FES,
+            time,
+            ..Default::default()
+        };
+        assert_eq!(tt_measurement_apply(m, &at(10)), TtStatus::Ok);
+        assert_eq!(tt_measurement_apply(m, &at(9)), TtStatus::BadArgument);
+        assert!(
+            last_error().contains("time 9 is before the time already reached, 10"),
+            "{}",
+            last_error()
+        );
+        assert_eq!(tt_measurement_observe(m, 3), TtStatus::BadArgument);
+        let mut o = TtMeasureOutputs::default();
+        assert_eq!(
+            tt_measurement_outputs_at(m, 3, &mut o),
+            TtStatus::BadArgument
+        );
+        assert_eq!(
+            tt_measurement_outputs_at(m, 10, null_mut()),
+            TtStatus::NullPointer
+        );
+        assert_eq!(
+            tt_measurement_observe(null_mut(), 10),
+            TtStatus::NullPointer
+        );
         tt_force_free(f);
         tt_measurement_free(m);
         tt_frontend_free(fe);
@@ -375,4 +408,173 @@ fn every_output_is_named_as_in_the_models_list() {
     }
     assert!(tt_output_name(TT_OUTPUT_COUNT).is_null());
     assert!(tt_output_name(u32::MAX).is_null());
+}
+
+#[test]
+fn every_fault_is_named_as_in_the_model() {
+    for (bit, name) in (0u32..).zip(fault::NAMES) {
+        // SAFETY: a non-NULL result is a static NUL-terminated string.
+        let got = unsafe { CStr::from_ptr(tt_fault_name(bit)) };
+        assert_eq!(got.to_str(), Ok(name), "fault bit {bit}");
+    }
+    assert_eq!(
+        // SAFETY: as above.
+        unsafe { CStr::from_ptr(tt_fault_name(5)) }.to_str(),
+        Ok("fes_timeout")
+    );
+    assert!(tt_fault_name(TT_FAULT_COUNT).is_null());
+    assert!(tt_fault_name(u32::MAX).is_null());
+}
+
+/// A random timed stream with every check on and a short FES watchdog: the outputs after
+/// every event, and read at later times, are the model's `apply_at` / `outputs_at`.
+#[test]
+fn the_event_level_carries_the_time_to_the_fes_watchdog() {
+    use tooltouch_model::measure::checks::MeasureChecks;
+    let measure = MeasureSettings {
+        pulses_per_rev: 16,
+        i_def: 4,
+        checks: MeasureChecks {
+            fes_timeout_cycles: 40,
+            probe_revs: 6,
+            confirm_windows: 2,
+            ..MeasureChecks::default()
+        },
+        ..Default::default()
+    }
+    .validate()
+    .unwrap();
+    let config = config_of(&measure);
+    let mut seen = 0u8;
+    // SAFETY: live handles, valid out-pointers throughout.
+    unsafe {
+        let mut m = null_mut();
+        assert_eq!(tt_measurement_new(config, &mut m), TtStatus::Ok);
+        tt_config_free(config);
+        let mut model = Measurement::new(&measure);
+        let mut rng = 0x0bad_cafe_1234_5678u64;
+        let (mut time, mut arm, mut contact, mut lines) = (0u64, false, false, 0u8);
+        for step in 0..50_000 {
+            time += next(&mut rng) % 12;
+            let r = next(&mut rng) % 100;
+            let (c, e) = match r {
+                0..=1 => {
+                    arm = !arm;
+                    (TT_MEASURE_EVENT_ARM, MeasureEvent::Arm(arm))
+                }
+                2..=21 => {
+                    contact = !contact;
+                    (TT_MEASURE_EVENT_CONTACT, MeasureEvent::Contact(contact))
+                }
+                22..=25 => (TT_MEASURE_EVENT_INDEX, MeasureEvent::Index),
+                26..=29 => {
+                    // A quadrature step, now and then an illegal jump.
+                    lines = if r == 29 {
+                        lines ^ 3
+                    } else {
+                        lines ^ (1 << (lines & 1))
+                    };
+                    let (a, b) = (lines & 1 != 0, lines & 2 != 0);
+                    (TT_MEASURE_EVENT_SCALE, MeasureEvent::Scale { a, b })
+                }
+                _ => (TT_MEASURE_EVENT_FES, MeasureEvent::Fes),
+            };
+            let (level, scale_a, scale_b) = match e {
+                MeasureEvent::Arm(l) | MeasureEvent::Contact(l) => (u8::from(l), 0, 0),
+                MeasureEvent::Scale { a, b } => (0, u8::from(a), u8::from(b)),
+                _ => (0, 0, 0),
+            };
+            let event = TtMeasureEvent {
+                kind: c,
+                level,
+                scale_a,
+                scale_b,
+                pulses: 0,
+                time,
+            };
+            assert_eq!(tt_measurement_apply(m, &event), TtStatus::Ok);
+            model.apply_at(time, e);
+            let mut got = TtMeasureOutputs::default();
+            tt_measurement_outputs(m, &mut got);
+            assert_eq!(got, c_outputs(&model.outputs()), "step {step}");
+            seen |= got.faults;
+            let later = time + next(&mut rng) % 64;
+            tt_measurement_outputs_at(m, later, &mut got);
+            assert_eq!(
+                got,
+                c_outputs(&model.outputs_at(later)),
+                "step {step} at {later}"
+            );
+            if step % 97 == 0 {
+                assert_eq!(tt_measurement_observe(m, later), TtStatus::Ok);
+                model.observe(later);
+                time = later;
+            }
+        }
+        tt_measurement_free(m);
+    }
+    // The stream reaches the watchdog and the other conditions it can.
+    assert!(seen & fault::FES_TIMEOUT != 0, "faults seen {seen:#x}");
+    assert!(seen & fault::SCALE_ERROR != 0, "faults seen {seen:#x}");
+}
+
+/// The watchdog's edge exactly: armed at 100, the last FES at 139, a timeout of 40 ticks:
+/// clean at 178, `fes_timeout` at 179, held after the arm falls, cleared at the next arm.
+#[test]
+fn the_fes_watchdog_expires_at_its_tick() {
+    use tooltouch_model::measure::checks::MeasureChecks;
+    let measure = MeasureSettings {
+        checks: MeasureChecks {
+            fes_timeout_cycles: 40,
+            ..MeasureChecks::OFF
+        },
+        ..Default::default()
+    }
+    .validate()
+    .unwrap();
+    let config = config_of(&measure);
+    // SAFETY: live handles, valid out-pointers throughout.
+    unsafe {
+        let mut m = null_mut();
+        assert_eq!(tt_measurement_new(config, &mut m), TtStatus::Ok);
+        tt_config_free(config);
+        let event = |kind, level, time| TtMeasureEvent {
+            kind,
+            level,
+            time,
+            ..Default::default()
+        };
+        let faults_at = |now| {
+            let mut o = TtMeasureOutputs::default();
+            assert_eq!(tt_measurement_outputs_at(m, now, &mut o), TtStatus::Ok);
+            o.faults
+        };
+        assert_eq!(
+            tt_measurement_apply(m, &event(TT_MEASURE_EVENT_ARM, 1, 100)),
+            TtStatus::Ok
+        );
+        assert_eq!(faults_at(139), 0);
+        assert_eq!(
+            tt_measurement_apply(m, &event(TT_MEASURE_EVENT_FES, 0, 139)),
+            TtStatus::Ok
+        );
+        assert_eq!(faults_at(178), 0);
+        assert_eq!(tt_measurement_observe(m, 178), TtStatus::Ok);
+        assert_eq!(faults_at(179), TT_FAULT_FES_TIMEOUT);
+        assert_eq!(
+            tt_measurement_apply(m, &event(TT_MEASURE_EVENT_ARM, 0, 180)),
+            TtStatus::Ok
+        );
+        assert_eq!(
+            faults_at(10_000),
+            TT_FAULT_FES_TIMEOUT,
+            "held after the arm falls"
+        );
+        assert_eq!(
+            tt_measurement_apply(m, &event(TT_MEASURE_EVENT_ARM, 1, 10_001)),
+            TtStatus::Ok
+        );
+        assert_eq!(faults_at(10_001), 0, "cleared at the arm");
+        tt_measurement_free(m);
+    }
 }

@@ -4,6 +4,10 @@ description """
 Runs the golden model's event-level kernels (the measurement front end and the force path)
 once per call, with the firmware's semantics: the pins read in one period become events,
 applied in the model's canonical order, and every output is written back to a pin.
+The measurement's clock ticks once per call: every event of the n-th call (from 0) is at
+time n, so the FES watchdog's fes_timeout_cycles counts servo periods here.
+Accept a measurement only when confirmed is high and fault is low; fault (faults != 0)
+goes to the CNC's alarm input, faults names the conditions bit by bit.
 
 Per period, in this order:
 arm and contact: an event when the level differs from the last period's;
@@ -54,7 +58,7 @@ pin in bit identify "no-load identification runs while high";
 pin in bit tool_changed "a rising edge: a new tool is in (clears the wear alarm)";
 pin in u32 conditions "cutting-condition set of the wear monitor";
 
-// ---- measurement outputs (the model's 15 fields)
+// ---- measurement outputs (the model's 17 fields)
 pin out bit armed "a measurement cycle is running";
 pin out bit contact_filtered "the filtered contact level";
 pin out bit register_now "position reached, register now (to motion.probe-input); held until the next arm";
@@ -71,6 +75,9 @@ pin out bit density_armed "the density detector is armed";
 pin out bit density_fired "the density detector has fired since arm";
 pin out u32 revolutions "index pulses since arm, saturating at 65535";
 pin out u32 pulses "FES pulses since arm, wrapping at 2^32";
+pin out bit confirmed "the decision was confirmed by the contact pattern after it; accept a reading only with confirmed high and fault low";
+pin out u32 faults "fault conditions latched since arm, one bit each: 1 contact_at_arm, 2 pulses_lost, 4 index_missing, 8 scale_error, 16 no_decision, 32 fes_timeout, 64 unconfirmed";
+pin out bit fault "a fault is latched (faults != 0): to the CNC's alarm input; retract and re-measure";
 // ---- force outputs (the model's 14 fields; I32F32 values as high and low words)
 pin out u32 override_pct "feed override, %";
 pin out float adaptive_feed "override-pct / 100, for motion.adaptive-feed";
@@ -135,6 +142,7 @@ static struct {
     uint32_t pend_index, pend_fes;
     int64_t pend_scale;
     unsigned phase; /* scale lines (A,B) driven into the model: 0..3 = 00 10 11 01 */
+    uint64_t now; /* the measurement's clock: calls of update so far */
     uint32_t samples, spt;
     long long last_start;
 } st;
@@ -217,9 +225,10 @@ EXTRA_CLEANUP() {
     tt_force = 0;
 }
 
-/* One measurement event; a failure is counted (never expected: every argument is valid). */
+/* One measurement event at this period's time; a failure is counted (never expected: every
+ * argument is valid and the time never goes backwards). */
 static void measure(struct __comp_state *__comp_inst, uint8_t kind, uint8_t level, uint8_t a, uint8_t b) {
-    TtMeasureEvent e = tt_hal_measure_event(kind, level, a, b);
+    TtMeasureEvent e = tt_hal_measure_event(kind, level, a, b, st.now);
     if (tt_measurement_apply(tt_meas, &e) != TT_STATUS_OK) abi_errors++;
 }
 
@@ -260,7 +269,9 @@ FUNCTION(update) {
         late = 1; /* the thread came late: the last period overran */
     }
     st.last_start = start;
-    /* Measurement: arm, contact, index, FES, scale (the canonical order). */
+    /* Measurement at time st.now: the watchdog first, then arm, contact, index, FES, scale
+     * (the canonical order). */
+    if (tt_measurement_observe(tt_meas, st.now) != TT_STATUS_OK) abi_errors++;
     if (arm != st.last_arm) { st.last_arm = arm; measure(__comp_inst, TT_MEASURE_EVENT_ARM, arm, 0, 0); }
     if (contact != st.last_contact) { st.last_contact = contact; measure(__comp_inst, TT_MEASURE_EVENT_CONTACT, contact, 0, 0); }
     now = index_;
@@ -292,7 +303,8 @@ FUNCTION(update) {
     st.last_tool = tool_changed;
     force_event(__comp_inst, TT_FORCE_EVENT_SAMPLE, 0, 0);
     if (++st.samples >= st.spt) { st.samples = 0; force_event(__comp_inst, TT_FORCE_EVENT_TICK, 0, 0); }
-    /* Every output. */
+    /* Every output, at time st.now (the kernel's: observed above); the next call is a tick later. */
+    st.now++;
     if (tt_measurement_outputs(tt_meas, &m) != TT_STATUS_OK || tt_force_outputs(tt_force, &f) != TT_STATUS_OK) {
         abi_errors++;
         return;
@@ -314,6 +326,9 @@ FUNCTION(update) {
     density_fired = w[12];
     revolutions = w[13];
     pulses = w[14];
+    confirmed = w[15];
+    faults = w[16];
+    fault = w[16] != 0;
     tt_hal_force_words(&f, v);
     override_pct = v[0];
     adaptive_feed = v[0] / 100.0;

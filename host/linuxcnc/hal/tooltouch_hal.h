@@ -7,10 +7,10 @@
 
 #include "tooltouch.h"
 
-/* The 15 measurement outputs in the model's order (TT_OUTPUT_COUNT): armed contact
+/* The 17 measurement outputs in the model's order (TT_OUTPUT_COUNT): armed contact
  * register_now decision_position first_contact first_contact_position position
  * scale_errors count last_window_count charge density_armed density_fired revolutions
- * pulses; flags 0/1, positions sign-extended. */
+ * pulses confirmed faults; flags 0/1, positions sign-extended. */
 static inline void tt_hal_measure_words(const TtMeasureOutputs *m, int64_t w[TT_OUTPUT_COUNT]) {
     w[0] = m->armed;
     w[1] = m->contact;
@@ -27,6 +27,8 @@ static inline void tt_hal_measure_words(const TtMeasureOutputs *m, int64_t w[TT_
     w[12] = m->density_fired;
     w[13] = m->revolutions;
     w[14] = m->pulses;
+    w[15] = m->confirmed;
+    w[16] = m->faults;
 }
 
 /* Number of force output words. */
@@ -75,14 +77,15 @@ static inline TtForceEvent tt_hal_force_event(uint8_t kind, uint8_t on, uint8_t 
     return e;
 }
 
-/* A measurement event. */
-static inline TtMeasureEvent tt_hal_measure_event(uint8_t kind, uint8_t level, uint8_t a, uint8_t b) {
+/* A measurement event at `time` (the component's clock: one tick per servo period). */
+static inline TtMeasureEvent tt_hal_measure_event(uint8_t kind, uint8_t level, uint8_t a, uint8_t b, uint64_t time) {
     TtMeasureEvent e;
     e.kind = kind;
     e.level = level;
     e.scale_a = a;
     e.scale_b = b;
     e.pulses = 0;
+    e.time = time;
     return e;
 }
 

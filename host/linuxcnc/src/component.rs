@@ -1,8 +1,8 @@
 //! The HAL component's generated parts, from the model's tables: `host/linuxcnc/hal/tooltouch_hal.h`
 //! whole, and in `host/linuxcnc/hal/tooltouch.comp` the `adc-*` input pins
 //! ([`AdcChannel::ALL`]), the measurement output pins ([`MeasureOutputs::fields`] order,
-//! HAL names, types and descriptions from [`measure_pin`]), the sample's pin array and the
-//! output pins' assignments. Both files are committed; the drift test below fails when they
+//! HAL names, types and descriptions from [`measure_pin`], with `latched_position` and the
+//! alarm bit `fault` beside), the sample's pin array and the output pins' assignments. Both files are committed; the drift test below fails when they
 //! differ from what this module writes, and `TOOLTOUCH_BLESS=1 cargo test -p tooltouch-linuxcnc
 //! --lib component` rewrites them.
 
@@ -115,6 +115,16 @@ pub fn measure_pin(field: &str) -> Option<MeasurePin> {
             "index pulses since arm, saturating at 65535",
         ),
         "pulses" => ("pulses", U32, "FES pulses since arm, wrapping at 2^32"),
+        "confirmed" => (
+            "confirmed",
+            Bit,
+            "the decision was confirmed by the contact pattern after it; accept a reading only with confirmed high and fault low",
+        ),
+        "faults" => (
+            "faults",
+            U32,
+            "fault conditions latched since arm, one bit each: 1 contact_at_arm, 2 pulses_lost, 4 index_missing, 8 scale_error, 16 no_decision, 32 fes_timeout, 64 unconfirmed",
+        ),
         _ => return None,
     };
     Some(MeasurePin {
@@ -127,6 +137,13 @@ pub fn measure_pin(field: &str) -> Option<MeasurePin> {
 /// The measurement output after which the component adds `latched_position` (the
 /// decision position in machine units).
 const LATCHED_AFTER: &str = "decision_position";
+
+/// The measurement output after which the component adds `fault`, the bit `faults != 0`
+/// for the CNC's alarm input.
+const FAULT_AFTER: &str = "faults";
+
+/// The `fault` pin's declaration.
+const FAULT_PIN: &str = "pin out bit fault \"a fault is latched (faults != 0): to the CNC's alarm input; retract and re-measure\";\n";
 
 /// The model's measurement output names, in order.
 fn measure_fields() -> [&'static str; MeasureOutputs::FIELD_COUNT] {
@@ -261,14 +278,15 @@ static inline void tt_hal_force_words(const TtForceOutputs *f, int64_t w[TT_HAL_
 
 ";
 
-const MEASURE_EVENT: &str = "/* A measurement event. */
-static inline TtMeasureEvent tt_hal_measure_event(uint8_t kind, uint8_t level, uint8_t a, uint8_t b) {
+const MEASURE_EVENT: &str = "/* A measurement event at `time` (the component's clock: one tick per servo period). */
+static inline TtMeasureEvent tt_hal_measure_event(uint8_t kind, uint8_t level, uint8_t a, uint8_t b, uint64_t time) {
     TtMeasureEvent e;
     e.kind = kind;
     e.level = level;
     e.scale_a = a;
     e.scale_b = b;
     e.pulses = 0;
+    e.time = time;
     return e;
 }
 
@@ -312,6 +330,9 @@ fn measure_pin_lines(pins: &[(&str, MeasurePin)]) -> String {
                 "pin out float latched_position \"decision-position times position-scale, machine units\";\n",
             );
         }
+        if *field == FAULT_AFTER {
+            s.push_str(FAULT_PIN);
+        }
     }
     s
 }
@@ -335,6 +356,9 @@ fn measure_assignments(pins: &[(&str, MeasurePin)]) -> String {
             s.push_str(&format!(
                 "    latched_position = w[{i}] * position_scale;\n"
             ));
+        }
+        if *field == FAULT_AFTER {
+            s.push_str(&format!("    fault = w[{i}] != 0;\n"));
         }
     }
     s
@@ -444,7 +468,10 @@ mod tests {
             .iter()
             .map(|&(n, t)| (n.to_string(), t))
             .collect();
-        assert_eq!(sampler, listed);
+        // The model's outputs, then the alarm bit beside them.
+        assert_eq!(sampler[..], listed[..sampler.len()]);
+        assert_eq!(listed[sampler.len()..], [("fault".to_string(), 'b')]);
+        assert!(FAULT_PIN.starts_with("pin out bit fault "));
     }
 
     #[test]

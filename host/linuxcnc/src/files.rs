@@ -12,8 +12,9 @@ use tooltouch_model::wire::{Header, StreamKind};
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
 use tooltouch_vectors::binary::{encode_output_stream, Output};
 
-/// Sampler 0: the 15 measurement outputs, in the model's field order (pin, sampler type).
-pub const MEASURE_PINS: [(&str, char); 15] = [
+/// Sampler 0: the 17 measurement outputs, in the model's field order (pin, sampler type),
+/// then the alarm bit `fault` (read back and checked to be `faults != 0`).
+pub const MEASURE_PINS: [(&str, char); 18] = [
     ("armed", 'b'),
     ("contact-filtered", 'b'),
     ("register-now", 'b'),
@@ -29,6 +30,9 @@ pub const MEASURE_PINS: [(&str, char); 15] = [
     ("density-fired", 'b'),
     ("revolutions", 'u'),
     ("pulses", 'u'),
+    ("confirmed", 'b'),
+    ("faults", 'u'),
+    ("fault", 'b'),
 ];
 
 /// Sampler 1: the 14 force outputs (each I32F32 value as its high and low words), then the
@@ -140,10 +144,11 @@ fn flag(v: i64, name: &str) -> Result<bool, String> {
     }
 }
 
-/// One sampler-0 row as the model's measurement outputs.
+/// One sampler-0 row as the model's measurement outputs; the `fault` column must be
+/// `faults != 0`.
 pub fn measure_outputs(r: &[i64]) -> Result<MeasureOutputs, String> {
     let n = |i: usize| MEASURE_PINS[i].0;
-    Ok(MeasureOutputs {
+    let outputs = MeasureOutputs {
         armed: flag(r[0], n(0))?,
         contact: flag(r[1], n(1))?,
         register_now: flag(r[2], n(2))?,
@@ -159,10 +164,18 @@ pub fn measure_outputs(r: &[i64]) -> Result<MeasureOutputs, String> {
         density_fired: flag(r[12], n(12))?,
         revolutions: fit(r[13], n(13))?,
         pulses: fit(r[14], n(14))?,
-        // TODO(status): the component's `confirmed` and `faults` pins (issue 39).
-        confirmed: false,
-        faults: 0,
-    })
+        confirmed: flag(r[15], n(15))?,
+        faults: fit(r[16], n(16))?,
+    };
+    let fault = flag(r[17], n(17))?;
+    if fault != (outputs.faults != 0) {
+        return Err(format!(
+            "fault = {} but faults = {}: the alarm bit must be faults != 0",
+            u8::from(fault),
+            outputs.faults
+        ));
+    }
+    Ok(outputs)
 }
 
 /// One sampler-1 row as the model's force outputs (and the `overruns` column).
@@ -279,7 +292,8 @@ mod tests {
             wear_blind: true,
             ..Default::default()
         };
-        let mline: Vec<i64> = m.fields().iter().map(|x| x.1).collect();
+        let mut mline: Vec<i64> = m.fields().iter().map(|x| x.1).collect();
+        mline.push(0); // fault
         let bits = |v: Fx| [v.to_bits() >> 32, v.to_bits() & 0xffff_ffff];
         let mut fline = vec![120, 0, 0, 0, 0, 0, 0, 0, 0];
         for v in [
@@ -302,9 +316,9 @@ mod tests {
                 .collect::<Vec<_>>()
                 .join(" ")
         );
-        assert_eq!(sampler_rows(&text, "s0", 15).unwrap()[0], mline);
-        let e = sampler_rows("1 2 3\n", "s0.txt", 15).unwrap_err();
-        assert_eq!(e.to_string(), "s0.txt: line 1: 3 values, expected 15");
+        assert_eq!(sampler_rows(&text, "s0", 18).unwrap()[0], mline);
+        let e = sampler_rows("1 2 3\n", "s0.txt", 18).unwrap_err();
+        assert_eq!(e.to_string(), "s0.txt: line 1: 3 values, expected 18");
         let e = sampler_rows("4 1\n5 1\n7 0\n", "s1.txt", 1).unwrap_err();
         assert!(
             e.to_string()
@@ -314,5 +328,19 @@ mod tests {
         let mut bad = mline.clone();
         bad[0] = 2;
         assert_eq!(measure_outputs(&bad).unwrap_err(), "armed = 2 is not a bit");
+        // The status: confirmed and faults read back, the alarm bit checked against faults.
+        let faulted = MeasureOutputs {
+            confirmed: true,
+            faults: 0x22,
+            ..m
+        };
+        let mut line: Vec<i64> = faulted.fields().iter().map(|x| x.1).collect();
+        line.push(1);
+        assert_eq!(measure_outputs(&line).unwrap(), faulted);
+        *line.last_mut().unwrap() = 0;
+        assert_eq!(
+            measure_outputs(&line).unwrap_err(),
+            "fault = 0 but faults = 34: the alarm bit must be faults != 0"
+        );
     }
 }

@@ -2,6 +2,10 @@
 //! model: what one call of `tooltouch.0.update` does with the pins it reads, as events in the
 //! model's canonical order. The component is the device; this is the golden side the HAL
 //! test checks it against, field by field and period by period.
+//!
+//! The measurement's clock ticks once per period: every event of period n (from 0) is
+//! applied at time n (the model's `apply_at`), and the outputs are read at n, so the FES
+//! watchdog's `fes_timeout_cycles` counts servo periods in the component.
 
 use tooltouch_model::force::config::ForceConfig;
 use tooltouch_model::force::events::ForceEvent;
@@ -126,6 +130,8 @@ pub struct PeriodKernel {
     phase: u8,
     samples: u32,
     health: PeriodHealth,
+    /// The measurement's clock: periods stepped so far.
+    now: u64,
 }
 
 impl PeriodKernel {
@@ -144,6 +150,7 @@ impl PeriodKernel {
             phase: 0,
             samples: 0,
             health: PeriodHealth::default(),
+            now: 0,
         }
     }
 
@@ -167,11 +174,14 @@ impl PeriodKernel {
             self.last.scale_counts = p.scale_counts;
         }
         let last = self.last;
+        let now = self.now;
+        self.measurement.observe(now);
         if p.arm != last.arm {
-            self.measurement.apply(MeasureEvent::Arm(p.arm));
+            self.measurement.apply_at(now, MeasureEvent::Arm(p.arm));
         }
         if p.contact != last.contact {
-            self.measurement.apply(MeasureEvent::Contact(p.contact));
+            self.measurement
+                .apply_at(now, MeasureEvent::Contact(p.contact));
         }
         let index =
             u32::from(p.index && !last.index) + self.rise(p.index_counts, last.index_counts);
@@ -181,12 +191,12 @@ impl PeriodKernel {
         self.pending_scale += i64::from(p.scale_counts.wrapping_sub(last.scale_counts));
         let mut budget = self.max_events;
         while self.pending_index > 0 && budget > 0 {
-            self.measurement.apply(MeasureEvent::Index);
+            self.measurement.apply_at(now, MeasureEvent::Index);
             self.pending_index -= 1;
             budget -= 1;
         }
         while self.pending_fes > 0 && budget > 0 {
-            self.measurement.apply(MeasureEvent::Fes);
+            self.measurement.apply_at(now, MeasureEvent::Fes);
             self.pending_fes -= 1;
             budget -= 1;
         }
@@ -196,7 +206,7 @@ impl PeriodKernel {
             self.pending_scale += if up { -1 } else { 1 };
             let (a, b) = [(false, false), (true, false), (true, true), (false, true)]
                 [usize::from(self.phase)];
-            self.measurement.apply(MeasureEvent::Scale { a, b });
+            self.measurement.apply_at(now, MeasureEvent::Scale { a, b });
             budget -= 1;
         }
         let backlog = self
@@ -227,7 +237,8 @@ impl PeriodKernel {
             self.force.apply(ForceEvent::Tick);
         }
         self.last = *p;
-        (self.measurement.outputs(), self.force.outputs())
+        self.now += 1;
+        (self.measurement.outputs_at(now), self.force.outputs())
     }
 
     /// The health pins after the last period.
@@ -303,6 +314,37 @@ mod tests {
         p.fes_counts = 3; // went down: ignored, counted
         let (m, _) = k.step(&p);
         assert_eq!((m.pulses, k.health().count_errors), (10, 1));
+    }
+
+    /// One tick per period: armed at period 1, the last FES at period 2, a watchdog of 3
+    /// ticks: clean through period 4, `fes_timeout` from period 5, held after the arm falls.
+    #[test]
+    fn the_fes_watchdog_counts_servo_periods() {
+        use tooltouch_model::measure::checks::{fault, MeasureChecks};
+        let m = MeasureSettings {
+            checks: MeasureChecks {
+                fes_timeout_cycles: 3,
+                ..MeasureChecks::OFF
+            },
+            ..Default::default()
+        }
+        .validate()
+        .unwrap();
+        let f = ForceSettings::default().validate().unwrap();
+        let mut k = PeriodKernel::new(&m, &f);
+        let mut p = PeriodInputs::default();
+        assert_eq!(k.step(&p).0.faults, 0); // period 0: the baseline
+        p.arm = true;
+        assert_eq!(k.step(&p).0.faults, 0); // 1: armed
+        p.fes_counts = 1;
+        assert_eq!(k.step(&p).0.faults, 0); // 2: the last FES
+        assert_eq!(k.step(&p).0.faults, 0); // 3
+        assert_eq!(k.step(&p).0.faults, 0); // 4
+        assert_eq!(k.step(&p).0.faults, fault::FES_TIMEOUT); // 5
+        p.arm = false;
+        assert_eq!(k.step(&p).0.faults, fault::FES_TIMEOUT); // 6: held
+        p.arm = true;
+        assert_eq!(k.step(&p).0.faults, 0, "cleared at the arm");
     }
 
     #[test]

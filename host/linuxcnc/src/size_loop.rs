@@ -13,6 +13,12 @@
 //! the measured error, unless the error is inside a dead zone (as industrial probing
 //! macros do); the same parts without correction are the reference.
 //!
+//! The rule of the correction: a touch is a reading only when the component decided,
+//! `confirmed` is high and `faults` is zero at the read ([`reading`]). Anything else is an
+//! alarm ([`Alarm`]: the faults named, a decision not confirmed, no decision): the part is
+//! reported with it and the tool offset is left unchanged — never corrected from a reading
+//! the measurement itself does not trust.
+//!
 //! Every touch is a servo-rate stream of the component's pins (arm, contact chattering
 //! over the surface's roughness, FES and index counts, the scale): the stream of all
 //! touches is what the HAL test feeds `halrun`, and the loop's table is recomputed from
@@ -23,7 +29,8 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use tooltouch_model::force::config::ForceConfig;
-use tooltouch_model::MeasureConfig;
+use tooltouch_model::measure::checks::Faults;
+use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 /// The loop's set-up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +65,10 @@ pub struct SizeLoopSettings {
     pub roughness_um: f64,
     /// Seed of every random draw.
     pub seed: u64,
+    /// A touch (0-based, in stream order: master and part of each part in turn) made with
+    /// the contact already closed when the arm rises (a coolant bridge): its reading alarms
+    /// `contact_at_arm`. `None` for a clean machine.
+    pub bridged_touch: Option<usize>,
 }
 
 impl Default for SizeLoopSettings {
@@ -81,19 +92,22 @@ impl Default for SizeLoopSettings {
             feed_um_per_rev: 1.0,
             roughness_um: 1.5,
             seed: 31,
+            bridged_touch: None,
         }
     }
 }
 
 /// Periods of one touch: arm from period 5 to 220, retract after.
 pub const TOUCH_PERIODS: u32 = 260;
+/// The arm rises at this period of a touch.
+const ARM_START: u32 = 5;
 /// The arm falls at this period of a touch.
 const ARM_END: u32 = 220;
 /// Approach gap before the surface, µm.
 const GAP_UM: f64 = 6.0;
 
 /// One part of the loop.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PartRow {
     /// Part number, from 1.
     pub part: usize,
@@ -101,8 +115,11 @@ pub struct PartRow {
     pub uncorrected_mm: f64,
     /// Diameter turned with the loop's correction, mm.
     pub corrected_mm: f64,
-    /// The in-process measurement of the corrected part, mm (NaN: no decision).
+    /// The in-process measurement of the corrected part, mm (NaN: an alarm, no reading).
     pub measured_mm: f64,
+    /// Why the part has no reading (`master: contact_at_arm`, `part: not confirmed`, …);
+    /// empty when it has one. The offset is not corrected after an alarm.
+    pub alarm: String,
     /// Tool offset the part was turned with, µm (radial).
     pub offset_um: f64,
     /// Verdict of the uncorrected part.
@@ -188,7 +205,14 @@ struct Machine {
 impl Machine {
     /// Appends one touch of a surface at slide reading `surface_um` (µm, the scale's
     /// reading when the edge meets the surface's top), returning where its decision is read.
-    fn touch(&mut self, stream: &mut Vec<PeriodInputs>, surface_um: f64, sample_hz: f64) -> Touch {
+    /// `bridged`: the contact is closed from before the arm rises until it has risen.
+    fn touch(
+        &mut self,
+        stream: &mut Vec<PeriodInputs>,
+        surface_um: f64,
+        sample_hz: f64,
+        bridged: bool,
+    ) -> Touch {
         let s = self.settings;
         let feed = s.feed_um_per_rev * s.rpm / 60.0 / sample_hz; // µm per period
         let mut q = surface_um - GAP_UM;
@@ -204,10 +228,13 @@ impl Machine {
                 q -= GAP_UM / f64::from(TOUCH_PERIODS - ARM_END);
             }
             self.row.scale_counts = (q / s.scale_um).floor() as i32;
-            self.row.arm = (5..ARM_END).contains(&k);
+            self.row.arm = (ARM_START..ARM_END).contains(&k);
             // The edge touches the roughness peaks first: P(contact) rises over Rz.
             let p = ((q - surface_um) / s.roughness_um + 1.0).clamp(0.0, 1.0);
             self.row.contact = k < ARM_END && self.rng.random_bool(p);
+            if bridged && k <= ARM_START {
+                self.row.contact = true;
+            }
             stream.push(self.row);
         }
         Touch {
@@ -216,10 +243,77 @@ impl Machine {
     }
 }
 
-/// The latched position (µm) a touch left, from the component's outputs at its read
-/// period: `None` when it did not decide.
-pub fn latched_um(register_now: bool, decision_position: i32, scale_um: f64) -> Option<f64> {
-    register_now.then(|| f64::from(decision_position) * scale_um)
+/// The smallest `[measure.checks] pulse_tolerance` that never raises `pulses_lost` or
+/// `index_missing` on a clean spindle at `rpm` in the component: its index events of a
+/// period are applied before the period's FES pulses, so a revolution counts up to one
+/// period's pulses (`ppr · rpm / 60 / sample_hz`, rounded up) more or fewer than `ppr`;
+/// the model's default margin of 2 on top.
+pub fn servo_pulse_tolerance(ppr: u16, rpm: f64, sample_hz: f64) -> u16 {
+    let per_period = (f64::from(ppr) * rpm / 60.0 / sample_hz).ceil();
+    (per_period as u16).saturating_add(2)
+}
+
+/// Why a touch gave no reading: the CNC alarms (retract, re-measure) and the loop does not
+/// correct.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Alarm {
+    /// Fault conditions latched (the component's `fault` pin high).
+    Faults(Faults),
+    /// A decision, no fault, but not (yet) confirmed by the contact pattern.
+    NotConfirmed,
+    /// No decision and no fault: the touch ended without one.
+    NoDecision,
+}
+
+impl std::fmt::Display for Alarm {
+    /// The faults' names (`contact_at_arm+unconfirmed`), `not confirmed` or `no decision`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Alarm::Faults(faults) => write!(f, "{faults}"),
+            Alarm::NotConfirmed => f.write_str("not confirmed"),
+            Alarm::NoDecision => f.write_str("no decision"),
+        }
+    }
+}
+
+/// What a touch left in the component's outputs at its read period: the latched position
+/// (µm) when it decided, is confirmed and has no fault; the alarm otherwise.
+pub fn reading(o: &MeasureOutputs, scale_um: f64) -> Result<f64, Alarm> {
+    if o.faults != 0 {
+        Err(Alarm::Faults(Faults(o.faults)))
+    } else if !o.register_now {
+        Err(Alarm::NoDecision)
+    } else if !o.confirmed {
+        Err(Alarm::NotConfirmed)
+    } else {
+        Ok(f64::from(o.decision_position) * scale_um)
+    }
+}
+
+/// The part's diameter from its two readings (master, part), mm, or the alarm that stops
+/// the correction (`master: …`, `part: …`).
+fn measured(
+    s: &SizeLoopSettings,
+    master: Result<f64, Alarm>,
+    part: Result<f64, Alarm>,
+) -> Result<f64, String> {
+    match (master, part) {
+        // Readings grow inward: a larger part is touched at a smaller reading.
+        (Ok(m), Ok(p)) => Ok(s.master_mm + 2.0 * (m - p) / 1e3),
+        (Err(a), _) => Err(format!("master: {a}")),
+        (_, Err(a)) => Err(format!("part: {a}")),
+    }
+}
+
+/// The offset after a part's measurement, µm: corrected by the feedback share of an error
+/// outside the dead zone; unchanged after an alarm.
+fn corrected_offset(s: &SizeLoopSettings, offset_um: f64, measured: &Result<f64, String>) -> f64 {
+    match measured {
+        Ok(mm) if (mm - s.nominal_mm).abs() > s.dead_zone_mm => {
+            offset_um - s.feedback_pct / 100.0 * (mm - s.nominal_mm) * 1e3 / 2.0
+        }
+        _ => offset_um,
+    }
 }
 
 /// Runs the loop: every touch through [`PeriodKernel`] as it is made (closed loop: part
@@ -242,11 +336,11 @@ pub fn run(s: &SizeLoopSettings, measure: &MeasureConfig, force: &ForceConfig) -
     // Slide readings: the scale reads `FAR − edge radius`, FAR a reference radius.
     const FAR_UM: f64 = 100_000.0;
     let latched = |stream: &Vec<PeriodInputs>, kernel: &mut PeriodKernel, from: usize, t: Touch| {
-        let mut out = None;
+        let mut out = Err(Alarm::NoDecision);
         for (i, row) in stream.iter().enumerate().skip(from) {
             let (m, _) = kernel.step(row);
             if i == t.read_at {
-                out = latched_um(m.register_now, m.decision_position, s.scale_um);
+                out = reading(&m, s.scale_um);
             }
         }
         out
@@ -264,30 +358,25 @@ pub fn run(s: &SizeLoopSettings, measure: &MeasureConfig, force: &ForceConfig) -
         let mut read =
             |radius_um: f64, stream: &mut Vec<PeriodInputs>, kernel: &mut PeriodKernel| {
                 let from = stream.len();
-                let t = machine.touch(stream, FAR_UM - radius_um + edge, sample_hz);
+                let bridged = s.bridged_touch == Some(touches.len());
+                let t = machine.touch(stream, FAR_UM - radius_um + edge, sample_hz, bridged);
                 touches.push(t);
                 latched(stream, kernel, from, t)
             };
         let master = read(s.master_mm * 500.0, &mut stream, &mut kernel);
         let piece = read(corrected * 500.0, &mut stream, &mut kernel);
-        let measured = match (master, piece) {
-            // Readings grow inward: a larger part is touched at a smaller reading.
-            (Some(m), Some(p)) => s.master_mm + 2.0 * (m - p) / 1e3,
-            _ => f64::NAN,
-        };
+        let measured = measured(s, master, piece);
         rows.push(PartRow {
             part,
             uncorrected_mm: uncorrected,
             corrected_mm: corrected,
-            measured_mm: measured,
+            measured_mm: *measured.as_ref().unwrap_or(&f64::NAN),
+            alarm: measured.clone().err().unwrap_or_default(),
             offset_um,
             uncorrected_ok: (uncorrected - s.nominal_mm).abs() <= s.tolerance_mm,
             corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
         });
-        let error_mm = measured - s.nominal_mm;
-        if error_mm.is_finite() && error_mm.abs() > s.dead_zone_mm {
-            offset_um -= s.feedback_pct / 100.0 * error_mm * 1e3 / 2.0;
-        }
+        offset_um = corrected_offset(s, offset_um, &measured);
     }
     report(s, rows, stream, touches)
 }
@@ -318,40 +407,43 @@ pub fn report(
     }
 }
 
-/// The same rows with the measurements replaced by those of another device's latched
-/// positions (`latched[j]`, µm, for touch j: master and part of each part in turn), and the
-/// corrections they imply: equal to the golden rows exactly when the device latched the same
-/// positions.
+/// The same rows with the measurements replaced by another device's readings
+/// (`readings[j]` for touch j: master and part of each part in turn, [`reading`] of its
+/// outputs at the touch's read period; a missing one is no decision), and the corrections
+/// they imply: equal to the golden rows exactly when the device latched the same positions
+/// and raised the same alarms.
 pub fn replay_with(
     s: &SizeLoopSettings,
     golden: &SizeLoopReport,
-    latched: &[Option<f64>],
+    readings: &[Result<f64, Alarm>],
 ) -> Vec<PartRow> {
     let mut offset_um = 0.0;
     let mut out = Vec::with_capacity(golden.rows.len());
+    let touch = |j: usize| readings.get(j).copied().unwrap_or(Err(Alarm::NoDecision));
     for (i, g) in golden.rows.iter().enumerate() {
-        let measured = match (
-            latched.get(2 * i).copied().flatten(),
-            latched.get(2 * i + 1).copied().flatten(),
-        ) {
-            (Some(m), Some(p)) => s.master_mm + 2.0 * (m - p) / 1e3,
-            _ => f64::NAN,
-        };
+        let measured = measured(s, touch(2 * i), touch(2 * i + 1));
         let shift = (offset_um - g.offset_um) * 2.0 / 1e3;
         let corrected = g.corrected_mm + shift;
         out.push(PartRow {
-            measured_mm: measured,
+            measured_mm: *measured.as_ref().unwrap_or(&f64::NAN),
+            alarm: measured.clone().err().unwrap_or_default(),
             offset_um,
             corrected_mm: corrected,
             corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
-            ..*g
+            ..g.clone()
         });
-        let error_mm = measured - s.nominal_mm;
-        if error_mm.is_finite() && error_mm.abs() > s.dead_zone_mm {
-            offset_um -= s.feedback_pct / 100.0 * error_mm * 1e3 / 2.0;
-        }
+        offset_um = corrected_offset(s, offset_um, &measured);
     }
     out
+}
+
+/// The parts that alarmed (part number, alarm): reported, their offset not corrected.
+pub fn alarms(r: &SizeLoopReport) -> Vec<(usize, &str)> {
+    r.rows
+        .iter()
+        .filter(|p| !p.alarm.is_empty())
+        .map(|p| (p.part, p.alarm.as_str()))
+        .collect()
 }
 
 /// The table as text: one line per part, then the capabilities.
@@ -364,15 +456,19 @@ pub fn table(s: &SizeLoopSettings, r: &SizeLoopReport) -> Vec<String> {
         ),
     ];
     for p in &r.rows {
+        let measured = if p.alarm.is_empty() {
+            format!("{:.4}", p.measured_mm)
+        } else {
+            format!("ALARM {} (offset not corrected)", p.alarm)
+        };
         lines.push(format!(
-            "{:4} | {:21.4} | {:7} | {:10.2} | {:19.4} | {:7} | {:.4}",
+            "{:4} | {:21.4} | {:7} | {:10.2} | {:19.4} | {:7} | {measured}",
             p.part,
             p.uncorrected_mm,
             verdict(p.uncorrected_ok),
             p.offset_um,
             p.corrected_mm,
             verdict(p.corrected_ok),
-            p.measured_mm
         ));
     }
     for (name, c) in [
@@ -395,6 +491,7 @@ pub fn table(s: &SizeLoopSettings, r: &SizeLoopReport) -> Vec<String> {
 mod tests {
     use super::*;
     use tooltouch_model::force::config::ForceSettings;
+    use tooltouch_model::measure::checks::MeasureChecks;
     use tooltouch_model::MeasureSettings;
 
     #[test]
@@ -409,10 +506,50 @@ mod tests {
         assert_eq!(c.in_tolerance, 5);
     }
 
+    /// The default measurement settings with the revolution check's tolerance set for the
+    /// servo rate ([`servo_pulse_tolerance`]).
+    fn servo_settings(s: &SizeLoopSettings, f: &ForceConfig) -> MeasureConfig {
+        let d = MeasureSettings::default();
+        let tolerance =
+            servo_pulse_tolerance(d.pulses_per_rev, s.rpm, f64::from(f.settings().sample_hz));
+        assert_eq!(
+            tolerance, 54,
+            "1024 ppr at 3000 rpm: 51.2 pulses per 1 ms period"
+        );
+        MeasureSettings {
+            checks: MeasureChecks {
+                pulse_tolerance: tolerance,
+                ..MeasureChecks::default()
+            },
+            ..d
+        }
+        .validate()
+        .unwrap()
+    }
+
+    /// At the servo rate the default tolerance of 2 pulses raises false revolution faults;
+    /// [`servo_pulse_tolerance`] none.
+    #[test]
+    fn the_default_pulse_tolerance_is_too_tight_at_the_servo_rate() {
+        let s = SizeLoopSettings::default();
+        let m = MeasureSettings::default().validate().unwrap();
+        let f = ForceSettings::default().validate().unwrap();
+        let tight = run(&s, &m, &f);
+        assert!(
+            alarms(&tight)
+                .iter()
+                .any(|(_, a)| a.contains("pulses_lost")),
+            "{:?}",
+            alarms(&tight)
+        );
+        assert_eq!(alarms(&run(&s, &servo_settings(&s, &f), &f)), []);
+    }
+
     #[test]
     fn the_loop_holds_the_size_the_uncorrected_parts_drift_out() {
         let s = SizeLoopSettings::default();
-        let m = MeasureSettings::default().validate().unwrap();
+        let f = ForceSettings::default().validate().unwrap();
+        let m = servo_settings(&s, &f);
         let f = ForceSettings::default().validate().unwrap();
         let r = run(&s, &m, &f);
         for line in table(&s, &r) {
@@ -422,6 +559,7 @@ mod tests {
             r.rows.iter().all(|p| p.measured_mm.is_finite()),
             "a touch did not decide"
         );
+        assert_eq!(alarms(&r), [], "a clean machine alarms");
         // Wear 0.8 µm/part and 6 µm of drift: the last uncorrected parts are 2·(15.2 + 5.9) µm
         // over, out of ±10 µm; the corrected ones stay inside.
         assert!(r.uncorrected.in_tolerance < s.parts);
@@ -432,17 +570,65 @@ mod tests {
         // Replaying the golden latches gives the golden rows.
         let mut k = PeriodKernel::new(&m, &f);
         let outs: Vec<_> = r.stream.iter().map(|row| k.step(row).0).collect();
-        let latched: Vec<Option<f64>> = r
+        let readings: Vec<_> = r
             .touches
             .iter()
-            .map(|t| {
-                latched_um(
-                    outs[t.read_at].register_now,
-                    outs[t.read_at].decision_position,
-                    s.scale_um,
-                )
-            })
+            .map(|t| reading(&outs[t.read_at], s.scale_um))
             .collect();
-        assert_eq!(replay_with(&s, &r, &latched), r.rows);
+        assert_eq!(replay_with(&s, &r, &readings), r.rows);
+    }
+
+    /// A coolant bridge closes the contact at the arm of part 5's measuring touch: the
+    /// reading alarms `contact_at_arm`, is reported, and the offset stays as it was; the
+    /// other parts are measured and corrected as before.
+    #[test]
+    fn a_faulted_reading_alarms_and_leaves_the_offset_unchanged() {
+        let f = ForceSettings::default().validate().unwrap();
+        let m = servo_settings(&SizeLoopSettings::default(), &f);
+        let clean = run(&SizeLoopSettings::default(), &m, &f);
+        let s = SizeLoopSettings {
+            bridged_touch: Some(2 * 4 + 1),
+            ..SizeLoopSettings::default()
+        };
+        let r = run(&s, &m, &f);
+        for line in table(&s, &r) {
+            println!("{line}");
+        }
+        assert_eq!(alarms(&r), [(5, "part: contact_at_arm")]);
+        let (p5, p6) = (&r.rows[4], &r.rows[5]);
+        assert!(p5.measured_mm.is_nan());
+        assert_eq!(p6.offset_um, p5.offset_um, "corrected after an alarm");
+        // Without the bridge, part 5's measurement would have moved the offset.
+        assert_ne!(clean.rows[5].offset_um, clean.rows[4].offset_um);
+        assert_eq!(r.rows[..4], clean.rows[..4]);
+        assert_eq!(p5.offset_um, clean.rows[4].offset_um);
+        assert!(table(&s, &r)[5].ends_with("| ALARM part: contact_at_arm (offset not corrected)"));
+        // A reading with a fault, or not confirmed, is never a position.
+        let o = MeasureOutputs {
+            register_now: true,
+            confirmed: true,
+            decision_position: 10,
+            ..Default::default()
+        };
+        assert_eq!(reading(&o, 0.5), Ok(5.0));
+        use tooltouch_model::measure::checks::fault;
+        let faulted = MeasureOutputs {
+            faults: fault::PULSES_LOST,
+            ..o
+        };
+        assert_eq!(
+            reading(&faulted, 0.5),
+            Err(Alarm::Faults(Faults(fault::PULSES_LOST)))
+        );
+        let unconfirmed = MeasureOutputs {
+            confirmed: false,
+            ..o
+        };
+        assert_eq!(reading(&unconfirmed, 0.5), Err(Alarm::NotConfirmed));
+        let undecided = MeasureOutputs {
+            register_now: false,
+            ..o
+        };
+        assert_eq!(reading(&undecided, 0.5), Err(Alarm::NoDecision));
     }
 }

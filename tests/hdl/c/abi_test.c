@@ -5,8 +5,11 @@
  *
  * Output lines (hexadecimal words):
  *   hash <measure hash> <force hash> <latency>
- *   c <cycle> <pins> <15 register words> <16 MCU words, diagnostics off> <MCU 7, 8 with diagnostics>
- *   e <event index> <15 register words>
+ *   c <cycle> <pins> <17 register words> <16 MCU words, diagnostics off> <MCU 7, 8 with diagnostics>
+ *   e <event index> <event time> <17 register words>
+ *   w <time> <armed> <pulses> <confirmed> <faults>, read at that time (tt_measurement_outputs_at)
+ *   o <time> <17 register words> after tt_measurement_observe at that time
+ *   faults <the TT_FAULT_COUNT names, bit 0 first>
  *   f <event index> <override> <flags> <bad events> <5 I32F32 words>
  *   errors ok
  * Exit status 0 when every call that should succeed did and every bad call failed with
@@ -106,29 +109,48 @@ int main(int argc, char **argv) {
     uint64_t regs[TT_OUTPUT_COUNT];
     CHECK(tt_frontend_outputs(fe, &o));
     CHECK(tt_frontend_registers(fe, regs));
-    if (o.pulses != regs[14] || o.count != regs[8] || o.armed != regs[0]) {
+    if (o.pulses != regs[14] || o.count != regs[8] || o.armed != regs[0] || o.confirmed != regs[15]
+        || o.faults != regs[16]) {
         fprintf(stderr, "tt_frontend_outputs and tt_frontend_registers disagree\n");
         failures++;
     }
 
-    /* Event level: a fixed sequence. */
+    /* Event level: a fixed sequence at its times (kind, level, a, b, pulses, time); the
+     * gap before the last FES is longer than the settings' FES watchdog. */
     TtMeasurement *m = NULL;
     CHECK(tt_measurement_new(config, &m));
     TtMeasureEvent events[] = {
-        {TT_MEASURE_EVENT_ARM, 1, 0, 0, 0},     {TT_MEASURE_EVENT_CONTACT, 1, 0, 0, 0},
-        {TT_MEASURE_EVENT_FES, 0, 0, 0, 0},     {TT_MEASURE_EVENT_SCALE, 0, 1, 0, 0},
-        {TT_MEASURE_EVENT_SCALE, 0, 1, 1, 0},   {TT_MEASURE_EVENT_INDEX, 0, 0, 0, 0},
-        {TT_MEASURE_EVENT_FES, 0, 0, 0, 0},     {TT_MEASURE_EVENT_CONTACT, 0, 0, 0, 0},
-        {TT_MEASURE_EVENT_PRESET_PULSES, 0, 0, 0, 0xffffffffu},
-        {TT_MEASURE_EVENT_FES, 0, 0, 0, 0},     {TT_MEASURE_EVENT_ARM, 0, 0, 0, 0},
+        {TT_MEASURE_EVENT_ARM, 1, 0, 0, 0, 0},     {TT_MEASURE_EVENT_CONTACT, 1, 0, 0, 0, 3},
+        {TT_MEASURE_EVENT_FES, 0, 0, 0, 0, 10},    {TT_MEASURE_EVENT_SCALE, 0, 1, 0, 0, 10},
+        {TT_MEASURE_EVENT_SCALE, 0, 1, 1, 0, 12},  {TT_MEASURE_EVENT_INDEX, 0, 0, 0, 0, 20},
+        {TT_MEASURE_EVENT_FES, 0, 0, 0, 0, 25},    {TT_MEASURE_EVENT_CONTACT, 0, 0, 0, 0, 40},
+        {TT_MEASURE_EVENT_PRESET_PULSES, 0, 0, 0, 0xffffffffu, 41},
+        {TT_MEASURE_EVENT_FES, 0, 0, 0, 0, 200},   {TT_MEASURE_EVENT_ARM, 0, 0, 0, 0, 201},
     };
     for (unsigned e = 0; e < sizeof events / sizeof events[0]; e++) {
         CHECK(tt_measurement_apply(m, &events[e]));
         CHECK(tt_measurement_registers(m, regs));
-        printf("e %x", e);
+        printf("e %x %" PRIx64, e, events[e].time);
         for (unsigned i = 0; i < TT_OUTPUT_COUNT; i++) printf(" %" PRIx64, regs[i]);
         printf("\n");
     }
+    /* A second cycle armed at 300 with no FES: the watchdog read at two later times, then
+     * observed. */
+    TtMeasureEvent rearm = {TT_MEASURE_EVENT_ARM, 1, 0, 0, 0, 300};
+    CHECK(tt_measurement_apply(m, &rearm));
+    const uint64_t reads[] = {340, 400};
+    for (unsigned r = 0; r < 2; r++) {
+        CHECK(tt_measurement_outputs_at(m, reads[r], &o));
+        printf("w %" PRIx64 " %x %x %x %x\n", reads[r], o.armed, o.pulses, o.confirmed, o.faults);
+    }
+    CHECK(tt_measurement_observe(m, 400));
+    CHECK(tt_measurement_registers(m, regs));
+    printf("o %x", 400);
+    for (unsigned i = 0; i < TT_OUTPUT_COUNT; i++) printf(" %" PRIx64, regs[i]);
+    printf("\n");
+    printf("faults");
+    for (uint32_t b = 0; b < TT_FAULT_COUNT; b++) printf(" %s", tt_fault_name(b));
+    printf("\n");
 
     /* Force kernel: control on, four periods of samples and ticks, a bad condition set. */
     TtForce *force = NULL;
@@ -177,14 +199,17 @@ int main(int argc, char **argv) {
     expect_failure(tt_frontend_clock(NULL, 0), TT_STATUS_NULL_POINTER, "front_end is NULL", "NULL front end");
     uint32_t word;
     expect_failure(tt_frontend_mcu_read(fe, 16, false, &word), TT_STATUS_BAD_ARGUMENT, "MCU address 16", "address 16");
-    TtMeasureEvent bad = {0x55, 0, 0, 0, 0};
+    TtMeasureEvent bad = {0x55, 0, 0, 0, 0, 500};
     expect_failure(tt_measurement_apply(m, &bad), TT_STATUS_BAD_ARGUMENT, "kind 0x55", "event kind");
+    TtMeasureEvent early = {TT_MEASURE_EVENT_FES, 0, 0, 0, 0, 399};
+    expect_failure(tt_measurement_apply(m, &early), TT_STATUS_BAD_ARGUMENT, "before the time already reached, 400", "time backwards");
     TtConfig *none = NULL;
     const uint8_t junk[5] = {1, 2, 3, 4, 5};
     expect_failure(tt_config_from_bytes(junk, sizeof junk, &none), TT_STATUS_BAD_CONFIG, "TTFWCFG1", "junk bytes");
     expect_failure(tt_config_from_file("/nonexistent/config.ttc", &none), TT_STATUS_IO, "/nonexistent/config.ttc", "missing file");
-    if (none != NULL || tt_output_name(TT_OUTPUT_COUNT) != NULL || strcmp(tt_output_name(0), "armed") != 0) {
-        fprintf(stderr, "a failed call wrote its handle, or tt_output_name is wrong\n");
+    if (none != NULL || tt_output_name(TT_OUTPUT_COUNT) != NULL || strcmp(tt_output_name(0), "armed") != 0
+        || tt_fault_name(TT_FAULT_COUNT) != NULL) {
+        fprintf(stderr, "a failed call wrote its handle, or tt_output_name or tt_fault_name is wrong\n");
         failures++;
     }
     CHECK(tt_frontend_clock(fe, pins));
