@@ -20,7 +20,7 @@ use tooltouch_model::measure::calibration::{corrected_position, CalibrationRecor
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::wire::measure_event::decode_event;
 use tooltouch_model::wire::{kind, Records, StreamKind};
-use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_model::{Faults, MeasureEvent, MeasureOutputs, Measurement};
 
 /// The controller's chip, as probe-rs names it.
 pub const CHIP: &str = "STM32F446RETx";
@@ -66,6 +66,7 @@ pub fn expected_lines(
     let (mut offset, mut scale_bits) = (0, 32);
     let mut lines = Vec::new();
     let mut on = false;
+    let mut status = (0, false);
     for (i, record) in records.enumerate() {
         let record = record.map_err(|e| bad(e.to_string()))?;
         if record.kind == kind::MEASURE_CONFIG {
@@ -73,6 +74,7 @@ pub fn expected_lines(
             offset = calibration.map_or(0, |c| c.offset_for(&config));
             scale_bits = config.settings().scale_bits;
             model = Some(Measurement::new(&config));
+            (on, status) = (false, (0, false));
             continue;
         }
         let event = match decode_event(&record, 0) {
@@ -90,14 +92,48 @@ pub fn expected_lines(
                 "record {i}: a measurement event before the MEASURE_CONFIG record"
             )));
         };
-        m.apply(event);
+        // The controller's clock (TIM5) counts µs of the time the player plays.
+        let time = u64::try_from(
+            u128::from(record.time) * u128::from(CONTROLLER_CLOCK_HZ)
+                / u128::from(header.tick_hz.max(1)),
+        )
+        .unwrap_or(u64::MAX);
+        m.apply_at(time, event);
         let o = m.outputs();
+        let s = (o.faults, o.confirmed);
         if o.register_now != on {
             on = o.register_now;
             lines.push(decision_line(&o, offset, scale_bits));
+        } else if s != status {
+            lines.push(status_line(&o));
         }
+        status = s;
     }
     Ok(lines)
+}
+
+/// The controller's measurement clock (Hz): its TIM5, the unit of `fes_timeout_cycles`
+/// on the board (`tooltouch_firmware::nucleo::timers::CLOCK_HZ`).
+pub const CONTROLLER_CLOCK_HZ: u32 = 1_000_000;
+
+/// How the lines name a decision's confirmation.
+fn confirmation(confirmed: bool) -> &'static str {
+    if confirmed {
+        "confirmed"
+    } else {
+        "not confirmed"
+    }
+}
+
+/// The line the controller's idle logs when the measurement's status (its faults, the
+/// decision's confirmation) changes while "register now" does not: `status: faults
+/// pulses_lost+unconfirmed, not confirmed` (the firmware's defmt literal).
+pub fn status_line(o: &MeasureOutputs) -> String {
+    format!(
+        "status: faults {}, {}",
+        Faults(o.faults),
+        confirmation(o.confirmed)
+    )
 }
 
 /// The line the controller's idle logs when "register now" changes to
@@ -109,12 +145,14 @@ pub fn decision_line(o: &MeasureOutputs, offset: i32, scale_bits: u8) -> String 
     if o.register_now {
         format!(
             "register now: position {} counts, calibrated {} counts (offset {offset}), first \
-             contact at {}, {} revolutions, {} FES pulses",
+             contact at {}, {} revolutions, {} FES pulses, faults {}, {}",
             o.decision_position,
             corrected_position(o.decision_position, offset, scale_bits),
             o.first_contact_position,
             o.revolutions,
-            o.pulses
+            o.pulses,
+            Faults(o.faults),
+            confirmation(o.confirmed)
         )
     } else {
         "measurement cycle armed".to_string()
@@ -124,7 +162,11 @@ pub fn decision_line(o: &MeasureOutputs, offset: i32, scale_bits: u8) -> String 
 /// The decision lines of a controller's `log`, each up to its `;`.
 pub fn decision_lines(log: &[String]) -> Vec<String> {
     log.iter()
-        .filter(|l| l.starts_with("register now: ") || l.starts_with("measurement cycle armed"))
+        .filter(|l| {
+            l.starts_with("register now: ")
+                || l.starts_with("measurement cycle armed")
+                || l.starts_with("status: ")
+        })
         .map(|l| l.split(';').next().unwrap_or(l).trim_end().to_string())
         .collect()
 }
