@@ -333,10 +333,15 @@ mod tests {
     fn the_demo_stream_decides_and_its_lines_are_the_golden_models() {
         let want = expected_lines(&demo(), None).unwrap();
         // One measurement cycle that decides (the first arm finds "register now" already
-        // low, so logs nothing), as the emulated Nucleo's log has it.
-        assert_eq!(want.len(), 1, "{want:?}");
+        // low, so logs nothing), as the emulated Nucleo's log has it, then the status as
+        // it changes after the decision (the confirmation, a fault).
+        assert!(!want.is_empty(), "{want:?}");
         assert!(want[0].starts_with("register now: position "), "{want:?}");
-        assert!(want[0].ends_with(" FES pulses"), "{want:?}");
+        assert!(want[0].contains(" FES pulses, faults "), "{want:?}");
+        assert!(
+            want[1..].iter().all(|l| l.starts_with("status: faults ")),
+            "{want:?}"
+        );
     }
 
     #[test]
