@@ -60,8 +60,8 @@ fn boot_log(calibration: Option<&CalibrationRecord>) -> Vec<String> {
 /// The log a run of `cases` with `observe` must leave on an image built with
 /// `calibration`: the boot, then per case every change of "register now" after an event,
 /// and every other change of the status (faults, confirmed), as the board's idle logs it
-/// (outputs of the golden model after that event as the firmware folds the events,
-/// [`cosim::golden_observing`], the position corrected by the offset the image applies to
+/// (outputs of the golden model after that event, and after each alarm of the FES
+/// watchdog, as the firmware folds the events: [`cosim::firmware_steps`], the position corrected by the offset the image applies to
 /// the case's configuration; no ADC sample dropped), then the driver's end.
 pub(crate) fn expected_log(
     cases: &[Case],
@@ -74,7 +74,7 @@ pub(crate) fn expected_log(
         let (mut on, mut status) = (false, (0, false));
         let offset = applied_offset(calibration, &case.config);
         let bits = case.config.settings().scale_bits;
-        for o in cosim::golden_observing(case, observe) {
+        for o in cosim::firmware_steps(case, observe) {
             let now = (o.faults, o.confirmed);
             if o.register_now != on {
                 on = o.register_now;

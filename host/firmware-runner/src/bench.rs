@@ -333,15 +333,20 @@ mod tests {
     fn the_demo_stream_decides_and_its_lines_are_the_golden_models() {
         let want = expected_lines(&demo(), None).unwrap();
         // One measurement cycle that decides (the first arm finds "register now" already
-        // low, so logs nothing), as the emulated Nucleo's log has it, then the status as
-        // it changes after the decision (the confirmation, a fault).
-        assert!(!want.is_empty(), "{want:?}");
-        assert!(want[0].starts_with("register now: position "), "{want:?}");
-        assert!(want[0].contains(" FES pulses, faults "), "{want:?}");
+        // low, so logs nothing), as the emulated Nucleo's log has it, and the status as it
+        // changes before and after the decision (a fault, the confirmation).
+        let decisions: Vec<&String> = want
+            .iter()
+            .filter(|l| l.starts_with("register now: position "))
+            .collect();
+        assert_eq!(decisions.len(), 1, "{want:?}");
+        assert!(decisions[0].contains(" FES pulses, faults "), "{want:?}");
         assert!(
-            want[1..].iter().all(|l| l.starts_with("status: faults ")),
+            want.iter()
+                .all(|l| l.starts_with("register now: ") || l.starts_with("status: faults ")),
             "{want:?}"
         );
+        assert!(want.iter().any(|l| l.ends_with(", confirmed")), "{want:?}");
     }
 
     #[test]
@@ -375,10 +380,18 @@ mod tests {
                 .parse()
                 .unwrap()
         };
-        assert_eq!(calibrated(&mine[0]), position(&mine[0]) + 13, "{mine:?}");
-        assert!(mine[0].contains("(offset -13)"), "{mine:?}");
-        assert!(raw[0].contains("(offset 0)"), "{raw:?}");
-        assert_eq!(calibrated(&raw[0]), position(&raw[0]));
+        let decision = |lines: &[String]| -> String {
+            lines
+                .iter()
+                .find(|l| l.starts_with("register now: "))
+                .unwrap()
+                .clone()
+        };
+        let (mine_d, raw_d) = (decision(&mine), decision(&raw));
+        assert_eq!(calibrated(&mine_d), position(&mine_d) + 13, "{mine:?}");
+        assert!(mine_d.contains("(offset -13)"), "{mine:?}");
+        assert!(raw_d.contains("(offset 0)"), "{raw:?}");
+        assert_eq!(calibrated(&raw_d), position(&raw_d));
         // Made with another configuration: the image applies no offset to this stream.
         let other = expected_lines(&demo(), Some(&record(header.measure_hash ^ 1))).unwrap();
         assert_eq!(other, raw);
@@ -403,10 +416,14 @@ mod tests {
         assert_eq!(first_difference(&want, &decision_lines(&got)), None);
         // A controller that decided elsewhere, or missed a decision.
         let mut wrong = decision_lines(&got);
-        wrong[0] = wrong[0].replace("register now: position ", "register now: position 1");
+        let at = wrong
+            .iter()
+            .position(|l| l.starts_with("register now: "))
+            .unwrap();
+        wrong[at] = wrong[at].replace("register now: position ", "register now: position 1");
         let d = first_difference(&want, &wrong).unwrap();
         assert!(
-            d.starts_with("decision line 0: expected `register now"),
+            d.starts_with(&format!("decision line {at}: expected `register now")),
             "{d}"
         );
         let mut extra = want.clone();

@@ -180,6 +180,22 @@ pub fn golden_observing(case: &Case, observe: Observe) -> Vec<MeasureOutputs> {
     if observe == Observe::EveryEvent {
         return golden(case);
     }
+    replay_as_firmware(case, observe, false)
+}
+
+/// The firmware's kernel outputs as its log sees them: after every event of `case` and
+/// after every fold of the clock's alarm (the FES watchdog's), in time order — the
+/// emulated Nucleo's driver logs a change of "register now" or of the status at each of
+/// them, as the board's idle would (an alarm may latch `fes_timeout` before the event
+/// that shows it in the trace, and that event may add another fault).
+pub fn firmware_steps(case: &Case, observe: Observe) -> Vec<MeasureOutputs> {
+    replay_as_firmware(case, observe, true)
+}
+
+/// The golden model replayed as the firmware folds `case`'s events with `observe`
+/// ([`golden_observing`]): the outputs after every event, and after every alarm fold
+/// when `alarms`.
+fn replay_as_firmware(case: &Case, observe: Observe, alarms: bool) -> Vec<MeasureOutputs> {
     let checks = case.config.settings().checks;
     let timeout = u64::from(checks.fes_timeout_cycles);
     let step = (timeout >> FES_WATCHDOG_STEP_SHIFT).max(1);
@@ -217,6 +233,9 @@ pub fn golden_observing(case: &Case, observe: Observe) -> Vec<MeasureOutputs> {
         while let Some(at) = alarm.filter(|&at| at <= e.time) {
             fold(&mut m, &mut pending, at);
             (due, alarm) = schedule(&m, armed, at);
+            if alarms {
+                out.push(m.outputs());
+            }
         }
         match e.event {
             MeasureEvent::Fes => {
@@ -234,6 +253,11 @@ pub fn golden_observing(case: &Case, observe: Observe) -> Vec<MeasureOutputs> {
                 }
                 (due, alarm) = schedule(&m, armed, e.time);
             }
+        }
+        // The snapshot after an observed event folds (and schedules) at its time.
+        if observe.records(&e.event) {
+            fold(&mut m, &mut pending, e.time);
+            (due, alarm) = schedule(&m, armed, e.time);
         }
         out.push(m.outputs());
     }
