@@ -117,7 +117,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let r = collect(&stream, &config, &elf, &fake, &["--out", s(&saved)]);
     assert!(r.starts_with("exit Some(0)"), "{r}");
     assert!(
-        r.contains("1 decision lines in the controller's log, every one equal"),
+        r.contains("3 decision lines in the controller's log, every one equal"),
         "{r}"
     );
     assert_eq!(
