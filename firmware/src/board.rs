@@ -23,8 +23,21 @@ pub trait Board {
     /// Pends the FES counter's compare interrupt now (for a compare value the count has
     /// already passed).
     fn pend_fes_compare();
+    /// The board's clock, ticks of the stream's clock (the unit of `fes_timeout_cycles`),
+    /// wrapping at 2^32: a free-running timer (the Nucleo's TIM5 at 1 MHz; on QEMU the
+    /// co-simulation driver's time, the event's time stamp).
+    fn time() -> u32;
+    /// Sets the clock's alarm (a compare interrupt) to fire when [`Board::time`] reaches
+    /// `at`, or turns it off (`None`).
+    fn set_time_alarm(at: Option<u32>);
+    /// Pends the clock's alarm interrupt now (for an alarm already due).
+    fn pend_time_alarm();
     /// Drives the "position reached, register now" output to the CNC.
     fn set_register_now(on: bool);
+    /// The measurement's status changed or may have: drives the fault output to the CNC's
+    /// alarm input (high while the `faults` word, [`tooltouch_model::fault`], is not zero)
+    /// and publishes `faults` and `confirmed` for lower-priority code (the Nucleo's log).
+    fn set_status(faults: u8, confirmed: bool);
     /// The latest conversion of every spindle-drive channel, 12-bit codes.
     fn adc() -> AdcCodes;
     /// The CNC's force-path command that raised the command interrupt, if any

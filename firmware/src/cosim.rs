@@ -70,6 +70,10 @@ pub trait Target {
     /// Power-on state with `config` and `force`: fresh kernels, all input pins low, empty
     /// sample queue.
     fn configure(&mut self, config: &MeasureConfig, force: &ForceConfig);
+    /// The stream's clock reaches `time` (ticks, never less than before; the clock starts
+    /// at 0 with each [`Target::configure`]): every alarm of the board's clock due by then
+    /// fires first, at its own time, as a timer's compare match would.
+    fn advance(&mut self, time: u64);
     /// Drives the event's pins (or ADC / command registers) and pends its interrupt (with
     /// the barriers that make the pend take effect at once); returns SysTick ticks from
     /// the pend to the return, or `None` when the event raised no interrupt (an FES pulse
@@ -501,6 +505,7 @@ fn replay<P: Port, T: Target>(
             Ok(None) => return Err(Error::UnexpectedKind(record.kind, offset)),
             Err(e) => return Err(Error::Wire(e, offset)),
         };
+        target.advance(record.time);
         if let Some(ticks) = target.inject(input) {
             profile.add(&input, ticks);
         }

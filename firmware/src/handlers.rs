@@ -28,6 +28,7 @@ use tooltouch_model::force::sampling::AdcCodes;
 use tooltouch_model::measure::calibration::{
     applied_offset, corrected_position, CalibrationRecord,
 };
+use tooltouch_model::measure::checks::{fault, Faults};
 use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 
 /// The most FES pulses folded into the kernel at once: the counter's compare interrupt
@@ -38,16 +39,32 @@ use tooltouch_model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
 /// (3 200 per second at 1024 ppr and 12 000 rpm).
 pub const FES_FOLD_LIMIT: u32 = 64;
 
-/// The measurement kernel fed by a hardware FES pulse counter ([`Board::fes_count`]).
+/// The FES watchdog's alarm comes at most this fraction of `fes_timeout_cycles` after the
+/// last fold (`T >> FES_WATCHDOG_STEP_SHIFT` ticks, at least 1), so the firmware's last
+/// FES time is never more than that behind the last pulse: `fes_timeout` latches between
+/// `T` and `T + T/8` ticks after the last FES pulse (docs/firmware.md "The FES
+/// watchdog").
+pub const FES_WATCHDOG_STEP_SHIFT: u32 = 3;
+
+/// The measurement kernel fed by a hardware FES pulse counter ([`Board::fes_count`]) and
+/// told the time by a hardware clock ([`Board::time`]).
 ///
 /// No interrupt per FES pulse: a timer counts them, and every measurement task first
-/// *folds* the pulses counted since the last fold into the kernel
-/// ([`Measurement::on_fes_run`], equal to that many single pulses — no other edge came
-/// between them, or its task would have folded them), then handles its own event, then
-/// sets the counter's compare interrupt at the pulse that would raise "register now"
+/// tells the kernel the time ([`Measurement::observe`]), then *folds* the pulses counted
+/// since the last fold into the kernel ([`Measurement::on_fes_run`], equal to that many
+/// single pulses at the fold's time — no other edge came between them, or its task would
+/// have folded them), then handles its own event, then sets the counter's compare
+/// interrupt at the pulse that would raise "register now"
 /// ([`Measurement::fes_to_decision`]) or [`FES_FOLD_LIMIT`] pulses on, whichever comes
-/// first. The deciding pulse thus interrupts as it did with one interrupt per pulse, and
-/// the latched position is the one it saw.
+/// first, and the clock's alarm for the FES watchdog. The deciding pulse thus interrupts
+/// as it did with one interrupt per pulse, and the latched position is the one it saw.
+///
+/// Time: the kernel counts in ticks of the board's clock ([`Board::time`], 32 bits,
+/// extended here to the kernel's 64 by its wrapping difference, so it never goes back).
+/// The last FES time the kernel knows is its last fold's time (the pulses carry no time
+/// stamp): while armed the alarm ([`Board::set_time_alarm`]) folds at least every
+/// `fes_timeout_cycles >> FES_WATCHDOG_STEP_SHIFT` ticks and at the watchdog's deadline,
+/// so the fault output rises without any other event.
 ///
 /// Timing: a pulse is counted at its edge but folded when the next measurement task
 /// runs; a pulse that arrives between another edge and its task's fold (the interrupt
@@ -62,18 +79,41 @@ pub struct MeasureDomain {
     folded: u32,
     /// The counter value the compare interrupt is set at.
     compare_at: u32,
+    /// The kernel's time, ticks (the board's clock extended to 64 bits).
+    now: u64,
+    /// The board's clock at the last reading.
+    clock: u32,
+    /// Time of the last fold, ticks.
+    folded_at: u64,
+    /// The arm line as the kernel last saw it.
+    armed: bool,
+    /// `fes_timeout_cycles` (0: the watchdog is off).
+    fes_timeout: u64,
+    /// `pulses_per_rev + pulse_tolerance` when the revolution check is on: one pulse more
+    /// without an index raises `index_missing`.
+    most_rev_pulses: Option<u32>,
 }
 
 impl MeasureDomain {
-    /// Starts `kernel` at the counter's current value (pulses counted before are not its)
-    /// and sets the compare interrupt.
+    /// A fresh kernel for `config`, started at the counter's and the clock's current
+    /// values (pulses counted before are not its; its time starts at 0), with the compare
+    /// interrupt set.
     #[inline]
-    pub fn start<B: Board>(kernel: Measurement) -> Self {
+    pub fn start<B: Board>(config: &MeasureConfig) -> Self {
         let folded = B::fes_count();
         let mut d = MeasureDomain {
-            kernel,
+            kernel: Measurement::new(config),
             folded,
             compare_at: folded,
+            now: 0,
+            clock: B::time(),
+            folded_at: 0,
+            armed: false,
+            fes_timeout: config.settings().checks.fes_timeout_cycles.into(),
+            most_rev_pulses: config.settings().checks.revolutions.then(|| {
+                u32::from(config.settings().pulses_per_rev)
+                    + u32::from(config.settings().checks.pulse_tolerance)
+            }),
         };
         d.schedule::<B>();
         d
@@ -84,30 +124,99 @@ impl MeasureDomain {
         &self.kernel
     }
 
-    /// Folds the pulses counted since the last fold; whether one raised "register now".
+    /// Reads the clock and tells the kernel the time.
+    #[inline(always)]
+    fn tick<B: Board>(&mut self) {
+        let clock = B::time();
+        self.now = self
+            .now
+            .wrapping_add(u64::from(clock.wrapping_sub(self.clock)));
+        self.clock = clock;
+        self.kernel.observe(self.now);
+    }
+
+    /// Reads the clock and tells the kernel the time, then folds the pulses counted since
+    /// the last fold; whether one raised "register now".
     #[inline(always)]
     fn fold<B: Board>(&mut self) -> bool {
-        let now = B::fes_count();
-        let n = now.wrapping_sub(self.folded);
-        self.folded = now;
+        self.tick::<B>();
+        self.folded_at = self.now;
+        let count = B::fes_count();
+        let n = count.wrapping_sub(self.folded);
+        self.folded = count;
         self.kernel.on_fes_run(n)
     }
 
-    /// Sets the compare interrupt at the pulse that would decide or [`FES_FOLD_LIMIT`]
-    /// pulses past the last fold. A pulse counted since the fold may already have reached
-    /// that value, which the timer would then not match until it wraps: the interrupt is
-    /// pended by hand instead (a spare compare interrupt only folds nothing).
+    /// Sets the compare interrupt at the pulse that would decide or raise `index_missing`,
+    /// or [`FES_FOLD_LIMIT`] pulses past the last fold, and the watchdog's alarm; drives the fault output. A
+    /// pulse counted since the fold may already have reached the compare value, which the
+    /// timer would then not match until it wraps: the interrupt is pended by hand instead
+    /// (a spare compare interrupt only folds nothing); so is an alarm already due.
     #[inline(always)]
     fn schedule<B: Board>(&mut self) {
-        let due = self
+        let mut due = self
             .kernel
             .fes_to_decision(FES_FOLD_LIMIT)
             .unwrap_or(FES_FOLD_LIMIT);
+        if let Some(k) = self.pulses_to_index_missing() {
+            due = due.min(k);
+        }
         self.compare_at = self.folded.wrapping_add(due);
         B::set_fes_compare(self.compare_at);
         if B::fes_count().wrapping_sub(self.folded) >= due {
             B::pend_fes_compare();
         }
+        let faults = self.publish_status::<B>();
+        match self.alarm(faults) {
+            Some(at) => {
+                B::set_time_alarm(Some(
+                    self.clock.wrapping_add(at.wrapping_sub(self.now) as u32),
+                ));
+                if at <= self.now {
+                    B::pend_time_alarm();
+                }
+            }
+            None => B::set_time_alarm(None),
+        }
+    }
+
+    /// How many more FES pulses raise `index_missing` (so the compare interrupt fires on
+    /// that pulse and the fault output rises with it), while armed and not yet raised.
+    #[inline(always)]
+    fn pulses_to_index_missing(&self) -> Option<u32> {
+        let most = self.most_rev_pulses?;
+        let checks = self.kernel.checks();
+        if !self.armed || checks.faults_at(0, false).contains(fault::INDEX_MISSING) {
+            return None;
+        }
+        Some(
+            most.saturating_add(1)
+                .saturating_sub(checks.rev_pulses())
+                .max(1),
+        )
+    }
+
+    /// Drives the fault output and publishes the status ([`Board::set_status`]); the
+    /// faults word now.
+    #[inline(always)]
+    fn publish_status<B: Board>(&self) -> Faults {
+        let faults = self.kernel.checks().faults_at(self.now, self.armed);
+        B::set_status(faults.0, self.kernel.checks().confirmed());
+        faults
+    }
+
+    /// When the watchdog's alarm must next fold, ticks of the kernel's time: while armed
+    /// with the watchdog on and not yet expired, the earlier of its deadline (last FES
+    /// time + `fes_timeout_cycles`) and one step ([`FES_WATCHDOG_STEP_SHIFT`]) past the
+    /// last fold.
+    #[inline(always)]
+    fn alarm(&self, faults: Faults) -> Option<u64> {
+        if !self.armed || self.fes_timeout == 0 || faults.contains(fault::FES_TIMEOUT) {
+            return None;
+        }
+        let deadline = self.kernel.checks().fes_at().wrapping_add(self.fes_timeout);
+        let step = (self.fes_timeout >> FES_WATCHDOG_STEP_SHIFT).max(1);
+        Some(deadline.min(self.folded_at.wrapping_add(step)))
     }
 
     /// Whether the counter has reached the compare value: a counted pulse not yet folded
@@ -129,6 +238,14 @@ pub fn fes_compare<B: Board>(d: &mut MeasureDomain) {
         B::set_register_now(true);
     }
     d.schedule::<B>();
+}
+
+/// The clock's alarm (the FES watchdog's): folds at the time it fires, so the kernel
+/// knows whether FES pulses came, latches `fes_timeout` if none came for
+/// `fes_timeout_cycles`, and drives the fault output with no other event.
+#[inline]
+pub fn time_alarm<B: Board>(d: &mut MeasureDomain) {
+    fes_compare::<B>(d);
 }
 
 /// Index pulse (start of a revolution): closes the counting window.
@@ -157,21 +274,28 @@ pub fn contact<B: Board>(d: &mut MeasureDomain) {
 /// Scale edge on A or B (either direction): the quadrature decoder steps. Scale edges
 /// change no count, so they fold only when a counted pulse may have decided: its
 /// position is the one before this edge, whichever interrupt the NVIC takes first.
+/// Otherwise they only tell the kernel the time (an illegal transition latches
+/// `scale_error`, which the fault output shows at once).
 #[inline]
 pub fn scale<B: Board>(d: &mut MeasureDomain) {
+    d.tick::<B>();
     if d.compare_reached::<B>() {
         fes_compare::<B>(d);
     }
     let (a, b) = B::scale();
     d.kernel.on_scale(a, b);
+    d.publish_status::<B>();
 }
 
 /// CNC command: the arm line changed. Rising: start a measurement cycle (clears the
-/// decision, so "register now" drops); falling: abort / end it, results held.
+/// decision and the faults, so "register now" and the fault output drop); falling: abort /
+/// end it, results and faults held.
 #[inline]
 pub fn cnc_command<B: Board>(d: &mut MeasureDomain) {
     d.fold::<B>();
-    d.kernel.on_arm(B::arm());
+    let arm = B::arm();
+    d.kernel.on_arm(arm);
+    d.armed = arm;
     B::set_register_now(d.kernel.register_now());
     d.schedule::<B>();
 }
@@ -188,10 +312,10 @@ pub fn preset_pulses<B: Board>(d: &mut MeasureDomain, pulses: u32) {
 }
 
 /// Snapshot of every output for lower-priority code (idle's log, the co-simulation
-/// trace): folds the counted pulses first, so the snapshot is exact. It does not drive
-/// "register now": the compare interrupt, pending whenever a counted pulse decided and
-/// taken before this task, does (a co-simulation trace checks the pin, so a missed
-/// compare shows).
+/// trace) at the time it runs: folds the counted pulses first, so the snapshot is exact.
+/// It does not drive "register now": the compare interrupt, pending whenever a counted
+/// pulse decided and taken before this task, does (a co-simulation trace checks the pin,
+/// so a missed compare shows).
 #[inline]
 pub fn observe<B: Board>(d: &mut MeasureDomain) -> MeasureOutputs {
     d.fold::<B>();

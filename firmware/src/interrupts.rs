@@ -26,9 +26,11 @@ pub struct MeasureInterrupts {
     pub preset_pulses: Option<u16>,
     /// Output snapshot ([`crate::handlers::observe`]), pended by lower-priority code.
     pub observe: u16,
+    /// The measurement clock's alarm ([`crate::handlers::time_alarm`]).
+    pub time_alarm: u16,
 }
 
-/// QEMU's lm3s6965evb: GPIOA–GPIOE, UART0, UART1 stand in for the pins' edges and the
+/// QEMU's lm3s6965evb: GPIOA–GPIOE, UART0, UART1, SSI0 stand in for the pins' edges and the
 /// driver's requests, in the model's canonical same-clock order.
 pub const QEMU: MeasureInterrupts = MeasureInterrupts {
     arm: 0,
@@ -38,9 +40,10 @@ pub const QEMU: MeasureInterrupts = MeasureInterrupts {
     scale: 4,
     preset_pulses: Some(5),
     observe: 6,
+    time_alarm: 7,
 };
 
-/// The Nucleo-F446RE: EXTI0, EXTI1, EXTI2, TIM2, EXTI9_5, TIM7.
+/// The Nucleo-F446RE: EXTI0, EXTI1, EXTI2, TIM2, EXTI9_5, TIM7, TIM5.
 pub const NUCLEO: MeasureInterrupts = MeasureInterrupts {
     arm: 6,
     contact: 7,
@@ -49,4 +52,5 @@ pub const NUCLEO: MeasureInterrupts = MeasureInterrupts {
     scale: 23,
     preset_pulses: None,
     observe: 55,
+    time_alarm: 50,
 };

@@ -411,7 +411,6 @@ mod tests {
         {
             use tooltouch_firmware::baked;
             use tooltouch_firmware::handlers::{self, MeasureDomain, FES_FOLD_LIMIT};
-            use tooltouch_firmware::model::Measurement;
             use tooltouch_firmware::nucleo::board::Nucleo;
             /// The FES budget: 10 % of 168 MHz at 204 800 pulses/s.
             const BUDGET_PER_PULSE: u32 = 82;
@@ -425,7 +424,7 @@ mod tests {
             };
             let config = defmt::unwrap!(baked::measure().ok(), "the baked configuration");
             fes_jumper::configure(gpioa);
-            let mut d = MeasureDomain::start::<Nucleo>(Measurement::new(&config));
+            let mut d = MeasureDomain::start::<Nucleo>(&config);
             gpioa
                 .pupdr()
                 .modify(|_, w| w.pupdr0().pull_up().pupdr1().pull_down());

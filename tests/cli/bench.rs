@@ -90,11 +90,13 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
             .collect::<Vec<_>>()
             .join(" ");
     let want_lines: Vec<String> = want.lines().map(str::to_string).collect();
-    assert_eq!(want_lines.len(), 1, "{want}");
+    assert_eq!(want_lines.len(), 3, "{want}");
     assert!(
-        docs.contains(&format!("gives one line, `{}`", want_lines[0])),
-        "docs/firmware.md must quote the demo stream's line `{}`",
-        want_lines[0]
+        docs.contains(&format!(
+            "gives three lines, `{}`, `{}` and `{}`",
+            want_lines[0], want_lines[1], want_lines[2]
+        )),
+        "docs/firmware.md must quote the demo stream's lines {want_lines:?}"
     );
 
     // A session as the controller logs it: boot lines, then each decision with the
@@ -115,7 +117,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let r = collect(&stream, &config, &elf, &fake, &["--out", s(&saved)]);
     assert!(r.starts_with("exit Some(0)"), "{r}");
     assert!(
-        r.contains("1 decision lines in the controller's log, every one equal"),
+        r.contains("3 decision lines in the controller's log, every one equal"),
         "{r}"
     );
     assert_eq!(
@@ -139,12 +141,13 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let wrong_dir = w.path().join("wrong");
     std::fs::create_dir(&wrong_dir).unwrap();
     let mut wrong = session.clone();
-    wrong[2] = wrong[2].replacen("position -", "position -1", 1);
+    // (the session's lines 2.. are the expected lines: a status line, then the decision)
+    wrong[3] = wrong[3].replacen("position -", "position -1", 1);
     let fake = fake_probe_rs(&wrong_dir, &elf, &wrong);
     let r = collect(&stream, &config, &elf, &fake, &[]);
     assert!(r.starts_with("exit Some(1)"), "{r}");
     assert!(
-        r.contains("MISMATCH: the controller's log: decision line 0: expected `register now"),
+        r.contains("MISMATCH: the controller's log: decision line 1: expected `register now"),
         "{r}"
     );
 
@@ -154,7 +157,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let fake = fake_probe_rs(&quiet_dir, &elf, &session[..2]);
     let r = collect(&stream, &config, &elf, &fake, &["--timeout-s", "1"]);
     assert!(r.starts_with("exit Some(1)"), "{r}");
-    assert!(r.contains("the first missing: `register now"), "{r}");
+    assert!(r.contains("the first missing: `status: faults"), "{r}");
 
     // No probe-rs: how to install it.
     let r = collect(

@@ -464,3 +464,157 @@ fn broken_force_configuration_chunks_are_rejected_by_the_firmware() {
         &["field `pi.kp` out of range"],
     );
 }
+
+/// One measurement configuration whose checks are all on and tight (16 pulses per
+/// revolution ± 1, a probe fail after 3 revolutions, an FES watchdog of 1 000 ticks, two
+/// confirming windows at 50 %), and one stream of measurement cycles, each reaching one
+/// status condition: the contact closed at arm, a revolution of too few pulses, no index,
+/// an illegal scale transition, no decision, the FES line silent, an unconfirmed decision,
+/// and a clean, confirmed one. The fault cases of `tooltouch-stimuli` reach the
+/// conditions from the lathe's side; this stream names each one on its own.
+pub(crate) fn every_status_case() -> Case {
+    use tooltouch_model::measure::config::{ContactRule, DecisionMethod};
+    use tooltouch_model::{MeasureChecks, MeasureSettings, TimedEvent};
+    let config = MeasureSettings {
+        pulses_per_rev: 16,
+        i_def: 8,
+        window_revs: 1,
+        method: DecisionMethod::Counter,
+        contact_rule: ContactRule::Sampled,
+        checks: MeasureChecks {
+            contact_at_arm: true,
+            revolutions: true,
+            pulse_tolerance: 1,
+            scale_errors: true,
+            probe_revs: 3,
+            fes_timeout_cycles: 1_000,
+            confirm_windows: 2,
+            confirm_percent: 50,
+        },
+        ..Default::default()
+    }
+    .validate()
+    .unwrap_or_else(|e| panic!("{e}"));
+    let mut events = Vec::new();
+    let mut t = 0u64;
+    let mut at = |dt: u64, event: MeasureEvent, events: &mut Vec<TimedEvent>| {
+        t += dt;
+        events.push(TimedEvent { time: t, event });
+    };
+    let fes = |n: usize,
+               events: &mut Vec<TimedEvent>,
+               at: &mut dyn FnMut(u64, MeasureEvent, &mut Vec<TimedEvent>)| {
+        for _ in 0..n {
+            at(10, MeasureEvent::Fes, events);
+        }
+    };
+    use MeasureEvent::{Arm, Contact, Index};
+    // contact_at_arm
+    at(100, Contact(true), &mut events);
+    at(10, Arm(true), &mut events);
+    fes(5, &mut events, &mut at);
+    at(10, Arm(false), &mut events);
+    at(10, Contact(false), &mut events);
+    // pulses_lost: a revolution of 10 pulses
+    at(100, Arm(true), &mut events);
+    at(10, Index, &mut events);
+    fes(10, &mut events, &mut at);
+    at(10, Index, &mut events);
+    fes(4, &mut events, &mut at);
+    at(10, Arm(false), &mut events);
+    // index_missing: 20 pulses without an index
+    at(100, Arm(true), &mut events);
+    fes(20, &mut events, &mut at);
+    at(10, Arm(false), &mut events);
+    // scale_error: A and B change together
+    at(100, Arm(true), &mut events);
+    fes(3, &mut events, &mut at);
+    at(10, MeasureEvent::Scale { a: true, b: true }, &mut events);
+    fes(3, &mut events, &mut at);
+    at(10, Arm(false), &mut events);
+    at(10, MeasureEvent::Scale { a: false, b: false }, &mut events);
+    // no_decision: three revolutions without contact
+    at(100, Arm(true), &mut events);
+    for _ in 0..3 {
+        at(10, Index, &mut events);
+        fes(16, &mut events, &mut at);
+    }
+    at(10, Arm(false), &mut events);
+    // fes_timeout: the FES line falls silent for 5 000 ticks, then comes back
+    at(100, Arm(true), &mut events);
+    fes(4, &mut events, &mut at);
+    at(5_000, Index, &mut events);
+    fes(4, &mut events, &mut at);
+    at(10, Arm(false), &mut events);
+    // unconfirmed: decided in a dense window, the next window without contact
+    at(100, Arm(true), &mut events);
+    at(10, Index, &mut events);
+    at(5, Contact(true), &mut events);
+    fes(16, &mut events, &mut at);
+    at(10, Index, &mut events);
+    at(5, Contact(false), &mut events);
+    fes(16, &mut events, &mut at);
+    at(10, Index, &mut events);
+    at(10, Arm(false), &mut events);
+    // clean: decided and confirmed over two windows, no fault
+    at(100, Arm(true), &mut events);
+    at(10, Index, &mut events);
+    at(5, Contact(true), &mut events);
+    for _ in 0..3 {
+        fes(16, &mut events, &mut at);
+        at(10, Index, &mut events);
+    }
+    at(10, Contact(false), &mut events);
+    at(10, Arm(false), &mut events);
+    Case {
+        name: "every status condition, one cycle each".into(),
+        config,
+        tick_hz: 1_000_000,
+        events,
+        force: None,
+        force_events: Vec::new(),
+    }
+}
+
+/// The faults each cycle of [`every_status_case`] must show at its arm's fall, in order,
+/// and whether the decision was confirmed.
+pub(crate) fn assert_every_status_condition(case: &Case) {
+    use tooltouch_model::fault;
+    let outputs = cosim::golden(case);
+    let ends: Vec<(u8, bool)> = case
+        .events
+        .iter()
+        .zip(&outputs)
+        .filter(|(e, _)| e.event == MeasureEvent::Arm(false))
+        .map(|(_, o)| (o.faults, o.confirmed))
+        .collect();
+    assert_eq!(
+        ends,
+        [
+            (fault::CONTACT_AT_ARM, false),
+            (fault::PULSES_LOST, false),
+            (fault::INDEX_MISSING, false),
+            (fault::SCALE_ERROR, false),
+            (fault::NO_DECISION, false),
+            (fault::FES_TIMEOUT, false),
+            (fault::UNCONFIRMED, false),
+            (0, true),
+        ],
+        "the cycles' status at their end (faults, confirmed)"
+    );
+}
+
+/// Every status condition, in one stream: the firmware agrees with the model on every
+/// output of every event (`faults` and `confirmed` with the fault line, the FES watchdog
+/// raised by the clock's alarm inside the silent gap), with every event observed and with
+/// FES runs folded (the model then replayed at the firmware's fold times).
+#[test]
+fn firmware_and_model_agree_on_every_status_condition() {
+    let case = every_status_case();
+    assert_every_status_condition(&case);
+    let cases = [case];
+    let report = run(&cases);
+    print_report("every status condition", &report);
+    let folded = run_folding(&cases);
+    print_report("every status condition, FES runs folded", &folded);
+}

@@ -57,26 +57,35 @@ fn boot_log(calibration: Option<&CalibrationRecord>) -> Vec<String> {
     log
 }
 
-/// The log a run of `cases` must leave on an image built with `calibration`: the boot,
-/// then per case every change of "register now" after an event, as the board's idle logs
-/// it (outputs of the golden model after that event, the position corrected by the
-/// offset the image applies to the case's configuration; no ADC sample dropped), then the
-/// driver's end.
-pub(crate) fn expected_log(cases: &[Case], calibration: Option<&CalibrationRecord>) -> Vec<String> {
+/// The log a run of `cases` with `observe` must leave on an image built with
+/// `calibration`: the boot, then per case every change of "register now" after an event,
+/// and every other change of the status (faults, confirmed), as the board's idle logs it
+/// (outputs of the golden model after that event, and after each alarm of the FES
+/// watchdog, as the firmware folds the events: [`cosim::firmware_steps`], the position corrected by the offset the image applies to
+/// the case's configuration; no ADC sample dropped), then the driver's end.
+pub(crate) fn expected_log(
+    cases: &[Case],
+    observe: Observe,
+    calibration: Option<&CalibrationRecord>,
+) -> Vec<String> {
+    use tooltouch_firmware_runner::bench::{decision_line, status_line};
     let mut log = boot_log(calibration);
     for case in cases {
-        let mut on = false;
+        let (mut on, mut status) = (false, (0, false));
         let offset = applied_offset(calibration, &case.config);
         let bits = case.config.settings().scale_bits;
-        for o in cosim::golden(case) {
-            if o.register_now == on {
-                continue;
+        for o in cosim::firmware_steps(case, observe) {
+            let now = (o.faults, o.confirmed);
+            if o.register_now != on {
+                on = o.register_now;
+                log.push(format!(
+                    "{}; 0 ADC samples dropped",
+                    decision_line(&o, offset, bits)
+                ));
+            } else if now != status {
+                log.push(status_line(&o));
             }
-            on = o.register_now;
-            log.push(format!(
-                "{}; 0 ADC samples dropped",
-                tooltouch_firmware_runner::bench::decision_line(&o, offset, bits)
-            ));
+            status = now;
         }
     }
     log.push("co-simulation ended, QEMU exit status 0".to_string());
@@ -99,7 +108,7 @@ pub(crate) fn run_on(
 ) -> NucleoRun {
     let run = nucleo::run_calibrated_batch(image, cases, observe, calibration)
         .unwrap_or_else(|e| panic!("{what}: {e}"));
-    let want = expected_log(cases, calibration);
+    let want = expected_log(cases, observe, calibration);
     for (i, (w, g)) in want.iter().zip(&run.log).enumerate() {
         assert_eq!(w, g, "{what}: defmt line {i}");
     }
@@ -188,6 +197,24 @@ fn the_nucleo_image_matches_the_golden_model_on_fault_and_lathe_streams() {
         .collect();
     cases.extend(lathe_cases());
     run_both("Nucleo, fault cases and lathe simulator streams", &cases);
+}
+
+/// Every status condition in one stream ([`crate::cosim::every_status_case`]), in the
+/// Nucleo's interrupt order, the FES watchdog raised by TIM5's alarm: every output, the
+/// fault line (PA7) and the log's status lines as the model's.
+#[test]
+fn the_nucleo_image_matches_the_golden_model_on_every_status_condition() {
+    let case = crate::cosim::every_status_case();
+    crate::cosim::assert_every_status_condition(&case);
+    let (every, _) = run_both("Nucleo, every status condition", &[case]);
+    assert!(
+        every
+            .log
+            .iter()
+            .any(|l| l.starts_with("status: faults fes_timeout")),
+        "the watchdog's line: {:#?}",
+        every.log
+    );
 }
 
 #[test]

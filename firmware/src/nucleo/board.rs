@@ -1,5 +1,5 @@
 //! The Nucleo-F446RE as the handlers see it ([`Board`]): pins read and driven through
-//! `pins`, the FES count and compare in TIM2, the feed override in TIM4's duty, the drive
+//! `pins`, the FES count and compare in TIM2, the clock and its alarm in TIM5, the feed override in TIM4's duty, the drive
 //! signals from ADC1.
 
 use super::{adc, pins, timers};
@@ -30,8 +30,20 @@ impl Board for Nucleo {
     fn pend_fes_compare() {
         rtic::pend(pac::Interrupt::TIM2);
     }
+    fn time() -> u32 {
+        timers::time()
+    }
+    fn set_time_alarm(at: Option<u32>) {
+        timers::set_time_alarm(at);
+    }
+    fn pend_time_alarm() {
+        rtic::pend(pac::Interrupt::TIM5);
+    }
     fn set_register_now(on: bool) {
         pins::set_register_now(on);
+    }
+    fn set_status(faults: u8, confirmed: bool) {
+        pins::set_status(faults, confirmed);
     }
     fn adc() -> AdcCodes {
         adc::convert_all()

@@ -243,6 +243,8 @@ pub fn enable_peripheral_clocks(rcc: &pac::RCC) {
             .enabled()
             .tim4en()
             .enabled()
+            .tim5en()
+            .enabled()
             .tim6en()
             .enabled()
     });

@@ -74,7 +74,7 @@ pub fn configure_clocks(rcc: &pac::RCC, pwr: &pac::PWR, flash: &pac::FLASH) -> B
 
 /// The board set up in `init`'s order: the clock tree ([`configure_clocks`]), the
 /// peripheral clocks, the pins and their EXTI lines, the ADC, then the timers (feed PWM,
-/// the FES counter, the sample tick, the control period). Returns the bus timing the
+/// the FES counter, the sample tick, the control period, the measurement's clock). Returns the bus timing the
 /// tree gave. The application's `init` and the on-target tests' `#[init]` both run this.
 pub fn bring_up(dp: &pac::Peripherals) -> BusTiming {
     let timing = configure_clocks(&dp.RCC, &dp.PWR, &dp.FLASH);
@@ -87,5 +87,6 @@ pub fn bring_up(dp: &pac::Peripherals) -> BusTiming {
     timers::start_fes_counter(&dp.TIM2, &dp.GPIOB);
     timers::start_sample_tick(&dp.TIM6, &timing.timers);
     timers::start_control_period(&dp.TIM3, &timing.timers);
+    timers::start_clock(&dp.TIM5, &timing.timers);
     timing
 }

@@ -8,7 +8,7 @@
 //! analog inputs are the ADC's (`adc`), PB3 and PB6 the timers' (`timers`).
 
 use crate::model::force::events::ForceEvent;
-use core::sync::atomic::{AtomicU32, Ordering};
+use core::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 use stm32f4::stm32f446 as pac;
 
 /// EXTI line of the force-path command "control on" (PC11), as a bit of EXTI_PR.
@@ -23,12 +23,15 @@ const COMMAND_LINES: u32 = CONTROL | IDENTIFY | TOOL_CHANGED;
 /// EXTI lines of force-path commands taken from EXTI_PR and not yet handled.
 static PENDING_COMMANDS: AtomicU32 = AtomicU32::new(0);
 
-/// "Register now" (PA5, also LD2) and the wear alarm (PA6): push-pull outputs, low.
+/// "Register now" (PA5, also LD2), the wear alarm (PA6) and the fault line to the CNC's
+/// alarm input (PA7): push-pull outputs, low.
 pub fn configure_outputs(gpioa: &pac::GPIOA) {
-    gpioa.bsrr().write(|w| w.br5().set_bit().br6().set_bit());
+    gpioa
+        .bsrr()
+        .write(|w| w.br5().set_bit().br6().set_bit().br7().set_bit());
     gpioa
         .moder()
-        .modify(|_, w| w.moder5().output().moder6().output());
+        .modify(|_, w| w.moder5().output().moder6().output().moder7().output());
 }
 
 /// The measurement inputs: arm PA0 and contact PA1 (both edges), index PB2 (rising),
@@ -193,6 +196,8 @@ fn exti() -> &'static pac::exti::RegisterBlock {
 const REGISTER_NOW: u32 = 1 << 5;
 /// PA6: the wear alarm.
 const WEAR_ALARM: u32 = 1 << 6;
+/// PA7: the fault line (the measurement's `faults` word not zero).
+const FAULT: u32 = 1 << 7;
 
 /// The BSRR word that drives the pins of `mask` to `on`.
 #[inline(always)]
@@ -233,6 +238,35 @@ pub fn set_register_now(on: bool) {
 #[inline(always)]
 pub fn register_now() -> bool {
     data::odr_a() & REGISTER_NOW != 0
+}
+
+/// The measurement's status as the handlers last published it: the `faults` word in
+/// bits 0–6, `confirmed` in bit 7 (idle logs its changes).
+static STATUS: AtomicU8 = AtomicU8::new(0);
+
+/// Drives the fault line (PA7: `faults` not zero) and publishes the status.
+#[inline(always)]
+pub fn set_status(faults: u8, confirmed: bool) {
+    data::bsrr_a(bsrr(FAULT, faults != 0));
+    STATUS.store(status_word(faults, confirmed), Ordering::Relaxed);
+}
+
+/// The status word of `faults` and `confirmed` (as [`status`] reads it).
+#[inline(always)]
+pub const fn status_word(faults: u8, confirmed: bool) -> u8 {
+    (faults & 0x7f) | (confirmed as u8) << 7
+}
+
+/// The status the handlers last published ([`status_word`]).
+#[inline(always)]
+pub fn status() -> u8 {
+    STATUS.load(Ordering::Relaxed)
+}
+
+/// The level the fault line is driven at (PA7's output data bit).
+#[inline(always)]
+pub fn fault() -> bool {
+    data::odr_a() & FAULT != 0
 }
 
 /// Drives the wear alarm (PA6).

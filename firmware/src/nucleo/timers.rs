@@ -5,7 +5,9 @@
 //! - TIM3: the 20 Hz control period (update interrupt);
 //! - TIM4: the feed-override PWM on PB6 (TIM4_CH1, AF2), 15.625 kHz, duty = CCR1 / 256;
 //! - TIM2: the FES pulse counter on PB3 (TIM2_CH2, AF1) and its channel-1 compare
-//!   interrupt, the fold's (`handlers::MeasureDomain`).
+//!   interrupt, the fold's (`handlers::MeasureDomain`);
+//! - TIM5: the measurement's clock, 32 bits at [`CLOCK_HZ`], and its channel-1 compare
+//!   interrupt, the FES watchdog's alarm.
 //!
 //! Prescalers and reloads come from [`TimerSettings`], derived from a
 //! [`ClockTree`](crate::nucleo::clocks::ClockTree) at compile time (84 MHz or, on the reset
@@ -28,6 +30,10 @@ const TIM6_COUNT_HZ: u32 = 1_000_000;
 pub const CONTROL_HZ: u32 = exact_div(SAMPLE_HZ, crate::baked::SAMPLES_PER_PERIOD as u32);
 /// TIM3's count rate (Hz): 100 µs per count (TIM3 is 16-bit).
 const TIM3_COUNT_HZ: u32 = 10_000;
+/// The measurement's clock (Hz), TIM5: the unit of `fes_timeout_cycles` on this board,
+/// 1 µs per tick (the demo lathe's stream clock, `firmware/demo-lathe.toml`), an exact
+/// division of both timer clocks.
+pub const CLOCK_HZ: u32 = 1_000_000;
 /// Duty steps of the feed-override PWM: TIM4 ARR = 255, duty = CCR1 / 256 (CCR1 = %).
 const FEED_PWM_STEPS: u32 = 256;
 /// Feed-override PWM frequency (Hz): 15.625 kHz, an exact division of both the PLL's
@@ -73,6 +79,8 @@ pub struct TimerSettings {
     pub control_arr: u16,
     /// TIM4 PSC for [`FEED_PWM_HZ`] with ARR = [`FEED_PWM_STEPS`] − 1.
     pub feed_pwm_psc: u16,
+    /// TIM5 PSC for [`CLOCK_HZ`].
+    pub clock_psc: u16,
 }
 
 impl TimerSettings {
@@ -85,6 +93,7 @@ impl TimerSettings {
             control_psc: prescaler(tim_hz, TIM3_COUNT_HZ),
             control_arr: reload16(TIM3_COUNT_HZ, CONTROL_HZ),
             feed_pwm_psc: prescaler(tim_hz, FEED_PWM_HZ * FEED_PWM_STEPS),
+            clock_psc: prescaler(tim_hz, CLOCK_HZ),
         }
     }
 }
@@ -96,6 +105,7 @@ const _: () = {
     let reset = TimerSettings::for_clocks(&RESET_CLOCKS);
     assert!(reset.sample_psc == 15 && reset.sample_arr == 999);
     assert!(pll.feed_pwm_psc == 20 && reset.feed_pwm_psc == 3);
+    assert!(pll.clock_psc == 83 && reset.clock_psc == 15);
 };
 
 /// TIM6: the 1 kHz sample tick's update interrupt.
@@ -165,6 +175,60 @@ pub fn start_fes_counter(tim2: &pac::TIM2, gpiob: &pac::GPIOB) {
     tim2.sr().reset();
     tim2.dier().write(|w| w.cc1ie().set_bit());
     tim2.cr1().write(|w| w.cen().set_bit());
+}
+
+/// TIM5: the measurement's clock, counting up at [`CLOCK_HZ`] over its whole 32 bits
+/// (ARR = 2^32 − 1, wrapping like [`crate::board::Board::time`]); channel 1 an output
+/// compare in frozen mode with no pin and no preload (the alarm, CC1IE: the TIM5
+/// interrupt), enabled by [`set_time_alarm`].
+pub fn start_clock(tim5: &pac::TIM5, settings: &TimerSettings) {
+    tim5.psc().write(|w| w.psc().set(settings.clock_psc));
+    tim5.arr().write(|w| w.arr().set(u32::MAX));
+    tim5.ccmr1_output().write(|w| w.oc1m().frozen());
+    tim5.egr().write(|w| w.ug().set_bit());
+    tim5.sr().reset();
+    tim5.cr1().write(|w| w.cen().set_bit());
+}
+
+/// TIM5's count: the measurement's clock, ticks of [`CLOCK_HZ`].
+#[inline(always)]
+pub fn time() -> u32 {
+    #[cfg(feature = "emulated")]
+    let now = crate::nucleo::emulated::registers::time();
+    // SAFETY: a read of TIM5's counter, free-running since `init`.
+    #[cfg(not(feature = "emulated"))]
+    let now = unsafe { (*pac::TIM5::ptr()).cnt().read().cnt().bits() };
+    now
+}
+
+/// Sets TIM5's alarm at `at` (CCR1, no preload, then CC1IE), or turns it off.
+#[inline(always)]
+pub fn set_time_alarm(at: Option<u32>) {
+    // SAFETY: CCR1 and DIER of TIM5 are the alarm's, written only by the measurement
+    // tasks (one priority, so one at a time).
+    unsafe {
+        let tim5 = &*pac::TIM5::ptr();
+        match at {
+            Some(at) => {
+                tim5.ccr1().write(|w| w.ccr().set(at));
+                tim5.sr().write(|w| w.cc1if().clear());
+                tim5.dier().write(|w| w.cc1ie().set_bit());
+            }
+            None => {
+                tim5.dier().write(|w| w.cc1ie().clear_bit());
+            }
+        }
+    }
+    // QEMU's TIM5 counts virtual time and never compares: the seam holds the alarm.
+    #[cfg(feature = "emulated")]
+    crate::nucleo::emulated::registers::set_time_alarm(at);
+}
+
+/// Clears TIM5's compare flag CC1IF.
+#[inline(always)]
+pub fn ack_time_alarm() {
+    // SAFETY: TIM5_SR's flags clear on a written 0 (rc_w0), the others are written 1.
+    unsafe { (*pac::TIM5::ptr()).sr().write(|w| w.cc1if().clear()) };
 }
 
 /// TIM2's count of FES rising edges, wrapping at 2^32.

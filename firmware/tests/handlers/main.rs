@@ -29,7 +29,9 @@ use tooltouch_firmware::model::force::events::ForceEvent;
 use tooltouch_firmware::model::force::kernel::ForceKernel;
 use tooltouch_firmware::model::force::sampling::AdcCodes;
 use tooltouch_firmware::model::measure::config::{ContactRule, DecisionMethod};
-use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureSettings, Measurement};
+use tooltouch_firmware::model::{
+    fault, MeasureChecks, MeasureConfig, MeasureEvent, MeasureSettings, Measurement,
+};
 
 /// Every board, by name, with its measurement tasks' IRQ numbers.
 const BOARDS: [(&str, MeasureInterrupts); 2] =
@@ -47,11 +49,30 @@ fn proptest_config() -> ProptestConfig {
 }
 
 /// The pulse counter deciding when a window holds more than `i_def` contact pulses
-/// (16 pulses per revolution, sampled contact).
+/// (16 pulses per revolution, sampled contact). The revolution check is off: these
+/// streams run many revolutions' pulses without an index, whose `index_missing` pulse
+/// the compare would fire on too ([`revolution_config`] tests that).
 fn counter_config(i_def: u32) -> MeasureConfig {
     MeasureSettings {
         pulses_per_rev: 16,
         i_def,
+        method: DecisionMethod::Counter,
+        contact_rule: ContactRule::Sampled,
+        checks: MeasureChecks {
+            revolutions: false,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+    .validate()
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// [`counter_config`] with the revolution check on (16 ± 2 pulses per revolution).
+fn revolution_config() -> MeasureConfig {
+    MeasureSettings {
+        pulses_per_rev: 16,
+        i_def: 8,
         method: DecisionMethod::Counter,
         contact_rule: ContactRule::Sampled,
         ..Default::default()
@@ -309,6 +330,35 @@ fn the_compare_interrupt_fires_every_fold_limit_pulses() {
             }
             sim.replay(Burst::pulses(0).observed());
         }
+    }
+}
+
+/// Armed without an index, the compare interrupt fires on the pulse that raises
+/// `index_missing` (`pulses_per_rev + pulse_tolerance + 1` = 19 since the arm), so the
+/// fault output rises on that pulse, not at the next fold; then every
+/// [`FES_FOLD_LIMIT`] pulses again.
+#[test]
+fn the_compare_interrupt_fires_on_the_pulse_raising_index_missing() {
+    for (name, irqs) in BOARDS {
+        let mut sim = Sim::new(name, irqs, &revolution_config(), 5);
+        sim.replay(Burst::edge(MeasureEvent::Arm(true)));
+        sim.take_actions();
+        for k in 1..=19 + FES_FOLD_LIMIT {
+            sim.replay(Burst::pulses(1));
+            let fired = taken(&sim.take_actions()).contains(&irqs.fes_compare);
+            assert_eq!(
+                fired,
+                k == 19 || k == 19 + FES_FOLD_LIMIT,
+                "{name}: pulse {k}"
+            );
+            // The burst's check holds the fault output to the model's faults.
+            assert_eq!(
+                sim.model().outputs().faults & fault::INDEX_MISSING != 0,
+                k >= 19,
+                "{name}: pulse {k}"
+            );
+        }
+        sim.replay(Burst::pulses(0).observed());
     }
 }
 

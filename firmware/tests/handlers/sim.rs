@@ -59,6 +59,11 @@ struct State {
     /// The interrupt whose handler runs.
     running: Option<u16>,
     register_now: bool,
+    /// The fault output.
+    fault: bool,
+    /// The clock's alarm (its compare value while set). The clock reads 0 throughout:
+    /// the co-simulations under QEMU test the time (the FES watchdog).
+    alarm: Option<u32>,
     /// The pulse-count preset's value (a co-simulation test event).
     preset: u32,
     /// Pulses that arrive when the handler of `arrive_in` writes the compare.
@@ -84,6 +89,8 @@ impl State {
             pending: BTreeSet::new(),
             running: None,
             register_now: false,
+            fault: false,
+            alarm: None,
             preset: 0,
             in_handler: 0,
             arrive_in: None,
@@ -154,11 +161,23 @@ impl Board for SimBoard {
             s.actions.push(Action::HandPend);
         })
     }
+    fn time() -> u32 {
+        0
+    }
+    fn set_time_alarm(at: Option<u32>) {
+        with(|s| s.alarm = at)
+    }
+    fn pend_time_alarm() {
+        with(|s| s.pending.insert(s.irqs.time_alarm));
+    }
     fn set_register_now(on: bool) {
         with(|s| {
             s.register_now = on;
             s.actions.push(Action::RegisterNow(on));
         })
+    }
+    fn set_status(faults: u8, _confirmed: bool) {
+        with(|s| s.fault = faults != 0)
     }
     fn adc() -> AdcCodes {
         with(|s| s.adc)
@@ -255,6 +274,8 @@ pub struct Sim {
     model: Measurement,
     /// The last `observe` snapshot.
     snapshot: Option<MeasureOutputs>,
+    /// The configuration's FES watchdog is on.
+    watchdog: bool,
     /// Bursts replayed so far (for failure messages).
     bursts: usize,
 }
@@ -269,12 +290,12 @@ impl Sim {
         count: u32,
     ) -> Self {
         STATE.with(|s| *s.borrow_mut() = Some(State::new(irqs, count)));
-        let kernel = Measurement::new(config);
         Sim {
             name,
             irqs,
-            domain: MeasureDomain::start::<SimBoard>(kernel),
-            model: kernel,
+            domain: MeasureDomain::start::<SimBoard>(config),
+            watchdog: config.settings().checks.fes_timeout_cycles != 0,
+            model: Measurement::new(config),
             snapshot: None,
             bursts: 0,
         }
@@ -407,6 +428,8 @@ impl Sim {
             handlers::scale::<SimBoard>(d);
         } else if Some(irq) == irqs.preset_pulses {
             handlers::preset_pulses::<SimBoard>(d, with(|s| s.preset));
+        } else if irq == irqs.time_alarm {
+            handlers::time_alarm::<SimBoard>(d);
         } else if irq == irqs.observe {
             self.snapshot = Some(handlers::observe::<SimBoard>(d));
         } else {
@@ -419,6 +442,25 @@ impl Sim {
     /// limit are matched as they are counted).
     fn check_pin_and_compare(&self, burst: &Burst) {
         let (pin, count, compare) = with(|s| (s.register_now, s.count, s.compare));
+        let (fault, alarm) = with(|s| (s.fault, s.alarm));
+        let faults = self.model.outputs().faults;
+        assert_eq!(
+            fault,
+            faults != 0,
+            "{}: the fault output after burst {} {burst:?} (faults {faults:#x})",
+            self.name,
+            self.bursts
+        );
+        // The alarm stands for the FES watchdog: set exactly while armed with the
+        // watchdog on (the clock stands still here, so it never expires).
+        let watchdog_on = self.model.outputs().armed && self.watchdog;
+        assert_eq!(
+            alarm.is_some(),
+            watchdog_on,
+            "{}: the clock's alarm after burst {} {burst:?}",
+            self.name,
+            self.bursts
+        );
         assert_eq!(
             pin,
             self.model.register_now(),

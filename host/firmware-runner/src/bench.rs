@@ -20,7 +20,7 @@ use tooltouch_model::measure::calibration::{corrected_position, CalibrationRecor
 use tooltouch_model::wire::measure_config::decode_config;
 use tooltouch_model::wire::measure_event::decode_event;
 use tooltouch_model::wire::{kind, Records, StreamKind};
-use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_model::{Faults, MeasureEvent, MeasureOutputs, Measurement};
 
 /// The controller's chip, as probe-rs names it.
 pub const CHIP: &str = "STM32F446RETx";
@@ -66,6 +66,7 @@ pub fn expected_lines(
     let (mut offset, mut scale_bits) = (0, 32);
     let mut lines = Vec::new();
     let mut on = false;
+    let mut status = (0, false);
     for (i, record) in records.enumerate() {
         let record = record.map_err(|e| bad(e.to_string()))?;
         if record.kind == kind::MEASURE_CONFIG {
@@ -73,6 +74,7 @@ pub fn expected_lines(
             offset = calibration.map_or(0, |c| c.offset_for(&config));
             scale_bits = config.settings().scale_bits;
             model = Some(Measurement::new(&config));
+            (on, status) = (false, (0, false));
             continue;
         }
         let event = match decode_event(&record, 0) {
@@ -90,14 +92,48 @@ pub fn expected_lines(
                 "record {i}: a measurement event before the MEASURE_CONFIG record"
             )));
         };
-        m.apply_at(record.time, event);
+        // The controller's clock (TIM5) counts µs of the time the player plays.
+        let time = u64::try_from(
+            u128::from(record.time) * u128::from(CONTROLLER_CLOCK_HZ)
+                / u128::from(header.tick_hz.max(1)),
+        )
+        .unwrap_or(u64::MAX);
+        m.apply_at(time, event);
         let o = m.outputs();
+        let s = (o.faults, o.confirmed);
         if o.register_now != on {
             on = o.register_now;
             lines.push(decision_line(&o, offset, scale_bits));
+        } else if s != status {
+            lines.push(status_line(&o));
         }
+        status = s;
     }
     Ok(lines)
+}
+
+/// The controller's measurement clock (Hz): its TIM5, the unit of `fes_timeout_cycles`
+/// on the board (`tooltouch_firmware::nucleo::timers::CLOCK_HZ`).
+pub const CONTROLLER_CLOCK_HZ: u32 = 1_000_000;
+
+/// How the lines name a decision's confirmation.
+fn confirmation(confirmed: bool) -> &'static str {
+    if confirmed {
+        "confirmed"
+    } else {
+        "not confirmed"
+    }
+}
+
+/// The line the controller's idle logs when the measurement's status (its faults, the
+/// decision's confirmation) changes while "register now" does not: `status: faults
+/// pulses_lost+unconfirmed, not confirmed` (the firmware's defmt literal).
+pub fn status_line(o: &MeasureOutputs) -> String {
+    format!(
+        "status: faults {}, {}",
+        Faults(o.faults),
+        confirmation(o.confirmed)
+    )
 }
 
 /// The line the controller's idle logs when "register now" changes to
@@ -109,12 +145,14 @@ pub fn decision_line(o: &MeasureOutputs, offset: i32, scale_bits: u8) -> String 
     if o.register_now {
         format!(
             "register now: position {} counts, calibrated {} counts (offset {offset}), first \
-             contact at {}, {} revolutions, {} FES pulses",
+             contact at {}, {} revolutions, {} FES pulses, faults {}, {}",
             o.decision_position,
             corrected_position(o.decision_position, offset, scale_bits),
             o.first_contact_position,
             o.revolutions,
-            o.pulses
+            o.pulses,
+            Faults(o.faults),
+            confirmation(o.confirmed)
         )
     } else {
         "measurement cycle armed".to_string()
@@ -124,7 +162,11 @@ pub fn decision_line(o: &MeasureOutputs, offset: i32, scale_bits: u8) -> String 
 /// The decision lines of a controller's `log`, each up to its `;`.
 pub fn decision_lines(log: &[String]) -> Vec<String> {
     log.iter()
-        .filter(|l| l.starts_with("register now: ") || l.starts_with("measurement cycle armed"))
+        .filter(|l| {
+            l.starts_with("register now: ")
+                || l.starts_with("measurement cycle armed")
+                || l.starts_with("status: ")
+        })
         .map(|l| l.split(';').next().unwrap_or(l).trim_end().to_string())
         .collect()
 }
@@ -291,10 +333,20 @@ mod tests {
     fn the_demo_stream_decides_and_its_lines_are_the_golden_models() {
         let want = expected_lines(&demo(), None).unwrap();
         // One measurement cycle that decides (the first arm finds "register now" already
-        // low, so logs nothing), as the emulated Nucleo's log has it.
-        assert_eq!(want.len(), 1, "{want:?}");
-        assert!(want[0].starts_with("register now: position "), "{want:?}");
-        assert!(want[0].ends_with(" FES pulses"), "{want:?}");
+        // low, so logs nothing), as the emulated Nucleo's log has it, and the status as it
+        // changes before and after the decision (a fault, the confirmation).
+        let decisions: Vec<&String> = want
+            .iter()
+            .filter(|l| l.starts_with("register now: position "))
+            .collect();
+        assert_eq!(decisions.len(), 1, "{want:?}");
+        assert!(decisions[0].contains(" FES pulses, faults "), "{want:?}");
+        assert!(
+            want.iter()
+                .all(|l| l.starts_with("register now: ") || l.starts_with("status: faults ")),
+            "{want:?}"
+        );
+        assert!(want.iter().any(|l| l.ends_with(", confirmed")), "{want:?}");
     }
 
     #[test]
@@ -328,10 +380,18 @@ mod tests {
                 .parse()
                 .unwrap()
         };
-        assert_eq!(calibrated(&mine[0]), position(&mine[0]) + 13, "{mine:?}");
-        assert!(mine[0].contains("(offset -13)"), "{mine:?}");
-        assert!(raw[0].contains("(offset 0)"), "{raw:?}");
-        assert_eq!(calibrated(&raw[0]), position(&raw[0]));
+        let decision = |lines: &[String]| -> String {
+            lines
+                .iter()
+                .find(|l| l.starts_with("register now: "))
+                .unwrap()
+                .clone()
+        };
+        let (mine_d, raw_d) = (decision(&mine), decision(&raw));
+        assert_eq!(calibrated(&mine_d), position(&mine_d) + 13, "{mine:?}");
+        assert!(mine_d.contains("(offset -13)"), "{mine:?}");
+        assert!(raw_d.contains("(offset 0)"), "{raw:?}");
+        assert_eq!(calibrated(&raw_d), position(&raw_d));
         // Made with another configuration: the image applies no offset to this stream.
         let other = expected_lines(&demo(), Some(&record(header.measure_hash ^ 1))).unwrap();
         assert_eq!(other, raw);
@@ -356,10 +416,14 @@ mod tests {
         assert_eq!(first_difference(&want, &decision_lines(&got)), None);
         // A controller that decided elsewhere, or missed a decision.
         let mut wrong = decision_lines(&got);
-        wrong[0] = wrong[0].replace("register now: position ", "register now: position 1");
+        let at = wrong
+            .iter()
+            .position(|l| l.starts_with("register now: "))
+            .unwrap();
+        wrong[at] = wrong[at].replace("register now: position ", "register now: position 1");
         let d = first_difference(&want, &wrong).unwrap();
         assert!(
-            d.starts_with("decision line 0: expected `register now"),
+            d.starts_with(&format!("decision line {at}: expected `register now")),
             "{d}"
         );
         let mut extra = want.clone();

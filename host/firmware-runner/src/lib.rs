@@ -15,8 +15,10 @@
 //! case has a force path, the events, `END`), concatenates many cases into one file so that
 //! one QEMU boot replays them all, boots the firmware, reads its output trace (a
 //! `MEASURE_OUTPUTS` record after every event) and compares every output of every event
-//! with [`tooltouch_model::Measurement::apply`], reporting the first difference with the
-//! case, event index, time, signal and both values.
+//! with [`tooltouch_model::Measurement::apply_at`] (each event at its time; with FES runs
+//! folded, each FES pulse at the time the firmware folds it: [`golden_observing`]),
+//! reporting the first difference with the case, event index, time, signal and both
+//! values.
 
 pub mod bench;
 pub mod error;
@@ -143,7 +145,8 @@ pub fn encode_case_observing(case: &Case, observe: Observe, out: &mut Vec<u8>) {
     put(&Record::new(wire::kind::END, last, &[]), out);
 }
 
-/// The golden model's outputs after each event of `case` (each applied at its time).
+/// The golden model's outputs after each event of `case`, each applied at its time
+/// (`Measurement::apply_at`: the model's event level).
 pub fn golden(case: &Case) -> Vec<MeasureOutputs> {
     let mut m = Measurement::new(&case.config);
     case.events
@@ -153,6 +156,112 @@ pub fn golden(case: &Case) -> Vec<MeasureOutputs> {
             m.outputs()
         })
         .collect()
+}
+
+/// The firmware's fold limit (`tooltouch_firmware::handlers::FES_FOLD_LIMIT`): the FES
+/// counter's compare is set at most this many pulses past the last fold.
+pub const FES_FOLD_LIMIT: u32 = 64;
+/// The firmware's watchdog step (`handlers::FES_WATCHDOG_STEP_SHIFT`): while armed, the
+/// clock's alarm folds at most `fes_timeout_cycles >> 3` ticks after the last fold.
+pub const FES_WATCHDOG_STEP_SHIFT: u32 = 3;
+
+/// The golden model's outputs after each event of `case` as the firmware sees the events
+/// when `observe` names them: after every event, each FES pulse is folded into the
+/// kernel at its own time, so this is [`golden`]. With FES pulses unobserved
+/// ([`Observe::SkipFes`]) the firmware folds runs of pulses and the kernel's time of an
+/// FES pulse is the time of its fold (the pulses carry no time stamp: the FES watchdog's
+/// resolution, docs/firmware.md): the model is replayed with every FES pulse at the time
+/// the firmware folds it — at the pulse the counter's compare fires on (the deciding one,
+/// the one raising `index_missing`, or [`FES_FOLD_LIMIT`] past the last fold), at the next other measurement event, or at
+/// the clock's alarm ([`FES_WATCHDOG_STEP_SHIFT`], the watchdog's deadline) — so the
+/// comparison is exact. Only the watchdog sees the difference; every output but
+/// `faults`' `fes_timeout` bit is the same either way.
+pub fn golden_observing(case: &Case, observe: Observe) -> Vec<MeasureOutputs> {
+    if observe == Observe::EveryEvent {
+        return golden(case);
+    }
+    replay_as_firmware(case, observe, false)
+}
+
+/// The firmware's kernel outputs as its log sees them: after every event of `case` and
+/// after every fold of the clock's alarm (the FES watchdog's), in time order — the
+/// emulated Nucleo's driver logs a change of "register now" or of the status at each of
+/// them, as the board's idle would (an alarm may latch `fes_timeout` before the event
+/// that shows it in the trace, and that event may add another fault).
+pub fn firmware_steps(case: &Case, observe: Observe) -> Vec<MeasureOutputs> {
+    replay_as_firmware(case, observe, true)
+}
+
+/// The golden model replayed as the firmware folds `case`'s events with `observe`
+/// ([`golden_observing`]): the outputs after every event, and after every alarm fold
+/// when `alarms`.
+fn replay_as_firmware(case: &Case, observe: Observe, alarms: bool) -> Vec<MeasureOutputs> {
+    let checks = case.config.settings().checks;
+    let timeout = u64::from(checks.fes_timeout_cycles);
+    let step = (timeout >> FES_WATCHDOG_STEP_SHIFT).max(1);
+    let mut m = Measurement::new(&case.config);
+    let mut armed = false;
+    // Pulses counted since the last fold, and when the compare interrupt fires.
+    let mut pending = 0u32;
+    let mut due = FES_FOLD_LIMIT;
+    let mut alarm: Option<u64> = None;
+    // One measurement task at time `t`: the time, the fold, (the event), the schedule.
+    let fold = |m: &mut Measurement, pending: &mut u32, t: u64| {
+        m.observe(t);
+        m.on_fes_run(*pending);
+        *pending = 0;
+    };
+    let settings = case.config.settings();
+    let most_rev_pulses = u32::from(settings.pulses_per_rev) + u32::from(checks.pulse_tolerance);
+    let schedule = |m: &Measurement, armed: bool, t: u64| {
+        let faults = m.outputs().faults;
+        let mut due = m.fes_to_decision(FES_FOLD_LIMIT).unwrap_or(FES_FOLD_LIMIT);
+        if checks.revolutions && armed && faults & tooltouch_model::fault::INDEX_MISSING == 0 {
+            due = due.min(
+                (most_rev_pulses + 1)
+                    .saturating_sub(m.checks().rev_pulses())
+                    .max(1),
+            );
+        }
+        let expired = faults & tooltouch_model::fault::FES_TIMEOUT != 0;
+        let alarm = (armed && timeout != 0 && !expired)
+            .then(|| (m.checks().fes_at() + timeout).min(t + step).max(t));
+        (due, alarm)
+    };
+    let mut out = Vec::with_capacity(case.events.len());
+    for e in &case.events {
+        while let Some(at) = alarm.filter(|&at| at <= e.time) {
+            fold(&mut m, &mut pending, at);
+            (due, alarm) = schedule(&m, armed, at);
+            if alarms {
+                out.push(m.outputs());
+            }
+        }
+        match e.event {
+            MeasureEvent::Fes => {
+                pending += 1;
+                if pending == due {
+                    fold(&mut m, &mut pending, e.time);
+                    (due, alarm) = schedule(&m, armed, e.time);
+                }
+            }
+            event => {
+                fold(&mut m, &mut pending, e.time);
+                m.apply(event);
+                if let MeasureEvent::Arm(level) = event {
+                    armed = level;
+                }
+                (due, alarm) = schedule(&m, armed, e.time);
+            }
+        }
+        // The snapshot after an observed event folds (and schedules) at its time.
+        if observe.records(&e.event) {
+            fold(&mut m, &mut pending, e.time);
+            (due, alarm) = schedule(&m, armed, e.time);
+        }
+        out.push(m.outputs());
+    }
+    out
 }
 
 /// The firmware's decision report, as the golden model gives it: fed the outputs records
@@ -197,7 +306,7 @@ pub fn golden_decisions(
     calibration: Option<&CalibrationRecord>,
 ) -> Vec<(usize, ReportedDecision)> {
     let mut reporter = DecisionReporter::new(&case.config, calibration);
-    golden(case)
+    golden_observing(case, observe)
         .iter()
         .enumerate()
         .filter(|(i, _)| observe.records(&case.events[*i].event))
@@ -252,7 +361,7 @@ pub fn compare_calibrated(
             format!("{:#018x}", stream.measure_hash),
         ));
     }
-    let expected: Vec<(usize, MeasureOutputs)> = golden(case)
+    let expected: Vec<(usize, MeasureOutputs)> = golden_observing(case, observe)
         .into_iter()
         .enumerate()
         .filter(|(i, _)| observe.records(&case.events[*i].event))

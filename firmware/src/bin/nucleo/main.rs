@@ -20,6 +20,8 @@
 //! | —    | —        | 20 Hz control period           | TIM3, prio 4     | —       |
 //! | PA5  | D13, LD2 | "register now" to the CNC (out)| —                | —       |
 //! | PA6  | D12      | wear alarm (out)               | —                | —       |
+//! | PA7  | D11      | fault, to the CNC's alarm input (out) | —         | —       |
+//! | —    | —        | the measurement's clock alarm (TIM5, 1 MHz) | TIM5, prio 15 | — |
 //! | PB6  | D10      | feed override, PWM 15.625 kHz, duty = % / 256 (TIM4_CH1) | — | — |
 //!
 //! The measurement tasks share the highest priority, so none preempts another and the
@@ -79,7 +81,8 @@ use tooltouch_firmware::nucleo::pins;
 const OBSERVE: pac::Interrupt = pac::Interrupt::TIM7;
 
 /// Idle on the board: logs every change of "register now" (PA5's output data bit) with
-/// the outputs `observe` snapshots, and sleeps; with `cpu-load`, spins and reports the
+/// the outputs `observe` snapshots, and every other change of the measurement's status
+/// (a fault latched, the decision confirmed: `pins::status`), and sleeps; with `cpu-load`, spins and reports the
 /// interrupts' CPU load once per second (`sysclk_hz`, the core clock).
 #[cfg(not(feature = "emulated"))]
 fn report_decisions(
@@ -96,16 +99,23 @@ fn report_decisions(
     let mut load = cpu_load::CpuLoad::new(cpu_load::cycles(), sysclk_hz);
     #[cfg(not(feature = "cpu-load"))]
     let _ = sysclk_hz;
+    let mut logged = pins::status_word(0, false);
     loop {
         let register_now = pins::register_now();
-        if register_now != reported {
-            reported = register_now;
+        let status = pins::status();
+        if register_now != reported || status != logged {
             rtic::pend(OBSERVE);
             cortex_m::asm::dsb();
             cortex_m::asm::isb();
             let o = snapshot.lock(|s| *s);
-            let dropped = counters.lock(|c| c.overflowed);
-            log_register_now(reported, &o, dropped, &report);
+            if register_now != reported {
+                reported = register_now;
+                let dropped = counters.lock(|c| c.overflowed);
+                log_register_now(reported, &o, dropped, &report);
+            } else {
+                log_status(&o);
+            }
+            logged = pins::status_word(o.faults, o.confirmed);
         }
         #[cfg(feature = "cpu-load")]
         if let Some(permille) = load.turn(cpu_load::cycles()) {
@@ -121,6 +131,41 @@ fn report_decisions(
     }
 }
 
+/// The latched faults' names joined by `+` (`Faults`'s display), or `none`.
+fn fault_names(faults: u8) -> heapless::String<96> {
+    let mut s = heapless::String::new();
+    let faults = tooltouch_firmware::model::Faults(faults);
+    if faults.is_empty() {
+        let _ = s.push_str("none");
+    }
+    for (i, name) in faults.names().enumerate() {
+        if i > 0 {
+            let _ = s.push('+');
+        }
+        let _ = s.push_str(name);
+    }
+    s
+}
+
+/// Whether a decision is confirmed, as the lines say it.
+const fn confirmation(confirmed: bool) -> &'static str {
+    if confirmed {
+        "confirmed"
+    } else {
+        "not confirmed"
+    }
+}
+
+/// Logs a change of the measurement's status after its decision (a fault latched, the
+/// decision confirmed) or before it (a fault with no decision).
+fn log_status(o: &MeasureOutputs) {
+    defmt::info!(
+        "status: faults {=str}, {=str}",
+        fault_names(o.faults).as_str(),
+        confirmation(o.confirmed)
+    );
+}
+
 /// Logs a change of "register now" (to `on`) with the outputs `o` of the observe task
 /// and the ADC samples dropped so far: idle's report (and the emulated driver's, after
 /// every event), with the decision position corrected by the baked calibration (`report`).
@@ -133,13 +178,16 @@ fn log_register_now(
     if on {
         defmt::info!(
             "register now: position {} counts, calibrated {} counts (offset {}), first \
-             contact at {}, {} revolutions, {} FES pulses; {} ADC samples dropped",
+             contact at {}, {} revolutions, {} FES pulses, faults {=str}, {=str}; {} ADC \
+             samples dropped",
             o.decision_position,
             report.position(o),
             report.offset(),
             o.first_contact_position,
             o.revolutions,
             o.pulses,
+            fault_names(o.faults).as_str(),
+            confirmation(o.confirmed),
             dropped
         );
     } else {
@@ -157,6 +205,7 @@ const _: () = {
     assert!(pac::Interrupt::TIM2 as u16 == irqs.fes_compare);
     assert!(pac::Interrupt::EXTI9_5 as u16 == irqs.scale);
     assert!(pac::Interrupt::TIM7 as u16 == irqs.observe);
+    assert!(pac::Interrupt::TIM5 as u16 == irqs.time_alarm);
     assert!(irqs.preset_pulses.is_none());
     assert!(OBSERVE as u16 == irqs.observe);
 };
@@ -169,7 +218,7 @@ mod app {
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
     use tooltouch_firmware::model::force::kernel::ForceKernel;
-    use tooltouch_firmware::model::{MeasureOutputs, Measurement};
+    use tooltouch_firmware::model::MeasureOutputs;
     use tooltouch_firmware::nucleo::board::Nucleo;
     use tooltouch_firmware::nucleo::{pins, timers};
 
@@ -237,7 +286,7 @@ mod app {
         }
         Nucleo::set_feed_override(force.outputs().override_pct);
         // TIM2 is counting: the domain starts at its count and sets the first compare.
-        let meas = MeasureDomain::start::<Nucleo>(Measurement::new(&measure));
+        let meas = MeasureDomain::start::<Nucleo>(&measure);
         (
             Shared {
                 meas,
@@ -313,6 +362,13 @@ mod app {
         handlers::fes_compare::<Nucleo>(cx.shared.meas);
     }
 
+    /// TIM5 channel 1: the measurement clock's alarm (the FES watchdog's fold).
+    #[task(binds = TIM5, priority = 15, shared = [meas])]
+    fn time_alarm(cx: time_alarm::Context) {
+        timers::ack_time_alarm();
+        handlers::time_alarm::<Nucleo>(cx.shared.meas);
+    }
+
     /// Idle's snapshot of the outputs (folding the counted FES pulses first); after any
     /// edge pending with it.
     #[task(binds = TIM7, priority = 15, shared = [meas, snapshot])]
@@ -321,7 +377,7 @@ mod app {
         // domain is the measurement tasks' alone).
         #[cfg(feature = "emulated")]
         if let Some(fresh) = crate::emulated::registers::take_reset() {
-            *cx.shared.meas = MeasureDomain::start::<Nucleo>(fresh);
+            *cx.shared.meas = MeasureDomain::start::<Nucleo>(&fresh);
         }
         let outputs = handlers::observe::<Nucleo>(cx.shared.meas);
         let mut snapshot = cx.shared.snapshot;

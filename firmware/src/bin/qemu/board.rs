@@ -3,7 +3,9 @@
 //! event's interrupt and reads the outputs back; the FES counter is virtual too (QEMU's
 //! Stellaris timers have no edge-count mode): the driver counts each FES event in it and,
 //! when the count reaches the compare value the handlers set, pends the compare
-//! interrupt, as a timer's compare match would.
+//! interrupt, as a timer's compare match would. So is the clock ([`TIME`]): the driver sets
+//! it to each event's time stamp and pends the alarm interrupt (SSI0) at the alarm's time
+//! when it falls before the next event.
 
 use core::sync::atomic::{AtomicBool, AtomicU32, AtomicU8, Ordering};
 use tooltouch_firmware::board::Board;
@@ -27,6 +29,14 @@ pub static FES_COUNT: AtomicU32 = AtomicU32::new(0);
 pub static FES_COMPARE: AtomicU32 = AtomicU32::new(0);
 /// The "register now" output.
 pub static REGISTER_NOW: AtomicBool = AtomicBool::new(false);
+/// The fault output.
+pub static FAULT: AtomicBool = AtomicBool::new(false);
+/// The virtual clock: the stream's time, ticks, wrapping at 2^32 (set by the driver).
+pub static TIME: AtomicU32 = AtomicU32::new(0);
+/// The virtual clock's alarm (compare) value.
+pub static TIME_ALARM: AtomicU32 = AtomicU32::new(0);
+/// Whether the alarm is set.
+pub static TIME_ALARM_ON: AtomicBool = AtomicBool::new(false);
 /// The virtual ADC's result registers: the codes in the model's channel order
 /// ([`AdcChannel::ALL`]: speed, power, force, v_u, v_v, v_w, i_u, i_v),
 /// two 16-bit codes per word.
@@ -106,8 +116,21 @@ impl Board for Qemu {
     fn pend_fes_compare() {
         rtic::pend(lm3s6965::Interrupt::GPIOD);
     }
+    fn time() -> u32 {
+        TIME.load(Ordering::Relaxed)
+    }
+    fn set_time_alarm(at: Option<u32>) {
+        TIME_ALARM.store(at.unwrap_or(0), Ordering::Relaxed);
+        TIME_ALARM_ON.store(at.is_some(), Ordering::Relaxed);
+    }
+    fn pend_time_alarm() {
+        rtic::pend(lm3s6965::Interrupt::SSI0);
+    }
     fn set_register_now(on: bool) {
         REGISTER_NOW.store(on, Ordering::Relaxed);
+    }
+    fn set_status(faults: u8, _confirmed: bool) {
+        FAULT.store(faults != 0, Ordering::Relaxed);
     }
     fn adc() -> AdcCodes {
         let mut codes = [0u16; AdcChannel::COUNT];

@@ -10,8 +10,8 @@
 //! observe), so neither side takes a lock.
 
 use crate::board::{
-    encode_command, set_adc, ARM, COMMAND, CONTACT, FEED_OVERRIDE, FES_COMPARE, FES_COUNT, PINS,
-    PRESET, REGISTER_NOW, SCALE_A, SCALE_B, WEAR_ALARM,
+    encode_command, set_adc, ARM, COMMAND, CONTACT, FAULT, FEED_OVERRIDE, FES_COMPARE, FES_COUNT,
+    PINS, PRESET, REGISTER_NOW, SCALE_A, SCALE_B, TIME, TIME_ALARM, TIME_ALARM_ON, WEAR_ALARM,
 };
 use core::sync::atomic::Ordering;
 use cortex_m::interrupt::InterruptNumber;
@@ -23,13 +23,13 @@ use tooltouch_firmware::handlers::Counters;
 use tooltouch_firmware::model::force::config::ForceConfig;
 use tooltouch_firmware::model::force::events::ForceEvent;
 use tooltouch_firmware::model::force::kernel::{ForceKernel, ForceOutputs};
-use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs};
 use tooltouch_firmware::{pend, stack};
 
 /// Depth of the mailboxes.
 pub const MAILBOX: usize = 2;
-/// Fresh kernels, driver to `observe`.
-pub type Resets = Queue<Measurement, MAILBOX>;
+/// Configurations of fresh kernels, driver to `observe`.
+pub type Resets = Queue<MeasureConfig, MAILBOX>;
 /// Output snapshots, `observe` to the driver.
 pub type Snapshots = Queue<MeasureOutputs, MAILBOX>;
 
@@ -48,6 +48,8 @@ pub const fn measure_interrupt(event: &MeasureEvent) -> Interrupt {
         MeasureEvent::PresetPulses(_) => Interrupt::UART0,
     }
 }
+/// The interrupt of the clock's alarm (the FES watchdog's).
+pub const TIME_ALARM_IRQ: Interrupt = Interrupt::SSI0;
 /// The 1 kHz ADC sample's interrupt.
 pub const ADC_SAMPLE: Interrupt = Interrupt::ADC0_SEQUENCE_0;
 /// The 20 Hz control period's interrupt.
@@ -63,7 +65,7 @@ pub fn calibrate() -> (u32, u32) {
 
 /// Drives the firmware from idle (priority 0): every pend preempts it at once.
 pub struct Driver<F, C> {
-    resets: &'static mut Producer<'static, Measurement>,
+    resets: &'static mut Producer<'static, MeasureConfig>,
     snapshots: &'static mut Consumer<'static, MeasureOutputs>,
     /// The last snapshot (returned again should `observe` not have run: a mismatch
     /// the host reports).
@@ -71,6 +73,8 @@ pub struct Driver<F, C> {
     force: F,
     counters: C,
     calibration: (u32, u32),
+    /// The stream's time, ticks ([`TIME`] holds its low 32 bits).
+    now: u64,
 }
 
 /// Pends `irq` with the barriers QEMU needs to take it at once: QEMU takes a pended
@@ -98,7 +102,7 @@ where
     /// The driver over the mailboxes' ends, idle's locks on the force kernel and the
     /// counters, and `init`'s SysTick calibration.
     pub fn new(
-        resets: &'static mut Producer<'static, Measurement>,
+        resets: &'static mut Producer<'static, MeasureConfig>,
         snapshots: &'static mut Consumer<'static, MeasureOutputs>,
         force: F,
         counters: C,
@@ -111,6 +115,7 @@ where
             force,
             counters,
             calibration,
+            now: 0,
         }
     }
 
@@ -149,10 +154,13 @@ where
     fn configure(&mut self, config: &MeasureConfig, force: &ForceConfig) {
         PINS.store(0, Ordering::Relaxed);
         REGISTER_NOW.store(false, Ordering::Relaxed);
+        FAULT.store(false, Ordering::Relaxed);
         COMMAND.store(0, Ordering::Relaxed);
+        self.now = 0;
+        TIME.store(0, Ordering::Relaxed);
         // The kernel is the measurement tasks' alone: observe installs the new one.
         // (The queue is empty: observe ran after the previous reset.)
-        let _ = self.resets.enqueue(Measurement::new(config));
+        let _ = self.resets.enqueue(*config);
         run_now(OBSERVE);
         let _ = self.snapshots.dequeue();
         // A previous stream may have left samples queued after its last control
@@ -163,6 +171,25 @@ where
         FEED_OVERRIDE.store(kernel.outputs().override_pct, Ordering::Relaxed);
         WEAR_ALARM.store(false, Ordering::Relaxed);
         self.counters.lock(|c| *c = Counters::default());
+    }
+
+    fn advance(&mut self, time: u64) {
+        // The alarm compares the clock's 32 bits: it matches when the clock next reaches
+        // its value (a value equal to the clock now was pended by hand, if due).
+        while TIME_ALARM_ON.load(Ordering::Relaxed) {
+            let ahead = TIME_ALARM
+                .load(Ordering::Relaxed)
+                .wrapping_sub(self.now as u32);
+            let at = self.now.saturating_add(u64::from(ahead));
+            if ahead == 0 || at > time {
+                break;
+            }
+            self.now = at;
+            TIME.store(at as u32, Ordering::Relaxed);
+            self.pend_and_time(TIME_ALARM_IRQ);
+        }
+        self.now = time;
+        TIME.store(time as u32, Ordering::Relaxed);
     }
 
     fn inject(&mut self, input: Input) -> Option<u32> {
@@ -203,6 +230,11 @@ where
         // "Register now" as the CNC sees it: the output pin the handlers drive, so
         // the trace checks the pin, not only the kernel's flag.
         o.register_now = REGISTER_NOW.load(Ordering::Relaxed);
+        // The fault line as the CNC sees it must agree with the faults word: a
+        // disagreement sets the word's unused bit 7, which the host reports.
+        if FAULT.load(Ordering::Relaxed) == (o.faults == 0) {
+            o.faults ^= 0x80;
+        }
         o
     }
 

@@ -8,7 +8,8 @@
 //! number first; [`interrupts::QEMU`] holds them for the host tests): GPIOA (0) = CNC
 //! arm/abort, GPIOB (1) = contact, GPIOC (2) = index, GPIOD (3) = FES counter compare,
 //! GPIOE (4) = scale A/B, UART0 (5) = pulse-count preset (test event), UART1 (6) =
-//! observe (the driver's reset of and snapshot from the kernel). Below them: GPIOF = CNC
+//! observe (the driver's reset of and snapshot from the kernel), SSI0 (7) = the clock's
+//! alarm (the FES watchdog's fold). Below them: GPIOF = CNC
 //! force-path command (5), ADC0 sequence 0 = 1 kHz ADC sample (4), TIMER0A = 20 Hz
 //! control period (2). The ADC's result registers and the command lines are virtual too;
 //! "register now" is a variable the driver reads back as the trace's output.
@@ -52,6 +53,7 @@ const _: () = {
     assert!(matches!(driver::ADC_SAMPLE, Interrupt::ADC0_SEQUENCE_0));
     assert!(matches!(driver::CONTROL_PERIOD, Interrupt::TIMER_0A));
     assert!(matches!(driver::FORCE_COMMAND, Interrupt::GPIOF));
+    assert!(matches!(driver::TIME_ALARM_IRQ, Interrupt::SSI0));
 };
 
 #[rtic::app(device = lm3s6965, peripherals = false)]
@@ -66,7 +68,7 @@ mod app {
         self, Counters, MeasureDomain, SampleConsumer, SampleProducer, SampleQueue,
     };
     use tooltouch_firmware::model::force::kernel::ForceKernel;
-    use tooltouch_firmware::model::{MeasureOutputs, Measurement};
+    use tooltouch_firmware::model::{MeasureConfig, MeasureOutputs};
     use tooltouch_firmware::semihosting::{self, exit_code, print};
 
     #[shared]
@@ -85,8 +87,8 @@ mod app {
         calibration: (u32, u32),
         samples_in: SampleProducer<'static>,
         samples_out: SampleConsumer<'static>,
-        resets_in: Producer<'static, Measurement>,
-        resets_out: Consumer<'static, Measurement>,
+        resets_in: Producer<'static, MeasureConfig>,
+        resets_out: Consumer<'static, MeasureConfig>,
         snapshots_in: Producer<'static, MeasureOutputs>,
         snapshots_out: Consumer<'static, MeasureOutputs>,
     }
@@ -128,7 +130,7 @@ mod app {
         print(&baked::boot_line());
         (
             Shared {
-                meas: MeasureDomain::start::<Qemu>(Measurement::new(&measure)),
+                meas: MeasureDomain::start::<Qemu>(&measure),
                 force,
                 counters: Counters::default(),
             },
@@ -208,11 +210,18 @@ mod app {
     fn observe(cx: observe::Context) {
         let meas = cx.shared.meas;
         if let Some(fresh) = cx.local.resets_out.dequeue() {
-            *meas = MeasureDomain::start::<Qemu>(fresh);
+            *meas = MeasureDomain::start::<Qemu>(&fresh);
         }
         let outputs = handlers::observe::<Qemu>(meas);
         // Full only if the driver skipped a snapshot; it then reads the older one.
         let _ = cx.local.snapshots_in.enqueue(outputs);
+    }
+
+    /// The clock's alarm (SSI0 stands in for a timer compare): the FES watchdog's fold,
+    /// after every other measurement task pending with it.
+    #[task(binds = SSI0, priority = 7, shared = [meas])]
+    fn time_alarm(cx: time_alarm::Context) {
+        handlers::time_alarm::<Qemu>(cx.shared.meas);
     }
 
     /// CNC force-path command (identify, control on/off, conditions, tool changed).

@@ -4,7 +4,7 @@
 //! the same functions that touch the hardware registers in the flashable image
 //! (`pins`, `timers`, `adc` pick these with `#[cfg(feature = "emulated")]`).
 
-use crate::model::Measurement;
+use crate::model::MeasureConfig;
 use core::cell::Cell;
 use core::sync::atomic::{AtomicU16, AtomicU32, Ordering};
 use cortex_m::interrupt::Mutex;
@@ -24,11 +24,16 @@ static EXTI_PR: AtomicU32 = AtomicU32::new(0);
 static FES_COUNT: AtomicU32 = AtomicU32::new(0);
 /// TIM2_CCR1, the compare value (QEMU keeps 16 bits of it and never matches).
 static FES_COMPARE: AtomicU32 = AtomicU32::new(0);
+/// TIM5_CNT, the measurement's clock (QEMU's TIM5 counts its own virtual time): the
+/// stream's time, set by the driver.
+static TIME: AtomicU32 = AtomicU32::new(0);
+/// TIM5_CCR1 and CC1IE, the clock's alarm (QEMU's TIM5 never compares).
+static TIME_ALARM: Mutex<Cell<Option<u32>>> = Mutex::new(Cell::new(None));
 /// ADC1_DR per channel (QEMU's ADC never sets EOC): the 12-bit code a conversion gives.
 static ADC_RESULTS: [AtomicU16; 16] = [const { AtomicU16::new(0) }; 16];
-/// A fresh measurement kernel for `observe` to install (the driver's reset of the
+/// The configuration of a fresh measurement kernel for `observe` to install (the driver's reset of the
 /// measurement domain, which only the measurement tasks may touch).
-static RESET: Mutex<Cell<Option<Measurement>>> = Mutex::new(Cell::new(None));
+static RESET: Mutex<Cell<Option<MeasureConfig>>> = Mutex::new(Cell::new(None));
 
 /// GPIOA_IDR.
 pub fn idr_a() -> u32 {
@@ -73,14 +78,22 @@ pub fn fes_count() -> u32 {
 pub fn set_fes_compare(at: u32) {
     FES_COMPARE.store(at, Ordering::Relaxed);
 }
+/// TIM5_CNT.
+pub fn time() -> u32 {
+    TIME.load(Ordering::Relaxed)
+}
+/// TIM5_CCR1 write with CC1IE set (`Some`), or CC1IE cleared.
+pub fn set_time_alarm(at: Option<u32>) {
+    cortex_m::interrupt::free(|cs| TIME_ALARM.borrow(cs).set(at));
+}
 /// ADC1_DR after a conversion of `channel`.
 pub fn adc_result(channel: u8) -> u16 {
     ADC_RESULTS
         .get(usize::from(channel))
         .map_or(0, |r| r.load(Ordering::Relaxed))
 }
-/// The kernel the driver queued, if any (taken by `observe`).
-pub fn take_reset() -> Option<Measurement> {
+/// The configuration the driver queued, if any (taken by `observe`).
+pub fn take_reset() -> Option<MeasureConfig> {
     cortex_m::interrupt::free(|cs| RESET.borrow(cs).replace(None))
 }
 
@@ -135,8 +148,16 @@ pub mod drive {
             r.store(code, Ordering::Relaxed);
         }
     }
-    /// Queues a fresh kernel for `observe` to install.
-    pub fn reset(kernel: Measurement) {
-        cortex_m::interrupt::free(|cs| RESET.borrow(cs).set(Some(kernel)));
+    /// Queues a fresh kernel's configuration for `observe` to install.
+    pub fn reset(config: MeasureConfig) {
+        cortex_m::interrupt::free(|cs| RESET.borrow(cs).set(Some(config)));
+    }
+    /// Sets the clock (TIM5_CNT) to `now`.
+    pub fn set_time(now: u32) {
+        TIME.store(now, Ordering::Relaxed);
+    }
+    /// The alarm's compare value while its interrupt is enabled.
+    pub fn time_alarm() -> Option<u32> {
+        cortex_m::interrupt::free(|cs| TIME_ALARM.borrow(cs).get())
     }
 }

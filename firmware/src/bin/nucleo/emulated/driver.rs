@@ -15,7 +15,7 @@ use tooltouch_firmware::handlers::ReportedDecision;
 use tooltouch_firmware::model::force::config::ForceConfig;
 use tooltouch_firmware::model::force::events::ForceEvent;
 use tooltouch_firmware::model::force::kernel::{ForceKernel, ForceOutputs};
-use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs, Measurement};
+use tooltouch_firmware::model::{MeasureConfig, MeasureEvent, MeasureOutputs};
 use tooltouch_firmware::nucleo::adc::ADC_CHANNELS;
 use tooltouch_firmware::nucleo::board::Nucleo;
 use tooltouch_firmware::nucleo::pins;
@@ -26,6 +26,8 @@ use crate::OBSERVE;
 pub const ADC_SAMPLE: Interrupt = Interrupt::TIM6_DAC;
 /// The control period's interrupt (TIM3's update on the board).
 pub const CONTROL_PERIOD: Interrupt = Interrupt::TIM3;
+/// The measurement clock's alarm interrupt (TIM5's compare on the board).
+pub const TIME_ALARM: Interrupt = Interrupt::TIM5;
 /// The CNC force-path commands' interrupt (PC11–PC13).
 pub const FORCE_COMMAND: Interrupt = Interrupt::EXTI15_10;
 
@@ -80,6 +82,10 @@ pub struct Driver<S, F, C> {
     calibration: (u32, u32),
     /// "Register now" as last logged (idle's `reported`).
     reported: bool,
+    /// The status as last logged (idle's `logged`, `pins::status_word`).
+    logged: u8,
+    /// The stream's time, ticks (TIM5_CNT's seam holds its low 32 bits).
+    now: u64,
     /// How the stream's decision is reported (the baked calibration for its configuration).
     report: ReportedDecision,
 }
@@ -99,6 +105,8 @@ where
             counters,
             calibration: pend::calibrate(),
             reported: false,
+            logged: 0,
+            now: 0,
             report: tooltouch_firmware::baked::reported_decision(&Default::default()),
         }
     }
@@ -116,18 +124,23 @@ where
         self.counters.lock(|c| c.lost = c.lost.saturating_add(1));
     }
 
-    /// The board's idle on a change of "register now": the outputs through `observe`,
-    /// logged over defmt.
+    /// The board's idle on a change of "register now" or of the status: the outputs
+    /// through `observe`, logged over defmt.
     fn log_register_now(&mut self) {
         let on = pins::register_now();
-        if on == self.reported {
+        if on == self.reported && pins::status() == self.logged {
             return;
         }
-        self.reported = on;
         run_now(OBSERVE);
         let o = self.snapshot.lock(|s| *s);
-        let dropped = self.counters.lock(|c| c.overflowed);
-        crate::log_register_now(on, &o, dropped, &self.report);
+        if on != self.reported {
+            self.reported = on;
+            let dropped = self.counters.lock(|c| c.overflowed);
+            crate::log_register_now(on, &o, dropped, &self.report);
+        } else {
+            crate::log_status(&o);
+        }
+        self.logged = pins::status_word(o.faults, o.confirmed);
     }
 
     fn inject_force(&mut self, event: ForceEvent) -> Option<u32> {
@@ -166,10 +179,14 @@ where
         drive::release_all();
         Nucleo::set_register_now(false);
         Nucleo::set_wear_alarm(false);
+        Nucleo::set_status(0, false);
         self.reported = false;
+        self.logged = 0;
         self.report = tooltouch_firmware::baked::reported_decision(config);
+        self.now = 0;
+        drive::set_time(0);
         // The kernel is the measurement tasks' alone: observe installs the new one.
-        drive::reset(Measurement::new(config));
+        drive::reset(*config);
         run_now(OBSERVE);
         // A previous stream may have left samples queued after its last control period:
         // run one period into the old kernel to drain them, then replace it.
@@ -178,6 +195,25 @@ where
         self.force.lock(|k| *k = kernel);
         Nucleo::set_feed_override(kernel.outputs().override_pct);
         self.counters.lock(|c| *c = Counters::default());
+    }
+
+    fn advance(&mut self, time: u64) {
+        // The alarm compares TIM5's 32 bits: it matches when the clock next reaches its
+        // value (a value equal to the clock now was pended by hand, if due). The board's
+        // idle would log a change it makes, so the driver does.
+        while let Some(alarm) = drive::time_alarm() {
+            let ahead = alarm.wrapping_sub(self.now as u32);
+            let at = self.now.saturating_add(u64::from(ahead));
+            if ahead == 0 || at > time {
+                break;
+            }
+            self.now = at;
+            drive::set_time(at as u32);
+            self.pend_and_time(TIME_ALARM);
+            self.log_register_now();
+        }
+        self.now = time;
+        drive::set_time(time as u32);
     }
 
     fn inject(&mut self, input: Input) -> Option<u32> {
@@ -211,6 +247,11 @@ where
         let mut o = self.snapshot.lock(|s| *s);
         // "Register now" as the CNC sees it: the PA5 level the handlers drive.
         o.register_now = pins::register_now();
+        // The fault line (PA7) must agree with the faults word: a disagreement sets the
+        // word's unused bit 7, which the host reports.
+        if pins::fault() == (o.faults == 0) {
+            o.faults ^= 0x80;
+        }
         o
     }
 

@@ -8,7 +8,8 @@
 //! numbers and priorities, the FPU. What it does not is replaced by [`registers`] (in the
 //! library's board code, `tooltouch_firmware::nucleo::emulated`), one
 //! function per seam (docs/firmware.md lists them with the reason): the GPIO data
-//! registers, TIM2's external-clock count and its compare match, the ADC's results, the
+//! registers, TIM2's external-clock count and its compare match, TIM5's count and compare (the
+//! measurement's clock and its alarm), the ADC's results, the
 //! EXTI pending bits of the command lines, TIM3's update interrupt (left disabled: the
 //! stream's control ticks pend it), TIM6 (not emulated: the stream's samples pend it),
 //! and RTT (the library's `emulated::defmt_log`: the frames go to a semihosting file).
