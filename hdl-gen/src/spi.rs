@@ -389,7 +389,7 @@ pub fn threshold_words(settings: &MeasureSettings) -> [u32; 6] {
 /// The model's value of every readable SPI word after a clock whose outputs are
 /// `outputs`, the thresholds in force `thresholds` and the status word `status`:
 /// `(address, value)` in map order (the control word reads 0). The MCU words are written
-/// here from the model's fields, independently of the Verilog's [`mcu_words`].
+/// here from the model's fields, independently of the Verilog's read mux.
 pub fn spi_word_values(
     config: &MeasureConfig,
     outputs: &MeasureOutputs,
@@ -415,7 +415,10 @@ pub fn spi_word_values(
             | flag("register_now", 2)
             | flag("first_contact", 3)
             | flag("density_armed", 4)
-            | flag("density_fired", 5),
+            | flag("density_fired", 5)
+            // The measurement status (issue 39's outputs, 0 while the model has none).
+            | flag("confirmed", 6)
+            | (field("faults") as u32 & 0x7f) << 8,
         sext(field("position")),
         sext(field("decision_position")),
         sext(field("first_contact_position")),
@@ -592,15 +595,15 @@ mod tests {
         let words = mcu_words(&c, 0, "", true);
         let mut fields = output_fields(&c).to_vec();
         fields.push(crate::OutputField {
-            name: "confirmed",
+            name: "new_flag",
             width: 1,
         });
         fields.push(crate::OutputField {
-            name: "faults",
+            name: "new_word",
             width: 7,
         });
         let extra: Vec<&str> = unshown(&words, &fields).iter().map(|f| f.name).collect();
-        assert_eq!(extra, ["confirmed", "faults"]);
+        assert_eq!(extra, ["new_flag", "new_word"]);
         // `count` in `last_window_count` is not a match for `count`'s word and vice versa.
         assert!(names_signal(
             "{21'd0, last_window_count}",
