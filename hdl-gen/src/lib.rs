@@ -105,13 +105,30 @@ pub use outputs::{
     mask, output_fields, output_ports, output_values, outputs_width, OutputField, OutputPort,
     IRQ_SOURCE,
 };
-pub use spi::{generate_spi, Threshold, SPI_TOP};
+pub use spi::{Threshold, SPI_TOP};
 
 /// Writes the Verilog of the front end for `config`.
 pub fn generate(config: &MeasureConfig, options: &Options) -> Design {
     let ctx = emit::Context::new(config, options);
     Design {
         files: modules::design(&ctx),
+        config_hash: config.hash(),
+    }
+}
+
+/// Writes the SPI design for `config`: the kernel with the thresholds as input ports,
+/// the simulation top `tt_frontend` with those ports, the register interface `tt_spi`
+/// and the chip top [`SPI_TOP`] (files in compile order, the top last). Its own file set:
+/// its `tt_frontend` has more ports than [`crate::generate`]'s.
+pub fn generate_spi(config: &MeasureConfig, options: &Options) -> Design {
+    let mut ctx = emit::Context::new(config, options);
+    ctx.tunable = true;
+    let mut files = modules::design(&ctx);
+    files.retain(|f| f.name != format!("{}.v", crate::FPGA_TOP));
+    files.push(modules::tt_spi::emit(&ctx));
+    files.push(modules::tt_fpga_spi::emit(&ctx));
+    Design {
+        files,
         config_hash: config.hash(),
     }
 }

@@ -1,4 +1,4 @@
-//! The SPI register interface of the chip top `tt_fpga_spi` ([`generate_spi`]): the
+//! The SPI register interface of the chip top `tt_fpga_spi` ([`crate::generate_spi`]): the
 //! run-time thresholds ([`Threshold`]), the register map ([`spi_registers`], derived from
 //! the MCU map [`crate::MCU_REGISTERS`] and the model's outputs), the frame format and
 //! status bits, the settings CRC ([`settings_crc`]), and the model's value of every word
@@ -10,7 +10,6 @@
 //! shifts out the low byte of [`SPI_STATUS_ADDR`]; then the addressed word (a read) or
 //! zeros (a write). A write takes effect when CS rises after exactly 40 bits.
 
-use crate::design::{Design, Options};
 use crate::mcu::{mcu_words, MCU_DATA_BITS, MCU_REGISTERS};
 use crate::outputs::output_fields;
 use tooltouch_model::measure::config::{bits_for, ChargeLaw};
@@ -457,30 +456,13 @@ pub fn spi_word_values(
     values
 }
 
-/// Writes the SPI design for `config`: the kernel with the thresholds as input ports,
-/// the simulation top `tt_frontend` with those ports, the register interface `tt_spi`
-/// and the chip top [`SPI_TOP`] (files in compile order, the top last). Its own file set:
-/// its `tt_frontend` has more ports than [`crate::generate`]'s.
-pub fn generate_spi(config: &MeasureConfig, options: &Options) -> Design {
-    let mut ctx = crate::emit::Context::new(config, options);
-    ctx.tunable = true;
-    let mut files = crate::modules::design(&ctx);
-    files.retain(|f| f.name != format!("{}.v", crate::FPGA_TOP));
-    files.push(crate::modules::tt_spi::emit(&ctx));
-    files.push(crate::modules::tt_fpga_spi::emit(&ctx));
-    Design {
-        files,
-        config_hash: config.hash(),
-    }
-}
-
 /// Name of [`tied_frontend`]'s module.
 pub const TIED_TOP: &str = "tt_frontend_tied";
 /// Name of [`wrapped_frontend`]'s module.
 pub const WRAPPED_TOP: &str = "tt_frontend_wrapped";
 
 /// A module with the ports of [`crate::generate`]'s `tt_frontend` that instantiates the SPI
-/// design's `tt_frontend` ([`generate_spi`]) as `u` with every threshold tied to its reset
+/// design's `tt_frontend` ([`crate::generate_spi`]) as `u` with every threshold tied to its reset
 /// value: what an equivalence check proves equal to [`wrapped_frontend`] (the SPI design
 /// with no write is the configured front end).
 pub fn tied_frontend(config: &MeasureConfig) -> crate::VerilogFile {
