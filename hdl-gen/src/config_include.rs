@@ -15,6 +15,7 @@ pub const CONFIG_INCLUDE: &str = "tt_config.vh";
 /// named in the comment.
 pub fn config_include(config: &MeasureConfig) -> VerilogFile {
     let s = config.settings();
+    let k = s.checks;
     let (law, up, down) = match s.charge_law {
         ChargeLaw::Linear {
             charge_step,
@@ -34,7 +35,7 @@ pub fn config_include(config: &MeasureConfig) -> VerilogFile {
         DecisionMethod::Counter => 1,
         DecisionMethod::Density => 2,
     };
-    let params: [(&str, String, &str); 19] = [
+    let params: [(&str, String, &str); 29] = [
         (
             "PULSES_PER_REV",
             s.pulses_per_rev.to_string(),
@@ -117,6 +118,56 @@ pub fn config_include(config: &MeasureConfig) -> VerilogFile {
             "MCU_DATA_BITS",
             crate::MCU_DATA_BITS.to_string(),
             "width of mcu_rdata",
+        ),
+        (
+            "CHECK_CONTACT_AT_ARM",
+            u8::from(k.contact_at_arm).to_string(),
+            "1: fault 0 when the contact is closed as the arm rises",
+        ),
+        (
+            "CHECK_REVOLUTIONS",
+            u8::from(k.revolutions).to_string(),
+            "1: faults 1, 2 on a revolution outside PULSES_PER_REV +/- PULSE_TOLERANCE",
+        ),
+        (
+            "PULSE_TOLERANCE",
+            k.pulse_tolerance.to_string(),
+            "FES pulses a revolution may differ from PULSES_PER_REV",
+        ),
+        (
+            "CHECK_SCALE_ERRORS",
+            u8::from(k.scale_errors).to_string(),
+            "1: fault 3 on an illegal scale transition while armed",
+        ),
+        (
+            "PROBE_REVS",
+            k.probe_revs.to_string(),
+            "fault 4 after this many index pulses without a decision (0 off)",
+        ),
+        (
+            "FES_TIMEOUT_CYCLES",
+            k.fes_timeout_cycles.to_string(),
+            "fault 5 after this many clocks without an FES pulse while armed (0 off)",
+        ),
+        (
+            "CONFIRM_WINDOWS",
+            k.confirm_windows.to_string(),
+            "windows after the decision that must confirm it (0: at the decision)",
+        ),
+        (
+            "CONFIRM_COUNT",
+            config.confirm_count().to_string(),
+            "contact pulses a confirming window counts at least (else fault 6)",
+        ),
+        (
+            "REV_PULSE_BITS",
+            config.rev_pulse_bits().to_string(),
+            "bits of the FES count of a revolution (0 ..= ppr + tolerance + 1)",
+        ),
+        (
+            "FES_IDLE_BITS",
+            config.fes_idle_bits().to_string(),
+            "bits of the FES watchdog's count (0 ..= FES_TIMEOUT_CYCLES)",
         ),
     ];
     let mut text = format!(

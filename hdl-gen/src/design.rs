@@ -53,11 +53,13 @@ pub enum Fault {
     StickyNotReloadedWhileDisarmed,
     /// The first-contact latch is not cleared by an arm rising edge.
     LatchNotClearedByArm,
+    /// The `contact_at_arm` fault bit is never set (the check omitted).
+    ContactAtArmNotRaised,
 }
 
 impl Fault {
     /// Every injected fault (not [`Fault::None`]), so a test of the checkers covers each.
-    pub const ALL: [Fault; 15] = [
+    pub const ALL: [Fault; 16] = [
         Fault::FesBeforeIndex,
         Fault::FireThresholdPlusOne,
         Fault::FireThresholdMinusOne,
@@ -73,6 +75,7 @@ impl Fault {
         Fault::DischargeStepMinusOne,
         Fault::StickyNotReloadedWhileDisarmed,
         Fault::LatchNotClearedByArm,
+        Fault::ContactAtArmNotRaised,
     ];
 
     /// For a fault that is one parameter off by one: the settings the design is written
@@ -144,6 +147,7 @@ impl Fault {
             Fault::DischargeStepMinusOne => "discharge-step-minus-one",
             Fault::StickyNotReloadedWhileDisarmed => "sticky-not-reloaded-while-disarmed",
             Fault::LatchNotClearedByArm => "latch-not-cleared-by-arm",
+            Fault::ContactAtArmNotRaised => "contact-at-arm-not-raised",
         }
     }
 
@@ -156,6 +160,7 @@ impl Fault {
             | Fault::FireThresholdPlusOne
             | Fault::StickyNotReloadedWhileDisarmed
             | Fault::LatchNotClearedByArm => true,
+            Fault::ContactAtArmNotRaised => config.settings().checks.contact_at_arm,
             _ => self.mutated(config).is_some(),
         }
     }

@@ -13,6 +13,7 @@
 //! | `tt_density_detector` | `DensityDetector` (docs/domain.md §2.4) | charge, armed, fired |
 //! | `tt_quadrature_decoder` | `QuadratureDecoder` (docs/domain.md §1) | position, errors (the phase is the filtered levels') |
 //! | `tt_position_latch` | `PositionLatch` | valid, position |
+//! | `tt_checks` | `MeasurementChecks` | faults, revolution's FES count, index seen, FES idle count, windows to confirm, confirmed |
 //! | `tt_measurement` | `Measurement` | armed, contact, sticky, revolutions, pulses |
 //! | `tt_frontend` (simulation top) | `FrontEnd` + MCU register file | none of its own |
 //! | `tt_fpga` (chip top) | — | the registered MCU address and read data |
@@ -143,9 +144,9 @@ mod tests {
         let c = MeasureConfig::default();
         let d = generate(&c, &Options::default());
         let hash = format!("{:016x}", c.hash());
-        assert_eq!(d.files.len(), 10);
-        assert_eq!(d.files[8].name, format!("{TOP}.v"));
-        assert_eq!(d.files[9].name, format!("{FPGA_TOP}.v"));
+        assert_eq!(d.files.len(), 11);
+        assert_eq!(d.files[9].name, format!("{TOP}.v"));
+        assert_eq!(d.files[10].name, format!("{FPGA_TOP}.v"));
         for f in &d.files {
             assert!(f.text.contains(&hash), "{} lacks the hash", f.name);
             let module = f.name.trim_end_matches(".v");
@@ -160,7 +161,10 @@ mod tests {
         assert_eq!(f[3].width, 24);
         assert_eq!(f[8].width, 11);
         assert_eq!(f[10].width, 16);
-        assert_eq!(outputs_width(&c), 6 + 3 * 24 + 8 + 22 + 16 + 16 + 32);
+        assert_eq!(
+            outputs_width(&c),
+            6 + 3 * 24 + 8 + 22 + 16 + 16 + 32 + 1 + 7
+        );
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub struct McuRegister {
 /// [`crate::Options::mcu_diagnostics`] is set, read 0. Positions are sign-extended from
 /// `scale_bits` to 32 bits; counts are zero-extended.
 pub const MCU_REGISTERS: [McuRegister; 12] = [
-    McuRegister { addr: 0, name: "STATUS", what: "bit 0 armed, 1 contact, 2 register_now, 3 first_contact, 4 density_armed, 5 density_fired", diagnostic: false },
+    McuRegister { addr: 0, name: "STATUS", what: "bit 0 armed, 1 contact, 2 register_now, 3 first_contact, 4 density_armed, 5 density_fired, 6 confirmed; bits 14..8 faults (bit 8 + n = fault bit n)", diagnostic: false },
     McuRegister { addr: 1, name: "POSITION", what: "live scale position, counts, sign-extended", diagnostic: false },
     McuRegister { addr: 2, name: "DECISION_POSITION", what: "position latched at the decision, counts, sign-extended", diagnostic: false },
     McuRegister { addr: 3, name: "FIRST_CONTACT_POSITION", what: "position latched at the first contact, counts, sign-extended", diagnostic: false },
@@ -98,7 +98,9 @@ pub(crate) fn mcu_words(
     let cb = u32::from(config.count_bits());
     let words = [
         format!(
-            "{{26'd0, {}, {}, {}, {}, {}, {}}}",
+            "{{17'd0, {}, 1'b0, {}, {}, {}, {}, {}, {}, {}}}",
+            p("faults"),
+            p("confirmed"),
             p("density_fired"),
             p("density_armed"),
             p("first_contact"),

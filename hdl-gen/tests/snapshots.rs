@@ -47,6 +47,8 @@ fn snapshots() -> Vec<Snapshot> {
         glitch_cycles: 0,
         scale_bits: 20,
         method: DecisionMethod::Density,
+        // The other branch of every check: each off.
+        checks: tooltouch_model::MeasureChecks::OFF,
     }
     .validate()
     .expect("the snapshot configuration is valid");

@@ -59,6 +59,7 @@ extern crate std;
 #[cfg(feature = "testing")]
 pub mod testing;
 
+pub use measure::checks::{fault, Faults, MeasureChecks};
 pub use measure::config::{MeasureConfig, MeasureSettings};
 pub use measure::events::{MeasureEvent, TimedEvent};
 pub use measure::frontend::{FrontEnd, Pins};

@@ -18,7 +18,8 @@ import numpy as np
 
 import tooltouch
 
-# The outputs as the STATUS word's bits 0..5, in bit order.
+# The outputs as the STATUS word's bits 0..6, in bit order; the faults word is its bits
+# 14..8 (STATUS_FAULTS_SHIFT).
 STATUS_BITS = [
     "armed",
     "contact",
@@ -26,7 +27,9 @@ STATUS_BITS = [
     "first_contact",
     "density_armed",
     "density_fired",
+    "confirmed",
 ]
+STATUS_FAULTS_SHIFT = 8
 
 # MCU word addresses of the register map (hdl-gen's MCU_REGISTERS) after STATUS, as the
 # output each reads; a position is sign-extended from scale_bits, a count zero-extended.
@@ -92,6 +95,7 @@ class Reference:
         status = np.zeros(len(mcu_addr), dtype=np.int64)
         for bit, name in enumerate(STATUS_BITS):
             status |= columns[name].astype(np.int64) << bit
+        status |= (columns["faults"].astype(np.int64) & 0x7F) << STATUS_FAULTS_SHIFT
         words[mcu_addr == 0] = status[mcu_addr == 0]
         for addr, name in MCU_WORDS.items():
             if addr in DIAGNOSTIC_WORDS and not self.diagnostics:

@@ -175,7 +175,9 @@ fn hdl_abi_a_c_program_gets_the_models_results_bit_for_bit() {
             | u64::from(o.register_now) << 2
             | u64::from(o.first_contact) << 3
             | u64::from(o.density_armed) << 4
-            | u64::from(o.density_fired) << 5;
+            | u64::from(o.density_fired) << 5
+            | u64::from(o.confirmed) << 6
+            | u64::from(o.faults) << 8;
         let hash = measure.hash();
         let mut mcu = vec![
             status,

@@ -156,6 +156,11 @@ fn contract_config_include_carries_the_configuration() {
     assert_eq!(value("LATENCY_CYCLES"), config.latency_cycles().to_string());
     assert_eq!(value("FIRE_THRESHOLD"), s.fire_threshold.to_string());
     assert_eq!(value("CONFIG_HASH"), format!("64'h{:016x}", config.hash()));
+    assert_eq!(
+        value("FES_TIMEOUT_CYCLES"),
+        s.checks.fes_timeout_cycles.to_string()
+    );
+    assert_eq!(value("CONFIRM_COUNT"), config.confirm_count().to_string());
     // count_bits = ceil(log2(ppr * window_revs + 1)), as the contract states.
     let w = f64::from(config.window_pulses());
     assert_eq!(

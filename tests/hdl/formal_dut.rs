@@ -50,7 +50,7 @@ impl Independent {
 }
 
 /// A single-point fault of the independent designs (their `FAULT` parameter).
-const FAULTS: [(u32, &str); 14] = [
+const FAULTS: [(u32, &str); 15] = [
     (1, "i_def + 1"),
     (2, "i_def - 1"),
     (3, "fire threshold + 1"),
@@ -65,6 +65,7 @@ const FAULTS: [(u32, &str); 14] = [
     (12, "first-contact latch not cleared by arm"),
     (13, "position not cleared by rst"),
     (14, "mcu_rdata at address 3 reads the position"),
+    (15, "contact at arm not raised"),
 ];
 
 /// Fault 13 needs a reset after power-on: the golden vectors cannot carry it.
@@ -118,6 +119,15 @@ fn independent_files(
         ("DOWN", u64::from(down)),
         ("STICKY", u64::from(s.contact_rule == ContactRule::Sticky)),
         ("METHOD", method),
+        ("CAA", u64::from(s.checks.contact_at_arm)),
+        ("REV_CHECK", u64::from(s.checks.revolutions)),
+        ("PPR", u64::from(s.pulses_per_rev)),
+        ("TOL", u64::from(s.checks.pulse_tolerance)),
+        ("SCALE_CHECK", u64::from(s.checks.scale_errors)),
+        ("PROBE", u64::from(s.checks.probe_revs)),
+        ("FES_T", u64::from(s.checks.fes_timeout_cycles)),
+        ("CW", u64::from(s.checks.confirm_windows)),
+        ("CC", u64::from(config.confirm_count())),
         ("FAULT", u64::from(fault)),
     ];
     let mut p: Vec<String> = params.iter().map(|(n, v)| format!(".{n}({v})")).collect();
@@ -247,6 +257,33 @@ fn formal_dut_the_generated_design_is_proven_in_the_default_configuration() {
     );
 }
 
+/// A generated design omitting one fault condition (the `contact_at_arm` bit never set,
+/// `Fault::ContactAtArmNotRaised`) is refuted with a counterexample that names `faults`.
+#[test]
+fn formal_dut_a_generated_design_omitting_a_fault_condition_is_refuted() {
+    let work = tempfile::tempdir().expect("temporary folder");
+    let config = MeasureConfig::default();
+    let options = Options {
+        fault: tooltouch_hdl_gen::Fault::ContactAtArmNotRaised,
+        ..Options::default()
+    };
+    let paths = tooltouch_rtl_sim::write_design(
+        &work.path().join("rtl"),
+        &tooltouch_hdl_gen::generate(&config, &options),
+        None,
+    )
+    .expect("writing the design");
+    let files: Vec<PathBuf> = paths
+        .into_iter()
+        .filter(|p| !p.ends_with(format!("{}.v", tooltouch_hdl_gen::FPGA_TOP)))
+        .collect();
+    let settings = settings_file(&MeasureSettings::default(), work.path());
+    let (code, out_text) = formal_cli(&settings, &files, &work.path().join("out"));
+    println!("formal --dut generated without contact_at_arm:\n{out_text}");
+    assert_eq!(code, 1, "expected not equal:\n{out_text}");
+    assert!(out_text.contains("faults"), "{out_text}");
+}
+
 #[test]
 fn formal_dut_independent_designs_are_proven() {
     let work = tempfile::tempdir().expect("temporary folder");
@@ -307,7 +344,7 @@ fn assert_fault_found(design: Independent, fault: (u32, &str), work: &Path) -> u
     }
     if fault.0 == MCU_FAULT {
         assert!(
-            out_text.contains("the 15 outputs match")
+            out_text.contains("the 17 outputs match")
                 && out_text.contains("mcu_rdata at address 3 (FIRST_CONTACT_POSITION): design 0x"),
             "{design:?} with {}: the replay must name the address and register:\n{out_text}",
             fault.1

@@ -96,6 +96,7 @@ const FILES: &[&str] = &[
     "tt_density_detector.v",
     "tt_quadrature_decoder.v",
     "tt_position_latch.v",
+    "tt_checks.v",
     "tt_measurement.v",
     "tt_frontend.v",
     "tt_fpga.v",

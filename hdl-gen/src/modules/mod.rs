@@ -5,6 +5,7 @@
 //! helpers they share (header, template filler, literals, constant comparisons) are in
 //! [`crate::emit`]; the MCU register map in [`crate::mcu`].
 
+pub(crate) mod tt_checks;
 pub(crate) mod tt_density_detector;
 pub(crate) mod tt_edge_detect;
 pub(crate) mod tt_formal_miter;
@@ -36,6 +37,7 @@ pub(crate) fn design(ctx: &Context) -> Vec<VerilogFile> {
         tt_density_detector::emit(ctx),
         tt_quadrature_decoder::emit(ctx),
         tt_position_latch::emit(ctx),
+        tt_checks::emit(ctx),
         tt_measurement::emit(ctx),
         tt_frontend::emit(ctx),
         tt_fpga::emit(ctx),

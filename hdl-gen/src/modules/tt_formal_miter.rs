@@ -80,6 +80,10 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
     let c = &ctx.config;
     let s = c.settings();
     let (cb, rb) = (ctx.count_bits(), u32::from(c.window_rev_bits()));
+    let (rpb, ib) = (u32::from(c.rev_pulse_bits()), u32::from(c.fes_idle_bits()));
+    let checks = s.checks;
+    let most = u64::from(s.pulses_per_rev) + u64::from(checks.pulse_tolerance);
+    let timeout = u64::from(checks.fes_timeout_cycles);
     let gb = u32::from(c.glitch_bits());
     let glitch = u64::from(s.glitch_cycles);
     let fields = output_fields(c);
@@ -129,6 +133,16 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
             ctx.scale_bits(),
             "ref.decision_position_q",
         ),
+        probe("o_faults", 7, "opt.u_measure.u_checks.faults_q"),
+        probe("o_rev_pulses", rpb, "opt.u_measure.u_checks.rev_q"),
+        probe("o_index_seen", 1, "opt.u_measure.u_checks.seen_q"),
+        probe("o_idle", ib, "opt.u_measure.u_checks.idle_q"),
+        probe("o_confirm_left", 5, "opt.u_measure.u_checks.left_q"),
+        probe("r_faults", 7, "ref.faults_q"),
+        probe("r_rev_pulses", rpb, "ref.rev_pulses_q"),
+        probe("r_index_seen", 1, "ref.index_seen_q"),
+        probe("r_since", ib, "ref.since_q"),
+        probe("r_confirm_left", 5, "ref.confirm_left_q"),
     ];
     // The fault variant FesBeforeIndex has no reaches/exceeds registers (its counter is
     // written unflattened), so their correspondence is stated only for the others.
@@ -230,7 +244,40 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
             "the counter's reaches/exceeds registers equal count >= i_def and count > i_def",
         );
     }
+    // The checks: the optimized registers equal the reference's, but for the FES watchdog,
+    // which the design latches in every clock and the model (the reference) only when it
+    // observes the time, in a clock with edges, showing it lazily in between.
+    add(
+        "checks",
+        fill(
+            "probe_o_rev_pulses == probe_r_rev_pulses && probe_o_index_seen == probe_r_index_seen &&\n\
+             \x20       probe_o_confirm_left == probe_r_confirm_left &&\n\
+             \x20       (probe_o_faults & 7'b1011111) == (probe_r_faults & 7'b1011111) &&\n\
+             \x20       (!probe_r_armed || probe_o_idle == probe_r_since) &&\n\
+             \x20       probe_o_faults[5] == (probe_r_faults[5] || (probe_r_armed && ${EXPIRED}))",
+            &[(
+                "EXPIRED",
+                if timeout == 0 {
+                    "1'b0".to_string()
+                } else {
+                    format!("probe_r_since >= {}", lit(ib, timeout))
+                },
+            )],
+        ),
+        "the checks' registers equal (the idle count while armed); the design's latched FES \
+         watchdog is the reference's latch or its lazy verdict",
+    );
     // Reachability of the reference.
+    add(
+        "ref_checks",
+        format!(
+            "probe_r_rev_pulses <= {} && probe_r_since <= {}",
+            lit(rpb, most + 1),
+            lit(ib, timeout)
+        ),
+        "reference: the revolution's FES count at most pulses_per_rev + pulse_tolerance + 1, \
+         the ticks since the last FES pulse at most fes_timeout_cycles",
+    );
     add(
         "ref_levels",
         format!(
@@ -347,7 +394,8 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
         "latency_outputs",
         "!held_valid || held_outputs == outputs_now || held_edge".into(),
         "latency: an output changes only in the clock after a filtered level changed (never \
-         before 3 + glitch_cycles clocks from a pin)",
+         before 3 + glitch_cycles clocks from a pin); the FES watchdog's fault bit, which \
+         rises with time, excepted",
     );
 
     let mut decls = String::new();
@@ -543,7 +591,17 @@ fn history(ctx: &Context, fields: &[crate::outputs::OutputField]) -> String {
         ));
     }
     let outputs_width: u32 = fields.iter().map(|f| f.width).sum();
-    let outputs_now: Vec<String> = fields.iter().map(|f| format!("ref_{}", f.name)).collect();
+    // The FES watchdog's bit rises with time alone: masked out of the outputs compared.
+    let outputs_now: Vec<String> = fields
+        .iter()
+        .map(|f| {
+            if f.name == "faults" {
+                "(ref_faults & 7'b1011111)".to_string()
+            } else {
+                format!("ref_{}", f.name)
+            }
+        })
+        .collect();
     let pulse_bit = match s.contact_rule {
         ContactRule::Sampled => format!("probe_r_filtered[{contact}]"),
         ContactRule::Sticky => format!("probe_r_sticky || rise[{contact}]"),

@@ -1,5 +1,5 @@
 //! `tt_fpga.v`: the chip top for synthesis ([`crate::FPGA_TOP`]): only the pins, the MCU
-//! bus and the register-now strobe leave the FPGA; the reset pin is synchronized and the
+//! bus, the register-now strobe and the fault line leave the FPGA; the reset pin is synchronized and the
 //! bus address and read data are registered (without reset: they hold no state).
 
 use crate::design::{VerilogFile, TOP};
@@ -7,8 +7,8 @@ use crate::emit::{fill, lit, Context};
 use crate::outputs::output_fields;
 use tooltouch_model::measure::frontend::pin;
 
-/// The chip top for synthesis: only the pins, the MCU bus and the strobe leave the
-/// FPGA; the read data is registered (valid the clock after `mcu_addr`).
+/// The chip top for synthesis: only the pins, the MCU bus, the strobe and the fault line
+/// leave the FPGA; the read data is registered (valid the clock after `mcu_addr`).
 pub(crate) fn emit(ctx: &Context) -> VerilogFile {
     let fields = output_fields(&ctx.config);
     let mut wires = String::new();
@@ -31,15 +31,17 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
         .map(|n| format!("        .pin_{n}(pin_{n}),\n"))
         .collect();
     let body = fill(
-        r#"// The FPGA's top for synthesis: the six input pins, the MCU's register bus and the
-// register-now strobe to the CNC and MCU. Address and read data are registered: the
+        r#"// The FPGA's top for synthesis: the six input pins, the MCU's register bus, the
+// register-now strobe to the CNC and MCU, and the fault line (any fault bit latched). Address and read data are registered: the
 // word addressed at clock k is on mcu_rdata after clock k+1.
 module ${FPGA} (
     input  wire         clk,
     input  wire         rst,
 ${PIN_PORTS}    input  wire [${AB1}:0]  mcu_addr,
     output reg  [${DB1}:0] mcu_rdata,
-    output wire         register_now_out   // to the CNC: position reached, register now
+    output wire         register_now_out,  // to the CNC: position reached, register now
+    output wire         fault_out          // to the CNC's alarm input (and an MCU interrupt
+                                           // input): a fault latched in this measurement
 );
     // Every output is read through the register file; the ports are kept for simulation.
     /* verilator lint_off UNUSEDSIGNAL */
@@ -73,6 +75,7 @@ ${CONNS}        .irq(irq)
     end
 
     assign register_now_out = irq;
+    assign fault_out        = |faults;
 endmodule
 "#,
         &[

@@ -98,11 +98,31 @@ fn charge_law(ctx: &Context) -> (String, String) {
     }
 }
 
+/// The fault bits the configuration enables (model: `MeasurementChecks::new`).
+fn enabled_faults(config: &MeasureConfig) -> u8 {
+    use tooltouch_model::fault;
+    let k = config.settings().checks;
+    [
+        (k.contact_at_arm, fault::CONTACT_AT_ARM),
+        (k.revolutions, fault::PULSES_LOST | fault::INDEX_MISSING),
+        (k.scale_errors, fault::SCALE_ERROR),
+        (k.probe_revs != 0, fault::NO_DECISION),
+        (k.fes_timeout_cycles != 0, fault::FES_TIMEOUT),
+        (k.confirm_windows != 0, fault::UNCONFIRMED),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .fold(0, |bits, (_, bit)| bits | bit)
+}
+
 fn emit(ctx: &Context, module: &str) -> VerilogFile {
     let c = &ctx.config;
     let s = c.settings();
     let (sb, cb, qb) = (ctx.scale_bits(), ctx.count_bits(), ctx.charge_bits());
     let gb = u32::from(c.glitch_bits());
+    let k = s.checks;
+    let (rpb, ib) = (u32::from(c.rev_pulse_bits()), u32::from(c.fes_idle_bits()));
+    let (ppr, tolerance) = (u32::from(s.pulses_per_rev), u32::from(k.pulse_tolerance));
     let fields = output_fields(c);
     let mut ports = String::new();
     for f in &fields {
@@ -184,6 +204,21 @@ ${PORTS}    output wire         irq        // = register_now, for the MCU
     localparam [${QB1}:0] FULL            = ${FULL};
     localparam [${QB1}:0] FIRE_THRESHOLD  = ${FIRE};
     localparam [${QB1}:0] REARM_THRESHOLD = ${REARM};
+    // MeasurementChecks (fault bits: tooltouch_model::fault)
+    localparam [6:0]  FAULTS_ENABLED  = 7'b${ENABLED};
+    localparam [6:0]  CONTACT_AT_ARM  = 7'd1;
+    localparam [6:0]  PULSES_LOST     = 7'd2;
+    localparam [6:0]  INDEX_MISSING   = 7'd4;
+    localparam [6:0]  SCALE_ERROR     = 7'd8;
+    localparam [6:0]  NO_DECISION     = 7'd16;
+    localparam [6:0]  FES_TIMEOUT_BIT = 7'd32;
+    localparam [6:0]  UNCONFIRMED     = 7'd64;
+    localparam [${RPB1}:0] FEWEST          = ${FEWEST};
+    localparam [${RPB1}:0] MOST            = ${MOST};
+    localparam [15:0] PROBE_REVS      = ${PROBE};
+    localparam [${IB1}:0] FES_TIMEOUT     = ${TIMEOUT};
+    localparam [4:0]  CONFIRM_WINDOWS = ${WINDOWS};
+    localparam [${CB1}:0] CONFIRM_COUNT   = ${CONFIRM};
 
     wire [${N1}:0] pins = {${PINS}};
 
@@ -216,6 +251,14 @@ ${STABLE_REGS}    // Measurement
     reg [${SB1}:0] first_position_q = ${SZERO};
     reg        decision_valid_q    = 1'b0;
     reg [${SB1}:0] decision_position_q = ${SZERO};
+    // MeasurementChecks; `since` is the model's `now - fes_at` (ticks since the last FES
+    // pulse or the arm), kept saturating at FES_TIMEOUT: only its comparison with it is read.
+    reg [6:0]  faults_q       = 7'd0;
+    reg [${RPB1}:0] rev_pulses_q   = ${RZERO};
+    reg        index_seen_q   = 1'b0;
+    reg [${IB1}:0] since_q        = ${IZERO};
+    reg [4:0]  confirm_left_q = 5'd0;
+    reg        confirmed_q    = 1'b0;
 
     // Next state: FrontEnd::clock, statement by statement.
     reg [${N1}:0] changed, levels, differ, filtered_n;
@@ -232,6 +275,12 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
     reg [7:0]  scale_errors_n;
     reg        first_valid_n, decision_valid_n;
     reg [${SB1}:0] first_position_n, decision_position_n;
+    reg [6:0]  faults_n;
+    reg [${RPB1}:0] rev_pulses_n;
+    reg [${RPB}:0] rev_wide;
+    reg        index_seen_n, confirmed_n, window_closed;
+    reg [${IB1}:0] since_n;
+    reg [4:0]  confirm_left_n;
     /* verilator lint_off UNUSEDSIGNAL */
     reg [${QB}:0] wide;       // charge arithmetic one bit wider (linear law)
     reg [${QB1}:0] distance, shifted, step;  // exponential law
@@ -261,6 +310,13 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
         first_position_n = first_position_q;
         decision_valid_n = decision_valid_q;
         decision_position_n = decision_position_q;
+        faults_n = faults_q;
+        rev_pulses_n = rev_pulses_q;
+        rev_wide = ${RWZERO};
+        index_seen_n = index_seen_q;
+        confirm_left_n = confirm_left_q;
+        confirmed_n = confirmed_q;
+        window_closed = 1'b0;
         pulse_bit = 1'b0;
         counter_decides = 1'b0;
         density_decides = 1'b0;
@@ -274,9 +330,23 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
         changed = filtered_q ^ previous_q;
         levels = filtered_q;
 
+        // The time moves on one tick (FrontEnd::clocks): the ticks since the last FES pulse.
+        since_n = (since_q >= FES_TIMEOUT) ? FES_TIMEOUT : since_q + ${IONE};
+        // Measurement::observe(now), in a clock with edges: MeasurementChecks::observe
+        // latches the watchdog if it expired while armed.
+        if (changed != ${NZERO} && armed_n && FES_TIMEOUT != ${IZERO} && since_n >= FES_TIMEOUT)
+            faults_n = faults_n | (FES_TIMEOUT_BIT & FAULTS_ENABLED);
+
         // Measurement::on_arm(level)
         if (changed[${ARM}]) begin
             if (levels[${ARM}] && !armed_n) begin
+                // MeasurementChecks::on_arm(contact)
+                faults_n = contact_n ? (CONTACT_AT_ARM & FAULTS_ENABLED) : 7'd0;
+                rev_pulses_n = ${RZERO};
+                index_seen_n = 1'b0;
+                since_n = ${IZERO};
+                confirm_left_n = 5'd0;
+                confirmed_n = 1'b0;
                 count_n = ${CZERO};              // PulseCounter::reset
                 lwc_n = ${CZERO};
                 revs_in_window_n = 8'd0;
@@ -307,6 +377,11 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
                     if (${SINGLE_PULSE} && !decision_valid_n) begin
                         decision_valid_n = 1'b1;
                         decision_position_n = position_n;
+                        // MeasurementChecks::on_decision
+                        if (CONFIRM_WINDOWS == 5'd0)
+                            confirmed_n = 1'b1;
+                        else
+                            confirm_left_n = CONFIRM_WINDOWS;
                     end
                 end
             end
@@ -319,12 +394,29 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
                 if (revs_in_window_n != 8'd255)
                     revs_in_window_n = revs_in_window_n + 8'd1;
                 if (revs_in_window_n >= WINDOW_REVS) begin
+                    window_closed = 1'b1;
                     lwc_n = count_n;
                     count_n = ${CZERO};
                     revs_in_window_n = 8'd0;
                 end
                 if (revolutions_n != 16'hffff)
                     revolutions_n = revolutions_n + 16'd1;
+                // MeasurementChecks::on_index(closed, last_window_count, decided, revolutions)
+                if (index_seen_n && rev_pulses_n < FEWEST)
+                    faults_n = faults_n | (PULSES_LOST & FAULTS_ENABLED);
+                rev_pulses_n = ${RZERO};
+                index_seen_n = 1'b1;
+                if (window_closed && confirm_left_n > 5'd0) begin
+                    if (lwc_n < CONFIRM_COUNT) begin
+                        faults_n = faults_n | (UNCONFIRMED & FAULTS_ENABLED);
+                        confirm_left_n = 5'd0;
+                    end else begin
+                        confirm_left_n = confirm_left_n - 5'd1;
+                        confirmed_n = confirm_left_n == 5'd0;
+                    end
+                end
+                if (!decision_valid_n && PROBE_REVS != 16'd0 && revolutions_n >= PROBE_REVS)
+                    faults_n = faults_n | (NO_DECISION & FAULTS_ENABLED);
             end
         end
 
@@ -334,6 +426,14 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
             sticky_n = contact_n;
             if (armed_n) begin
                 pulses_n = pulses_n + 32'd1;
+                // MeasurementChecks::on_fes(1)
+                since_n = ${IZERO};
+                rev_wide = {1'b0, rev_pulses_n} + ${RWONE};
+                if (rev_wide > {1'b0, MOST}) begin
+                    rev_pulses_n = MOST + ${RONE};
+                    faults_n = faults_n | (INDEX_MISSING & FAULTS_ENABLED);
+                end else
+                    rev_pulses_n = rev_wide[${RPB1}:0];
                 // PulseCounter::on_pulse(pulse_bit)
                 if (pulse_bit && count_n < WINDOW_PULSES) begin
                     count_n = count_n + ${CONE};
@@ -360,6 +460,11 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
                 if ((counter_decides || density_decides) && !decision_valid_n) begin
                     decision_valid_n = 1'b1;
                     decision_position_n = position_n;
+                    // MeasurementChecks::on_decision
+                    if (CONFIRM_WINDOWS == 5'd0)
+                        confirmed_n = 1'b1;
+                    else
+                        confirm_left_n = CONFIRM_WINDOWS;
                 end
             end
         end
@@ -371,7 +476,11 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
             case (new_phase - phase_n)
                 2'd1: position_n = position_n + ${SONE};
                 2'd3: position_n = position_n - ${SONE};
-                2'd2: if (scale_errors_n != 8'd255) scale_errors_n = scale_errors_n + 8'd1;
+                2'd2: begin
+                    if (scale_errors_n != 8'd255) scale_errors_n = scale_errors_n + 8'd1;
+                    if (armed_n)  // MeasurementChecks::on_scale_error
+                        faults_n = faults_n | (SCALE_ERROR & FAULTS_ENABLED);
+                end
                 default: ;
             endcase
             phase_n = new_phase;
@@ -409,6 +518,12 @@ ${STABLE_RESET}            armed_q <= 1'b0;
             first_position_q <= ${SZERO};
             decision_valid_q <= 1'b0;
             decision_position_q <= ${SZERO};
+            faults_q <= 7'd0;
+            rev_pulses_q <= ${RZERO};
+            index_seen_q <= 1'b0;
+            since_q <= ${IZERO};
+            confirm_left_q <= 5'd0;
+            confirmed_q <= 1'b0;
         end else begin
             sync1_q <= pins;
             sync2_q <= sync1_q;
@@ -433,6 +548,12 @@ ${STABLE_UPDATE}            armed_q <= armed_n;
             first_position_q <= first_position_n;
             decision_valid_q <= decision_valid_n;
             decision_position_q <= decision_position_n;
+            faults_q <= faults_n;
+            rev_pulses_q <= rev_pulses_n;
+            index_seen_q <= index_seen_n;
+            since_q <= since_n;
+            confirm_left_q <= confirm_left_n;
+            confirmed_q <= confirmed_n;
         end
     end
 
@@ -452,6 +573,10 @@ ${STABLE_UPDATE}            armed_q <= armed_n;
     assign density_fired          = density_fired_q;
     assign revolutions            = revolutions_q;
     assign pulses                 = pulses_q;
+    assign confirmed              = confirmed_q;
+    // MeasurementChecks::faults_at(now, armed): the watchdog shown lazily.
+    assign faults                 = faults_q |
+        ((armed_q && FES_TIMEOUT != ${IZERO} && since_q >= FES_TIMEOUT) ? (FES_TIMEOUT_BIT & FAULTS_ENABLED) : 7'd0);
     assign irq                    = decision_valid_q;
 
 ${MCU_READ_MUX}endmodule
@@ -502,6 +627,22 @@ ${MCU_READ_MUX}endmodule
             ("CHARGE_UP", charge_up),
             ("CHARGE_DOWN", charge_down),
             ("MCU_READ_MUX", mcu_read_mux),
+            ("ENABLED", format!("{:07b}", enabled_faults(c))),
+            ("RPB", rpb.to_string()),
+            ("RPB1", (rpb - 1).to_string()),
+            ("IB1", (ib - 1).to_string()),
+            ("FEWEST", lit(rpb, (ppr - tolerance).into())),
+            ("MOST", lit(rpb, (ppr + tolerance).into())),
+            ("PROBE", lit(16, k.probe_revs.into())),
+            ("TIMEOUT", lit(ib, k.fes_timeout_cycles.into())),
+            ("WINDOWS", lit(5, k.confirm_windows.into())),
+            ("CONFIRM", lit(cb, c.confirm_count().into())),
+            ("RZERO", lit(rpb, 0)),
+            ("RONE", lit(rpb, 1)),
+            ("RWZERO", lit(rpb + 1, 0)),
+            ("RWONE", lit(rpb + 1, 1)),
+            ("IZERO", lit(ib, 0)),
+            ("IONE", lit(ib, 1)),
         ],
     );
     ctx.file(

@@ -1,7 +1,8 @@
 //! `tt_measurement.v`: the measurement kernel (model: `Measurement`): arm, contact, the
 //! sticky contact bit, the counters since arm, and the instances of both detectors, the
-//! quadrature decoder and the two position latches. The contact rule picks the pulse's
-//! contact bit and the decision method picks which detector drives the decision latch.
+//! quadrature decoder, the two position latches and the checks (`tt_checks`). The contact
+//! rule picks the pulse's contact bit and the decision method picks which detector drives
+//! the decision latch.
 
 use crate::design::{Fault, VerilogFile};
 use crate::emit::{fill, pin_index, Context};
@@ -58,7 +59,9 @@ ${THRESHOLD_PORTS}    output wire        armed,
     output wire        density_armed,
     output wire        density_fired,
     output wire [15:0] revolutions,
-    output wire [31:0] pulses
+    output wire [31:0] pulses,
+    output wire        confirmed,
+    output wire [6:0]  faults
 );
     reg        armed_q       = 1'b0;
     reg        contact_q     = 1'b0;
@@ -103,11 +106,13 @@ ${THRESHOLD_PORTS}    output wire        armed,
     wire density_fire;
     /* verilator lint_on UNUSEDSIGNAL */
     wire decision_take = ${DECISION};
+    wire window_closed;                 // this clock's index pulse closed a counting window
+    wire [${CB1}:0] window_count;        // the count of the window it closed
 
     tt_pulse_counter u_counter (
         .clk(clk), .rst(rst), .clear(clear), .index(index), .pulse(pulse),
         .contact_bit(contact_bit), .count(count), .last_window_count(last_window_count),
-${COUNTER_THRESHOLDS}        .decide(counter_decide)
+${COUNTER_THRESHOLDS}        .decide(counter_decide), .window_closed(window_closed), .window_count(window_count)
     );
 
     tt_density_detector u_density (
@@ -128,6 +133,15 @@ ${DENSITY_THRESHOLDS}        .charge(charge), .armed(density_armed), .fired(dens
     tt_position_latch u_decision (
         .clk(clk), .rst(rst), .clear(clear), .take(decision_take),
         .position_in(position), .valid(register_now), .position(decision_position)
+    );
+
+    // The measurement status: faults latched per cycle and the decision's confirmation.
+    tt_checks u_checks (
+        .clk(clk), .rst(rst), .clear(clear), .armed_q(armed_q), .contact_q(contact_q),
+        .decided_q(register_now), .decision_take(decision_take), .index(index),
+        .window_closed(window_closed), .window_count(window_count),
+        .revolutions_q(revolutions_q), .pulse(pulse), .scale_error(scale_error),
+        .armed_a(armed_a), .confirmed(confirmed), .faults(faults)
     );
 
     always @(posedge clk) begin

@@ -111,7 +111,9 @@ module tt_pulse_counter (
     input  wire        contact_bit,  // the pulse's contact bit (sampled or sticky rule)
     output wire [${CB1}:0] count,             // contact pulses in this window
     output wire [${CB1}:0] last_window_count, // contact pulses in the previous window
-${IDEF_PORT}    output wire        decide        // this clock's pulse made the count exceed i_def
+${IDEF_PORT}    output wire        decide,       // this clock's pulse made the count exceed i_def
+    output wire        window_closed, // this clock's index pulse closed the window
+    output wire [${CB1}:0] window_count   // the closed window's count (last_window_count next)
 );
     localparam [${CB1}:0] WINDOW_PULSES = ${WP};  // pulses_per_rev * window_revs
 ${IDEF_DECL}
@@ -149,6 +151,8 @@ ${IDEF_DECL}
 
     assign count             = count_q;
     assign last_window_count = lwc_q;
+    assign window_closed     = window_end;
+    assign window_count      = lwc_i;
 endmodule
 "#),
         &[

@@ -24,8 +24,9 @@ pub(crate) fn c_outputs(o: &MeasureOutputs) -> TtMeasureOutputs {
 }
 
 /// The MCU register file's word at `addr` (the map of `tooltouch_hdl_gen::MCU_REGISTERS`:
-/// status, positions sign-extended from `scale_bits`, counts, charge, diagnostic counters
-/// (0 unless `diagnostics`), scale errors, configuration hash; 0 elsewhere).
+/// status (flags in bits 6..0, the faults word in bits 14..8), positions sign-extended from
+/// `scale_bits`, counts, charge, diagnostic counters (0 unless `diagnostics`), scale errors,
+/// configuration hash; 0 elsewhere).
 pub(crate) fn mcu_word(
     config: &MeasureConfig,
     hash: u64,
@@ -48,7 +49,9 @@ pub(crate) fn mcu_word(
         | u32::from(o.register_now) << 2
         | u32::from(o.first_contact) << 3
         | u32::from(o.density_armed) << 4
-        | u32::from(o.density_fired) << 5;
+        | u32::from(o.density_fired) << 5
+        | u32::from(o.confirmed) << 6
+        | u32::from(o.faults) << 8;
     match addr {
         0 => status,
         1 => sign_extend(bits[6]),

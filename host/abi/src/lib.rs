@@ -52,7 +52,7 @@ pub const TT_ABI_VERSION: u32 = 1;
 
 /// Number of measurement outputs ([`TtMeasureOutputs`] fields, [`tt_frontend_registers`]
 /// entries), in the model's order ([`tt_output_name`] names them).
-pub const TT_OUTPUT_COUNT: u32 = 15;
+pub const TT_OUTPUT_COUNT: u32 = 17;
 
 /// Number of MCU register addresses (`mcu_addr` is 4 bits wide).
 pub const TT_MCU_ADDRESSES: u32 = 16;

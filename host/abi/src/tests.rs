@@ -96,10 +96,13 @@ fn the_mcu_words_follow_the_register_map() {
         revolutions: 3,
         pulses: 77,
         scale_errors: 4,
+        confirmed: true,
+        faults: 0b100_0010,
         ..Default::default()
     };
     let word = |addr, diagnostics| mcu_word(&measure, measure.hash(), &o, addr, diagnostics);
-    assert_eq!(word(0, false), 0b10_0101);
+    // Flags in bits 6..0 (confirmed is bit 6), the faults word in bits 14..8.
+    assert_eq!(word(0, false), 0b100_0010_0110_0101);
     assert_eq!(word(1, false), (-2i32) as u32);
     assert_eq!(word(2, false), 5);
     assert_eq!(word(3, false), u32::MAX);

@@ -17,7 +17,10 @@
 //! - **saturation**: `count` and `last_window_count` never above `window_pulses`;
 //!   `scale_errors` never decreases (it saturates at 255 instead of wrapping);
 //!   `revolutions` moves by at most one and never wraps from 65535; the charge changes only
-//!   at a counted FES pulse (when `pulses` moves) or as `armed` rises.
+//!   at a counted FES pulse (when `pulses` moves) or as `armed` rises;
+//! - **status**: the `faults` bits and `confirmed`, once raised, stay raised until a clock
+//!   at which `armed` rises, and change only while armed (or in the clock the arm falls);
+//!   `confirmed` only with `register_now` and never with the `unconfirmed` fault.
 //!
 //! Immediate assertions in a clocked block, so Icarus (`-g2012`), Verilator (`--assert`),
 //! commercial simulators and yosys (`read_verilog -sv -formal`) all read them.
@@ -125,6 +128,10 @@ pub fn bind_file(config: &MeasureConfig) -> String {
          \x20           assert (scale_errors >= past_scale_errors);\n\
          \x20           assert (revolutions == past_revolutions || revolutions == past_revolutions + 16'd1 || (arm_rose && revolutions <= 16'd1));\n\
          \x20           if (!arm_rose && pulses == past_pulses) assert (charge == past_charge);\n\
+         \x20           // the status: latched until the arm rising edge, raised only while armed\n\
+         \x20           if (!arm_rose) assert ((faults & past_faults) == past_faults && (confirmed || !past_confirmed));\n\
+         \x20           if (!armed && !past_armed) assert (faults == past_faults && confirmed == past_confirmed);\n\
+         \x20           assert (!confirmed || (register_now && !faults[6]));\n\
          \x20       end\n\
          \x20       started <= !rst;\n\
          \x20       hist <= rst ? {{(6*DEPTH){{1'b0}}}} : {{hist[6*DEPTH-7:0], pins}};",

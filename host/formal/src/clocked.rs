@@ -1,6 +1,6 @@
 //! The clock-by-clock replay of a counterexample: the design driven in Icarus with the
 //! counterexample's own pins, `rst` and `mcu_addr` at every clock (a small testbench
-//! written here, [`bench`]), its `mcu_rdata` and 15 outputs printed before every clock
+//! written here, [`bench`]), its `mcu_rdata` and outputs printed before every clock
 //! edge, and each compared with the golden model's cycle level (`FrontEnd`, restarted
 //! from its reset state after a clock with `rst` high) and its MCU register map
 //! (`tooltouch_hdl_gen::MCU_REGISTERS`, [`mcu_word`]).
@@ -99,6 +99,8 @@ pub fn mcu_word(
                 | b("first_contact") << 3
                 | b("density_armed") << 4
                 | b("density_fired") << 5
+                | b("confirmed") << 6
+                | ((v("faults") & 0x7f) as u32) << 8
         }
         "POSITION" => sext("position"),
         "DECISION_POSITION" => sext("decision_position"),
@@ -180,7 +182,7 @@ pub fn bench(
 }
 
 /// Replays `cex` on the design `files` (top `top`) in `dir`: runs [`bench`] in Icarus and
-/// compares, after every clock `1 …`, `mcu_rdata` at that clock's address and the 15
+/// compares, after every clock `1 …`, `mcu_rdata` at that clock's address and the
 /// outputs with the golden model. Returns the first difference (`None`: none).
 #[allow(clippy::too_many_arguments)]
 pub fn replay_clocked(

@@ -247,8 +247,9 @@ impl Report {
                             out.push(format!("replayed clock by clock: {clocked}"));
                         }
                         Some(tooltouch_vectors::check::Verdict::Match(m)) => out.push(format!(
-                            "replayed against the golden model: the 15 outputs match ({m}); \
-                             replayed clock by clock with the counterexample's mcu_addr: {clocked}"
+                            "replayed against the golden model: the {} outputs match ({m}); \
+                             replayed clock by clock with the counterexample's mcu_addr: {clocked}",
+                            tooltouch_model::MeasureOutputs::FIELD_COUNT
                         )),
                         None => {
                             let resets: Vec<String> = counterexample

@@ -60,7 +60,8 @@ pub struct Port {
 }
 
 /// The ports the contract's `tt_frontend` has for `config` (docs/CONTRACT.md): `clk`,
-/// `rst`, the six `pin_*`, `mcu_addr`, `mcu_rdata`, the 15 outputs and `irq`.
+/// `rst`, the six `pin_*`, `mcu_addr`, `mcu_rdata`, the outputs of `MeasureOutputs::LAYOUT`
+/// and `irq`.
 pub fn contract_ports(config: &MeasureConfig) -> Vec<Port> {
     let port = |name: &str, direction, width| Port {
         name: name.to_string(),

@@ -158,6 +158,9 @@ pub fn measure_outputs(r: &[i64]) -> Result<MeasureOutputs, String> {
         density_fired: flag(r[12], n(12))?,
         revolutions: fit(r[13], n(13))?,
         pulses: fit(r[14], n(14))?,
+        // TODO(status): the component's `confirmed` and `faults` pins (issue 39).
+        confirmed: false,
+        faults: 0,
     })
 }
 

@@ -130,7 +130,7 @@ int32_t tooltouch_compare(void *handle, uint32_t unknown, uint32_t mcu_addr, uin
                           uint64_t first_contact_position, uint64_t position, uint64_t scale_errors,
                           uint64_t count, uint64_t last_window_count, uint64_t charge,
                           uint64_t density_armed, uint64_t density_fired, uint64_t revolutions,
-                          uint64_t pulses) {
+                          uint64_t pulses, uint64_t confirmed, uint64_t faults) {
 /* END GENERATED compare-signature */
     Scoreboard *sb = (Scoreboard *)handle;
     if (sb == NULL) return 0;
@@ -138,7 +138,8 @@ int32_t tooltouch_compare(void *handle, uint32_t unknown, uint32_t mcu_addr, uin
     const uint64_t got[TT_OUTPUT_COUNT] = {armed, contact, register_now, decision_position,
                                            first_contact, first_contact_position, position,
                                            scale_errors, count, last_window_count, charge,
-                                           density_armed, density_fired, revolutions, pulses};
+                                           density_armed, density_fired, revolutions, pulses,
+                                           confirmed, faults};
     /* END GENERATED compare-outputs */
     for (int32_t i = 0; i < (int32_t)TT_OUTPUT_COUNT; i++)
         if ((unknown >> i & 1u) || got[i] != sb->registers[i]) return i;

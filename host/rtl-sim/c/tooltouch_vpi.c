@@ -32,7 +32,7 @@
 enum { IRQ_SOURCE = 2 };
 /* END GENERATED irq-source */
 /* BEGIN GENERATED compare-arguments: hdl-gen's scoreboard_lists, cargo xtask bless-hdl */
-#define COMPARE_ARGUMENTS "the model, mcu_addr, mcu_rdata, irq and the 15 outputs"
+#define COMPARE_ARGUMENTS "the model, mcu_addr, mcu_rdata, irq and the 17 outputs"
 /* END GENERATED compare-arguments */
 
 typedef struct Model {

@@ -2,10 +2,10 @@
 // ABI of libtooltouch_abi). tooltouch_scoreboard uses them; a UVM predictor can too.
 //
 // BEGIN GENERATED signal-indexes: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
-// Signal indexes (tooltouch_compare, tooltouch_expected): 0..14 the outputs in the order of
+// Signal indexes (tooltouch_compare, tooltouch_expected): 0..16 the outputs in the order of
 // the ports (armed contact register_now decision_position first_contact
 // first_contact_position position scale_errors count last_window_count charge density_armed
-// density_fired revolutions pulses), 15 irq, 16 mcu_rdata.
+// density_fired revolutions pulses confirmed faults), 17 irq, 18 mcu_rdata.
 // END GENERATED signal-indexes
 `timescale 1ns / 1ns
 
@@ -38,6 +38,7 @@ package tooltouch_dpi;
         input longint unsigned count, input longint unsigned last_window_count,
         input longint unsigned charge, input longint unsigned density_armed,
         input longint unsigned density_fired, input longint unsigned revolutions,
-        input longint unsigned pulses);
+        input longint unsigned pulses, input longint unsigned confirmed,
+        input longint unsigned faults);
         // END GENERATED compare-outputs
 endpackage

@@ -54,6 +54,8 @@ module tooltouch_scoreboard
     input wire                   density_fired,
     input wire [15:0]            revolutions,
     input wire [31:0]            pulses,
+    input wire                   confirmed,
+    input wire [6:0]             faults,
     // END GENERATED ports
     input wire                   irq,
     input wire [63:0]            dut_config_hash
@@ -64,8 +66,8 @@ module tooltouch_scoreboard
     bit          nostop;
     string       config_path;
     // BEGIN GENERATED signal-indexes: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
-    // Signal indexes: 0..14 the outputs in port order, 15 irq, 16 mcu_rdata.
-    localparam integer SIGNAL_MCU_RDATA = 16;
+    // Signal indexes: 0..16 the outputs in port order, 17 irq, 18 mcu_rdata.
+    localparam integer SIGNAL_MCU_RDATA = 18;
     // END GENERATED signal-indexes
 
     // BEGIN GENERATED signal-name: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
@@ -86,7 +88,9 @@ module tooltouch_scoreboard
             12: return "density_fired";
             13: return "revolutions";
             14: return "pulses";
-            15: return "irq";
+            15: return "confirmed";
+            16: return "faults";
+            17: return "irq";
             default: return "mcu_rdata";
         endcase
     endfunction
@@ -110,7 +114,9 @@ module tooltouch_scoreboard
             12: return 64'(density_fired);
             13: return 64'(revolutions);
             14: return 64'(pulses);
-            15: return 64'(irq);
+            15: return 64'(confirmed);
+            16: return 64'(faults);
+            17: return 64'(irq);
             default: return 64'(mcu_rdata);
         endcase
     endfunction
@@ -159,8 +165,9 @@ module tooltouch_scoreboard
         int unsigned unknown;
         if (model != null && cycle >= 0) begin
             // BEGIN GENERATED compare: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
-            unknown = {15'd0, $isunknown(mcu_rdata) | $isunknown(mcu_addr), $isunknown(irq),
-                       $isunknown(pulses), $isunknown(revolutions), $isunknown(density_fired),
+            unknown = {13'd0, $isunknown(mcu_rdata) | $isunknown(mcu_addr), $isunknown(irq),
+                       $isunknown(faults), $isunknown(confirmed), $isunknown(pulses),
+                       $isunknown(revolutions), $isunknown(density_fired),
                        $isunknown(density_armed), $isunknown(charge), $isunknown(last_window_count),
                        $isunknown(count), $isunknown(scale_errors), $isunknown(position),
                        $isunknown(first_contact_position), $isunknown(first_contact),
@@ -170,7 +177,7 @@ module tooltouch_scoreboard
                 64'(contact), 64'(register_now), 64'(decision_position), 64'(first_contact),
                 64'(first_contact_position), 64'(position), 64'(scale_errors), 64'(count),
                 64'(last_window_count), 64'(charge), 64'(density_armed), 64'(density_fired),
-                64'(revolutions), 64'(pulses));
+                64'(revolutions), 64'(pulses), 64'(confirmed), 64'(faults));
             // END GENERATED compare
             if (first >= 0) begin
                 if (mismatches == 0) begin

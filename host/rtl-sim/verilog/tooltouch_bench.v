@@ -41,6 +41,8 @@ module tooltouch_bench;
     wire                   density_fired;
     wire [15:0]            revolutions;
     wire [31:0]            pulses;
+    wire                   confirmed;
+    wire [6:0]             faults;
     // END GENERATED wires
 
     tt_frontend dut (
@@ -54,7 +56,7 @@ module tooltouch_bench;
         .first_contact_position(first_contact_position), .position(position),
         .scale_errors(scale_errors), .count(count), .last_window_count(last_window_count),
         .charge(charge), .density_armed(density_armed), .density_fired(density_fired),
-        .revolutions(revolutions), .pulses(pulses),
+        .revolutions(revolutions), .pulses(pulses), .confirmed(confirmed), .faults(faults),
         // END GENERATED connections
         .irq(irq)
     );
@@ -73,7 +75,7 @@ module tooltouch_bench;
         .first_contact_position(first_contact_position), .position(position),
         .scale_errors(scale_errors), .count(count), .last_window_count(last_window_count),
         .charge(charge), .density_armed(density_armed), .density_fired(density_fired),
-        .revolutions(revolutions), .pulses(pulses),
+        .revolutions(revolutions), .pulses(pulses), .confirmed(confirmed), .faults(faults),
         // END GENERATED connections
         .irq(irq),
         .dut_config_hash(dut.CONFIG_HASH)

@@ -50,6 +50,8 @@ module tooltouch_scoreboard #(
     input wire                   density_fired,
     input wire [15:0]            revolutions,
     input wire [31:0]            pulses,
+    input wire                   confirmed,
+    input wire [6:0]             faults,
     // END GENERATED ports
     input wire                   irq,
     input wire [63:0]            dut_config_hash
@@ -63,8 +65,8 @@ module tooltouch_scoreboard #(
     reg [8*512-1:0] config_path;  // up to 512 characters
     reg [63:0] model_hash;
     // BEGIN GENERATED signal-indexes: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
-    // Signal indexes: 0..14 the outputs in port order, 15 irq, 16 mcu_rdata.
-    localparam integer SIGNAL_MCU_RDATA = 16;
+    // Signal indexes: 0..16 the outputs in port order, 17 irq, 18 mcu_rdata.
+    localparam integer SIGNAL_MCU_RDATA = 18;
     // END GENERATED signal-indexes
 
     // BEGIN GENERATED signal-name: hdl-gen's scoreboard_lists, cargo xtask bless-hdl
@@ -85,7 +87,9 @@ module tooltouch_scoreboard #(
             12: signal_name = "density_fired";
             13: signal_name = "revolutions";
             14: signal_name = "pulses";
-            15: signal_name = "irq";
+            15: signal_name = "confirmed";
+            16: signal_name = "faults";
+            17: signal_name = "irq";
             default: signal_name = "mcu_rdata";
         endcase
     endfunction
@@ -109,7 +113,9 @@ module tooltouch_scoreboard #(
             12: dut_value = density_fired;
             13: dut_value = revolutions;
             14: dut_value = pulses;
-            15: dut_value = irq;
+            15: dut_value = confirmed;
+            16: dut_value = faults;
+            17: dut_value = irq;
             default: dut_value = mcu_rdata;
         endcase
     endfunction
@@ -164,7 +170,7 @@ module tooltouch_scoreboard #(
             first = $tooltouch_compare(model, mcu_addr, mcu_rdata, irq, armed, contact,
                 register_now, decision_position, first_contact, first_contact_position, position,
                 scale_errors, count, last_window_count, charge, density_armed, density_fired,
-                revolutions, pulses);
+                revolutions, pulses, confirmed, faults);
             // END GENERATED compare
             if (first >= 0) begin
                 if (mismatches == 0) begin

@@ -11,6 +11,7 @@ use super::reference::{AnalogLaw, Intent};
 use super::scenario::ApproachSettings;
 use serde::{Deserialize, Serialize};
 use tooltouch_model::measure::config::{ChargeLaw, ContactRule, DecisionMethod, MeasureSettings};
+use tooltouch_model::MeasureChecks;
 use tooltouch_settings::force_design::ForceSpec;
 use tooltouch_settings::values::{check_sweep_size, err, Names, SpecError, Values};
 
@@ -310,6 +311,9 @@ impl SweepSpec {
                                                     glitch_cycles: g as u8,
                                                     scale_bits: sb as u8,
                                                     method,
+                                                    // The checks change no decision
+                                                    // (they add the status outputs).
+                                                    checks: MeasureChecks::default(),
                                                 };
                                                 s.validate().map_err(|e| {
                                                     let param = match e.field {

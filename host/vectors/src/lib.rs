@@ -106,7 +106,7 @@ pub fn outputs_after_each_event(
     events
         .iter()
         .map(|e| {
-            m.apply(e.event);
+            m.apply_at(e.time, e.event);
             (e.time, m.outputs())
         })
         .collect()

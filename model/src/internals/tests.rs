@@ -119,6 +119,8 @@ fn names_are_stable_and_unique() {
         .map(|p| std::format!("glitch.stable[{p}]"))
         .collect();
     expected.push("counter.revs_in_window".into());
+    expected.push("checks.rev_pulses".into());
+    expected.push("checks.confirm_left".into());
     assert_eq!(names, expected);
 }
 

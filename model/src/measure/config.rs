@@ -7,6 +7,7 @@
 //! configuration's canonical bytes and its hash belong to the wire format
 //! ([`crate::wire::measure_config`]).
 
+use crate::measure::checks::MeasureChecks;
 use crate::validation::{check, ConfigError};
 
 /// Which contact bit a pulse counts with (docs/domain.md §2.3).
@@ -91,6 +92,8 @@ pub struct MeasureSettings {
     pub scale_bits: u8,
     /// Which detector drives "register now" and the decision latch.
     pub method: DecisionMethod,
+    /// The measurement status's checks and their thresholds (`[measure.checks]`).
+    pub checks: MeasureChecks,
 }
 
 impl Default for MeasureSettings {
@@ -115,6 +118,7 @@ impl Default for MeasureSettings {
             glitch_cycles: 4,
             scale_bits: 24,
             method: DecisionMethod::Counter,
+            checks: MeasureChecks::default(),
         }
     }
 }
@@ -174,6 +178,7 @@ impl MeasureSettings {
             u64::from(self.fire_threshold) - 1,
         )?;
         check("scale_bits", self.scale_bits.into(), 8, 32)?;
+        self.checks.validate(self.pulses_per_rev)?;
         Ok(MeasureConfig {
             settings: *self,
             count_bits: bits_for(window_pulses.into()),
@@ -220,6 +225,7 @@ fn unreachable_default() -> MeasureConfig {
             glitch_cycles: 0,
             scale_bits: 8,
             method: DecisionMethod::Counter,
+            checks: MeasureChecks::OFF,
         },
         count_bits: 5,
         full_charge: 15,
@@ -260,6 +266,29 @@ impl MeasureConfig {
     /// and the registered kernel update: `3 + glitch_cycles`.
     pub fn latency_cycles(&self) -> u32 {
         3 + u32::from(self.settings.glitch_cycles)
+    }
+    /// Contact pulses a window closed after the decision must count to confirm it: one for
+    /// the single-pulse method, else `confirm_percent` % of [`Self::window_pulses`]
+    /// (rounded down).
+    pub fn confirm_count(&self) -> u32 {
+        match self.settings.method {
+            DecisionMethod::SinglePulse => 1,
+            _ => {
+                let pct = u64::from(self.settings.checks.confirm_percent);
+                (u64::from(self.window_pulses()) * pct / 100) as u32
+            }
+        }
+    }
+    /// Width of the revolution's FES pulse counter, bits: holds
+    /// `0..=pulses_per_rev + pulse_tolerance + 1`.
+    pub fn rev_pulse_bits(&self) -> u8 {
+        let most = u64::from(self.settings.pulses_per_rev)
+            + u64::from(self.settings.checks.pulse_tolerance);
+        bits_for(most + 1)
+    }
+    /// Width of the FES watchdog's tick counter, bits: holds `0..=fes_timeout_cycles`.
+    pub fn fes_idle_bits(&self) -> u8 {
+        bits_for(self.settings.checks.fes_timeout_cycles.into())
     }
 }
 

@@ -114,6 +114,9 @@ pub struct FrontEnd {
     previous: u8,
     /// Per pin: clocks `sync2` has differed from `filtered`, `0..=glitch_cycles`.
     stable: [u8; pin::COUNT],
+    /// Clocks done since reset: the next clock is clock number `clocks` (from 0), the
+    /// time of the events it applies and of the kernel's FES watchdog.
+    clocks: u64,
     measurement: Measurement,
 }
 
@@ -127,6 +130,7 @@ impl FrontEnd {
             filtered: 0,
             previous: 0,
             stable: [0; pin::COUNT],
+            clocks: 0,
             measurement: Measurement::new(config),
         }
     }
@@ -139,8 +143,11 @@ impl FrontEnd {
             changed: self.filtered ^ self.previous,
             levels: self.filtered,
         };
+        let now = self.clocks;
+        self.clocks = now + 1;
         if edges.changed != 0 {
             let m = &mut self.measurement;
+            m.observe(now);
             edges.for_each_event(|e| m.apply(e));
         }
         self.previous = self.filtered;
@@ -183,6 +190,8 @@ impl FrontEnd {
         let mut k = 0;
         while k < cycles {
             if self.is_settled(pins) {
+                // Settled clocks change no register; only the time moves on.
+                self.clocks += cycles - k;
                 return k;
             }
             let edges = self.clock(pins);
@@ -205,9 +214,14 @@ impl FrontEnd {
             && self.stable == [0; pin::COUNT]
     }
 
-    /// Every output, as registered after the last clock.
+    /// Every output, as registered after the last clock (clock number `clocks − 1`).
     pub fn outputs(&self) -> MeasureOutputs {
-        self.measurement.outputs()
+        self.measurement.outputs_at(self.clocks.saturating_sub(1))
+    }
+
+    /// Clocks done since reset.
+    pub fn clocks(&self) -> u64 {
+        self.clocks
     }
 
     /// The kernel (read-only).
@@ -335,6 +349,13 @@ mod tests {
         assert!(fe.is_settled(pins));
         let before = fe;
         fe.clock(pins);
-        assert_eq!(fe, before);
+        // Only the time moves on.
+        assert_eq!(
+            fe,
+            FrontEnd {
+                clocks: before.clocks + 1,
+                ..before
+            }
+        );
     }
 }

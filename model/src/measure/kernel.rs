@@ -8,6 +8,7 @@
 //! latches therefore capture the scale position as it was *before* a scale edge in the
 //! same clock.
 
+use crate::measure::checks::MeasurementChecks;
 use crate::measure::config::{ContactRule, DecisionMethod, MeasureConfig};
 use crate::measure::density::DensityDetector;
 use crate::measure::latch::PositionLatch;
@@ -31,6 +32,7 @@ pub struct Measurement {
     decision: PositionLatch,
     revolutions: u16,
     pulses: u32,
+    checks: MeasurementChecks,
 }
 
 impl Measurement {
@@ -50,7 +52,23 @@ impl Measurement {
             decision: PositionLatch::new(),
             revolutions: 0,
             pulses: 0,
+            checks: MeasurementChecks::new(config),
         }
+    }
+
+    /// The stream's clock reads `now` ticks (FPGA clocks at cycle level, the event's
+    /// timestamp at event level; never less than before): the time of the events applied
+    /// next, and of the FES watchdog ([`crate::measure::checks`]).
+    #[inline]
+    pub fn observe(&mut self, now: u64) {
+        self.checks.observe(now, self.armed);
+    }
+
+    /// [`Self::observe`] `time`, then [`Self::apply`] `event`: one timestamped event.
+    #[inline]
+    pub fn apply_at(&mut self, time: u64, event: crate::measure::events::MeasureEvent) {
+        self.observe(time);
+        self.apply(event);
     }
 
     /// The CNC's arm line changed. A rising edge starts a measurement cycle: counts,
@@ -58,6 +76,7 @@ impl Measurement {
     /// are held for the CNC to read until the next rising edge.
     pub fn on_arm(&mut self, level: bool) {
         if level && !self.armed {
+            self.checks.on_arm(self.contact);
             self.counter.reset();
             self.density.reset();
             self.first_contact.clear();
@@ -77,8 +96,8 @@ impl Measurement {
             if self.armed {
                 let position = self.scale.position();
                 self.first_contact.capture(position);
-                if self.method == DecisionMethod::SinglePulse {
-                    self.decision.capture(position);
+                if self.method == DecisionMethod::SinglePulse && self.decision.capture(position) {
+                    self.checks.on_decision();
                 }
             }
         }
@@ -87,8 +106,14 @@ impl Measurement {
     /// An index pulse (start of a revolution).
     pub fn on_index(&mut self) {
         if self.armed {
-            self.counter.on_index();
+            let closed = self.counter.on_index();
             self.revolutions = self.revolutions.saturating_add(1);
+            self.checks.on_index(
+                closed,
+                self.counter.last_window_count(),
+                self.decision.valid(),
+                self.revolutions,
+            );
         }
     }
 
@@ -110,12 +135,24 @@ impl Measurement {
             return false;
         }
         self.pulses = self.pulses.wrapping_add(1);
+        self.checks.on_fes(1);
         // Both detectors step on every pulse; the configured one's decision latches the
         // position (single pulse: neither). The method is read only when a detector
         // decides, which is rare.
         let counter_decides = self.counter.on_pulse(bit) && self.method == DecisionMethod::Counter;
         let density_decides = self.density.on_pulse(bit) && self.method == DecisionMethod::Density;
-        (counter_decides || density_decides) && self.decision.capture(self.scale.position())
+        (counter_decides || density_decides) && self.decide()
+    }
+
+    /// A detector decided: latches the position (once per cycle) and starts the
+    /// confirmation. Whether it latched.
+    #[cold]
+    fn decide(&mut self) -> bool {
+        let latched = self.decision.capture(self.scale.position());
+        if latched {
+            self.checks.on_decision();
+        }
+        latched
     }
 
     /// `n` FES pulses with no other event between them, as a hardware counter reports
@@ -135,12 +172,13 @@ impl Measurement {
             return false;
         }
         self.pulses = self.pulses.wrapping_add(n);
+        self.checks.on_fes(n);
         let rest = self.contact;
         let counter_decides =
             self.counter.on_pulses(first, rest, n) && self.method == DecisionMethod::Counter;
         let density_decides =
             self.density.on_pulses(first, rest, n) && self.method == DecisionMethod::Density;
-        (counter_decides || density_decides) && self.decision.capture(self.scale.position())
+        (counter_decides || density_decides) && self.decide()
     }
 
     /// How many more FES pulses, with no other event between them, raise "register now":
@@ -174,7 +212,9 @@ impl Measurement {
 
     /// New levels of the scale's A and B lines.
     pub fn on_scale(&mut self, a: bool, b: bool) {
-        self.scale.on_ab(a, b);
+        if self.scale.on_ab(a, b) && self.armed {
+            self.checks.on_scale_error();
+        }
     }
 
     /// Test hook ([`crate::measure::events::MeasureEvent::PresetPulses`]): the FES pulse count
@@ -188,8 +228,14 @@ impl Measurement {
         self.decision.valid()
     }
 
-    /// Snapshot of every output.
+    /// Snapshot of every output at the last observed time ([`Self::observe`]).
     pub fn outputs(&self) -> MeasureOutputs {
+        self.outputs_at(self.checks.now())
+    }
+
+    /// Snapshot of every output at time `now` (ticks, not before the last observed): the
+    /// FES watchdog evaluated at `now`, nothing else changes with time.
+    pub fn outputs_at(&self, now: u64) -> MeasureOutputs {
         MeasureOutputs {
             armed: self.armed,
             contact: self.contact,
@@ -206,6 +252,8 @@ impl Measurement {
             density_fired: self.density.fired(),
             revolutions: self.revolutions,
             pulses: self.pulses,
+            confirmed: self.checks.confirmed(),
+            faults: self.checks.faults_at(now, self.armed).0,
         }
     }
 
@@ -225,6 +273,10 @@ impl Measurement {
     pub fn sticky(&self) -> bool {
         self.sticky
     }
+    /// The measurement status's checks (read-only).
+    pub fn checks(&self) -> &MeasurementChecks {
+        &self.checks
+    }
 }
 
 #[cfg(feature = "internals")]
@@ -233,6 +285,7 @@ impl crate::internals::Internals for Measurement {
     /// are outputs; the rest are single bits).
     fn internals(&self, f: &mut dyn FnMut(crate::internals::Register)) {
         crate::internals::Internals::internals(&self.counter, f);
+        crate::internals::Internals::internals(&self.checks, f);
     }
 }
 

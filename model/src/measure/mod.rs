@@ -13,6 +13,7 @@
 //!   reach the same state.
 
 pub mod calibration;
+pub mod checks;
 pub mod config;
 pub mod density;
 pub mod events;

@@ -39,6 +39,12 @@ pub struct MeasureOutputs {
     pub revolutions: u16,
     /// FES pulses since arm, wrapping at 2^32.
     pub pulses: u32,
+    /// The decision was confirmed by the contact pattern after it
+    /// ([`crate::measure::checks`]).
+    pub confirmed: bool,
+    /// Fault conditions latched since arm, one bit each ([`crate::measure::checks::fault`]).
+    /// The CNC accepts a measurement only with `confirmed` high and `faults` zero.
+    pub faults: u8,
 }
 
 /// How wide an output's register is: one bit, a width the configuration sets, or a fixed
@@ -73,7 +79,7 @@ impl OutputWidth {
 
 impl MeasureOutputs {
     /// Number of output signals.
-    pub const FIELD_COUNT: usize = 15;
+    pub const FIELD_COUNT: usize = 17;
 
     /// Every output as `(name, value)`, names as in [`Self::LAYOUT`] (and as the VCD
     /// signals and Verilog ports), in declaration order; flags are 0/1, positions
@@ -95,6 +101,8 @@ impl MeasureOutputs {
             self.density_fired.into(),
             self.revolutions.into(),
             self.pulses.into(),
+            self.confirmed.into(),
+            self.faults.into(),
         ];
         let mut out = Self::LAYOUT.map(|(name, _)| (name, 0));
         for ((_, slot), value) in out.iter_mut().zip(values) {
@@ -122,6 +130,11 @@ impl MeasureOutputs {
         ("density_fired", OutputWidth::Flag),
         ("revolutions", OutputWidth::Fixed(16)),
         ("pulses", OutputWidth::Fixed(32)),
+        ("confirmed", OutputWidth::Flag),
+        (
+            "faults",
+            OutputWidth::Fixed(crate::measure::checks::fault::COUNT as u32),
+        ),
     ];
 
     /// Every output's name and register width in bits for `config`, in [`Self::fields`]
@@ -171,6 +184,8 @@ mod tests {
             density_fired: true,
             revolutions: 65535,
             pulses: u32::MAX,
+            confirmed: true,
+            faults: 0x41,
         };
         assert_eq!(
             outputs.fields(),
@@ -190,6 +205,8 @@ mod tests {
                 ("density_fired", 1),
                 ("revolutions", 65535),
                 ("pulses", 4_294_967_295),
+                ("confirmed", 1),
+                ("faults", 0x41),
             ]
         );
     }

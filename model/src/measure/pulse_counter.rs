@@ -111,14 +111,16 @@ impl PulseCounter {
     }
 
     /// One index pulse: at the end of a window the count moves to `last_window_count` and
-    /// restarts from zero.
-    pub fn on_index(&mut self) {
+    /// restarts from zero. Returns whether it ended a window.
+    pub fn on_index(&mut self) -> bool {
         self.revs_in_window = self.revs_in_window.saturating_add(1);
         if self.revs_in_window >= self.window_revs {
             self.last_window_count = self.count;
             self.count = 0;
             self.revs_in_window = 0;
+            return true;
         }
+        false
     }
 
     /// Contact pulses in the current window.
@@ -253,7 +255,7 @@ mod tests {
         fn count_never_exceeds_window_pulses(ops in proptest::collection::vec(0u8..3, 0..400)) {
             let mut c = counter(15, 1);
             for op in ops {
-                match op { 0 => { c.on_pulse(true); } 1 => { c.on_pulse(false); } _ => c.on_index() }
+                match op { 0 => { c.on_pulse(true); } 1 => { c.on_pulse(false); } _ => { c.on_index(); } }
                 prop_assert!(c.count() <= 16);
                 prop_assert!(c.last_window_count() <= 16);
             }

@@ -47,16 +47,22 @@ impl QuadratureDecoder {
     }
 
     /// New levels of lines A and B. Counts ±1 per legal transition (wrapping at
-    /// `scale_bits`); a double change counts an error (saturating at 255).
-    pub fn on_ab(&mut self, a: bool, b: bool) {
+    /// `scale_bits`); a double change counts an error (saturating at 255). Returns whether
+    /// the transition was illegal.
+    pub fn on_ab(&mut self, a: bool, b: bool) -> bool {
         let phase = phase_of(a, b);
+        let mut illegal = false;
         match phase.wrapping_sub(self.phase) & 3 {
             1 => self.raw_position = self.raw_position.wrapping_add(1) & self.mask,
             3 => self.raw_position = self.raw_position.wrapping_sub(1) & self.mask,
-            2 => self.errors = self.errors.saturating_add(1),
+            2 => {
+                self.errors = self.errors.saturating_add(1);
+                illegal = true;
+            }
             _ => {}
         }
         self.phase = phase;
+        illegal
     }
 
     /// Position, scale counts, sign-extended from `scale_bits`.

@@ -17,7 +17,7 @@ use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use std::vec;
 
 use crate::measure::config::{ChargeLaw, ContactRule, DecisionMethod};
-use crate::{MeasureConfig, MeasureSettings};
+use crate::{MeasureChecks, MeasureConfig, MeasureSettings};
 
 pub mod force;
 #[cfg(test)]
@@ -247,11 +247,12 @@ pub fn measure_settings(profile: &MeasureProfile) -> impl Strategy<Value = Measu
         proptest::sample::select(&CONTACT_RULES[..]),
         proptest::sample::select(&METHODS[..]),
     );
-    (layout, law, rest).prop_map(
+    (layout, law, rest, measure_checks()).prop_map(
         |(
             (pulses_per_rev, window_revs, i_def_permille, i_def_cap, charge_bits),
             (linear, charge_step, discharge_step, charge_shift, discharge_shift),
             (fire, rearm, glitch_cycles, scale_bits, contact_rule, method),
+            checks,
         )| {
             let window = u32::from(pulses_per_rev) * u32::from(window_revs);
             let full = (1u32 << charge_bits) - 1;
@@ -279,9 +280,47 @@ pub fn measure_settings(profile: &MeasureProfile) -> impl Strategy<Value = Measu
                 glitch_cycles,
                 scale_bits,
                 method,
+                checks: MeasureChecks {
+                    pulse_tolerance: checks.pulse_tolerance.min(pulses_per_rev / 4),
+                    ..checks
+                },
             }
         },
     )
+}
+
+/// The measurement status's checks, drawn so that short random streams reach every
+/// condition: each check on or off, a tolerance of 0–4 pulses (clamped to the
+/// configuration's quarter revolution by the caller), a probe fail after 0–16 revolutions,
+/// an FES watchdog off or of 1–4096 ticks, 0–4 confirmation windows at 1–100 %.
+pub fn measure_checks() -> impl Strategy<Value = MeasureChecks> {
+    (
+        any::<[bool; 3]>(),
+        0u16..=4,
+        0u16..=16,
+        prop_oneof![Just(0u32), 1u32..=4096],
+        0u8..=4,
+        1u8..=100,
+    )
+        .prop_map(
+            |(
+                [contact_at_arm, revolutions, scale_errors],
+                pulse_tolerance,
+                probe_revs,
+                fes_timeout_cycles,
+                confirm_windows,
+                confirm_percent,
+            )| MeasureChecks {
+                contact_at_arm,
+                revolutions,
+                pulse_tolerance,
+                scale_errors,
+                probe_revs,
+                fes_timeout_cycles,
+                confirm_windows,
+                confirm_percent,
+            },
+        )
 }
 
 /// [`measure_settings`], validated.

@@ -13,11 +13,16 @@
 //! 20..24 fire_threshold u32                           24..28 rearm_threshold u32
 //! 28     glitch_cycles u8                             29     scale_bits u8
 //! 30     method u8 (0 single pulse, 1 counter, 2 density)
+//! 31     checks: flags u8 (bit 0 contact_at_arm, 1 revolutions, 2 scale_errors)
+//! 32..34 checks.pulse_tolerance u16                   34..36 checks.probe_revs u16
+//! 36..40 checks.fes_timeout_cycles u32                40     checks.confirm_windows u8
+//! 41     checks.confirm_percent u8
 //! ```
 //! All little-endian, [`CANONICAL_CONFIG_LEN`] bytes. A new field is appended here (both
 //! the encoder and the decoder below) with a new format version.
 
 use crate::fnv::fnv1a;
+use crate::measure::checks::MeasureChecks;
 use crate::measure::config::{
     ChargeLaw, ContactRule, DecisionMethod, MeasureConfig, MeasureSettings,
 };
@@ -25,10 +30,10 @@ use crate::wire::{kind, le_u16, le_u32, Record, WireError};
 use core::ops::Range;
 
 /// Version of the configuration's canonical encoding; part of [`MeasureConfig::hash`].
-pub const CONFIG_FORMAT_VERSION: u16 = 1;
+pub const CONFIG_FORMAT_VERSION: u16 = 2;
 
 /// Length of [`MeasureConfig::canonical_bytes`]' used part, bytes.
-pub const CANONICAL_CONFIG_LEN: usize = 31;
+pub const CANONICAL_CONFIG_LEN: usize = 42;
 
 /// Where each field is.
 mod at {
@@ -50,6 +55,20 @@ mod at {
     pub const GLITCH_CYCLES: usize = 28;
     pub const SCALE_BITS: usize = 29;
     pub const METHOD: usize = 30;
+    pub const CHECK_FLAGS: usize = 31;
+    pub const PULSE_TOLERANCE: Range<usize> = 32..34;
+    pub const PROBE_REVS: Range<usize> = 34..36;
+    pub const FES_TIMEOUT_CYCLES: Range<usize> = 36..40;
+    pub const CONFIRM_WINDOWS: usize = 40;
+    pub const CONFIRM_PERCENT: usize = 41;
+}
+
+/// Bits of the checks' flags byte.
+mod check_flag {
+    pub const CONTACT_AT_ARM: u8 = 1 << 0;
+    pub const REVOLUTIONS: u8 = 1 << 1;
+    pub const SCALE_ERRORS: u8 = 1 << 2;
+    pub const ALL: u8 = 0x07;
 }
 
 /// [`ChargeLaw`] tags.
@@ -59,9 +78,9 @@ const LAW_EXPONENTIAL: u8 = 1;
 impl MeasureConfig {
     /// Canonical little-endian encoding of the configuration (layout in the module header),
     /// fed to [`Self::hash`]. Returns the buffer and the number of bytes used.
-    pub fn canonical_bytes(&self) -> ([u8; 32], usize) {
+    pub fn canonical_bytes(&self) -> ([u8; 48], usize) {
         let s = self.settings();
-        let mut out = [0u8; 32];
+        let mut out = [0u8; 48];
         out[at::VERSION].copy_from_slice(&CONFIG_FORMAT_VERSION.to_le_bytes());
         out[at::PULSES_PER_REV].copy_from_slice(&s.pulses_per_rev.to_le_bytes());
         out[at::I_DEF].copy_from_slice(&s.i_def.to_le_bytes());
@@ -91,6 +110,16 @@ impl MeasureConfig {
         out[at::GLITCH_CYCLES] = s.glitch_cycles;
         out[at::SCALE_BITS] = s.scale_bits;
         out[at::METHOD] = s.method as u8;
+        let c = &s.checks;
+        let flag = |on: bool, bit: u8| if on { bit } else { 0 };
+        out[at::CHECK_FLAGS] = flag(c.contact_at_arm, check_flag::CONTACT_AT_ARM)
+            | flag(c.revolutions, check_flag::REVOLUTIONS)
+            | flag(c.scale_errors, check_flag::SCALE_ERRORS);
+        out[at::PULSE_TOLERANCE].copy_from_slice(&c.pulse_tolerance.to_le_bytes());
+        out[at::PROBE_REVS].copy_from_slice(&c.probe_revs.to_le_bytes());
+        out[at::FES_TIMEOUT_CYCLES].copy_from_slice(&c.fes_timeout_cycles.to_le_bytes());
+        out[at::CONFIRM_WINDOWS] = c.confirm_windows;
+        out[at::CONFIRM_PERCENT] = c.confirm_percent;
         (out, CANONICAL_CONFIG_LEN)
     }
 
@@ -136,6 +165,20 @@ pub fn decode_config(p: &[u8]) -> Result<MeasureConfig, WireError> {
         2 => DecisionMethod::Density,
         _ => return Err(bad),
     };
+    let flags = p[at::CHECK_FLAGS];
+    if flags & !check_flag::ALL != 0 {
+        return Err(bad);
+    }
+    let checks = MeasureChecks {
+        contact_at_arm: flags & check_flag::CONTACT_AT_ARM != 0,
+        revolutions: flags & check_flag::REVOLUTIONS != 0,
+        pulse_tolerance: le_u16(&p[at::PULSE_TOLERANCE]),
+        scale_errors: flags & check_flag::SCALE_ERRORS != 0,
+        probe_revs: le_u16(&p[at::PROBE_REVS]),
+        fes_timeout_cycles: le_u32(&p[at::FES_TIMEOUT_CYCLES]),
+        confirm_windows: p[at::CONFIRM_WINDOWS],
+        confirm_percent: p[at::CONFIRM_PERCENT],
+    };
     let settings = MeasureSettings {
         pulses_per_rev: le_u16(&p[at::PULSES_PER_REV]),
         i_def: le_u32(&p[at::I_DEF]),
@@ -148,6 +191,7 @@ pub fn decode_config(p: &[u8]) -> Result<MeasureConfig, WireError> {
         glitch_cycles: p[at::GLITCH_CYCLES],
         scale_bits: p[at::SCALE_BITS],
         method,
+        checks,
     };
     Ok(settings.validate()?)
 }
@@ -177,6 +221,25 @@ mod tests {
     }
 
     #[test]
+    fn a_threshold_of_the_checks_out_of_range_is_rejected() {
+        // A tolerance of 5 pulses is over a quarter of the 16-pulse revolution.
+        let mut b = EXPONENTIAL_BYTES;
+        b[32] = 5;
+        assert!(matches!(
+            decode_config(&b),
+            Err(WireError::Config(e)) if e.field == "checks.pulse_tolerance"
+        ));
+    }
+
+    #[test]
+    fn hash_changes_with_the_checks() {
+        let a = MeasureConfig::default();
+        let mut s = MeasureSettings::default();
+        s.checks.fes_timeout_cycles += 1;
+        assert_ne!(a.hash(), s.validate().unwrap().hash());
+    }
+
+    #[test]
     fn hash_changes_with_any_field() {
         let a = MeasureConfig::default();
         let b = MeasureSettings {
@@ -195,16 +258,16 @@ mod tests {
         assert_eq!(
             &bytes[..n],
             &[
-                1, 0, 0, 4, 0, 2, 0, 0, 1, 1, 16, 0, 64, 0, 0, 0, 64, 0, 0, 0, 0, 128, 0, 0, 0, 32,
-                0, 0, 4, 24, 1
+                2, 0, 0, 4, 0, 2, 0, 0, 1, 1, 16, 0, 64, 0, 0, 0, 64, 0, 0, 0, 0, 128, 0, 0, 0, 32,
+                0, 0, 4, 24, 1, 7, 2, 0, 100, 0, 0, 0, 1, 0, 3, 25
             ]
         );
     }
 
     #[test]
     fn the_default_hash_is_fnv1a_of_those_bytes() {
-        // FNV-1a 64 of the 31 bytes above, evaluated outside this crate.
-        assert_eq!(MeasureConfig::default().hash(), 0x966a_77eb_462a_a54b);
+        // FNV-1a 64 of the 42 bytes above, evaluated outside this crate.
+        assert_eq!(MeasureConfig::default().hash(), 0x016a_d816_02b8_b588);
     }
 
     /// Sampled contact, an 8-bit exponential capacitor, density method.
@@ -224,12 +287,13 @@ mod tests {
             glitch_cycles: 0,
             scale_bits: 32,
             method: DecisionMethod::Density,
+            checks: MeasureChecks::OFF,
         }
     }
 
     const EXPONENTIAL_BYTES: [u8; CANONICAL_CONFIG_LEN] = [
-        1, 0, 16, 0, 7, 0, 0, 0, 2, 0, 8, 1, 3, 5, 0, 0, 0, 0, 0, 0, 200, 0, 0, 0, 10, 0, 0, 0, 0,
-        32, 2,
+        2, 0, 16, 0, 7, 0, 0, 0, 2, 0, 8, 1, 3, 5, 0, 0, 0, 0, 0, 0, 200, 0, 0, 0, 10, 0, 0, 0, 0,
+        32, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 100,
     ];
 
     #[test]
@@ -247,7 +311,8 @@ mod tests {
 
     #[test]
     fn unknown_tags_and_invalid_fields_are_rejected() {
-        for (at, value) in [(9, 2u8), (11, 2), (30, 3), (1, 1)] {
+        // Unknown tags, a version-1 encoding and an unknown checks flag.
+        for (at, value) in [(9, 2u8), (11, 2), (30, 3), (1, 1), (0, 1), (31, 0x08)] {
             let mut b = EXPONENTIAL_BYTES;
             b[at] = value;
             assert_eq!(
@@ -263,8 +328,8 @@ mod tests {
             decode_config(&b),
             Err(WireError::Config(e)) if e.field == "i_def"
         ));
-        let mut long = [0u8; 32];
-        long[..31].copy_from_slice(&EXPONENTIAL_BYTES);
+        let mut long = [0u8; CANONICAL_CONFIG_LEN + 1];
+        long[..CANONICAL_CONFIG_LEN].copy_from_slice(&EXPONENTIAL_BYTES);
         assert_eq!(decode_config(&long), Err(WireError::BadConfigEncoding));
     }
 

@@ -6,12 +6,12 @@
 //!
 //! ```text
 //! 0      flags u8: armed, contact, register_now, first_contact, density_armed,
-//!        density_fired from bit 0
+//!        density_fired, confirmed from bit 0
 //! 1..5   decision_position i32      5..9   first_contact_position i32
 //! 9..13  position i32               13     scale_errors u8
 //! 14..18 count u32                  18..22 last_window_count u32
 //! 22..26 charge u32                 26..28 revolutions u16
-//! 28..32 pulses u32
+//! 28..32 pulses u32                32     faults u8 (bit per fault, see checks::fault)
 //! ```
 
 use crate::measure::outputs::MeasureOutputs;
@@ -19,7 +19,7 @@ use crate::wire::{le_u16, le_u32};
 use core::ops::Range;
 
 /// Encoded length of [`MeasureOutputs`], bytes.
-pub const OUTPUTS_LEN: usize = 32;
+pub const OUTPUTS_LEN: usize = 33;
 
 /// Where each field is.
 mod at {
@@ -34,6 +34,7 @@ mod at {
     pub const CHARGE: Range<usize> = 22..26;
     pub const REVOLUTIONS: Range<usize> = 26..28;
     pub const PULSES: Range<usize> = 28..32;
+    pub const FAULTS: usize = 32;
 }
 
 /// Bits of the flags byte.
@@ -44,6 +45,7 @@ mod flag {
     pub const FIRST_CONTACT: u8 = 1 << 3;
     pub const DENSITY_ARMED: u8 = 1 << 4;
     pub const DENSITY_FIRED: u8 = 1 << 5;
+    pub const CONFIRMED: u8 = 1 << 6;
 }
 
 /// Encodes every measurement output (layout in the module header).
@@ -55,7 +57,8 @@ pub fn encode_outputs(o: &MeasureOutputs) -> [u8; OUTPUTS_LEN] {
         | bit(o.register_now, flag::REGISTER_NOW)
         | bit(o.first_contact, flag::FIRST_CONTACT)
         | bit(o.density_armed, flag::DENSITY_ARMED)
-        | bit(o.density_fired, flag::DENSITY_FIRED);
+        | bit(o.density_fired, flag::DENSITY_FIRED)
+        | bit(o.confirmed, flag::CONFIRMED);
     out[at::DECISION_POSITION].copy_from_slice(&o.decision_position.to_le_bytes());
     out[at::FIRST_CONTACT_POSITION].copy_from_slice(&o.first_contact_position.to_le_bytes());
     out[at::POSITION].copy_from_slice(&o.position.to_le_bytes());
@@ -65,6 +68,7 @@ pub fn encode_outputs(o: &MeasureOutputs) -> [u8; OUTPUTS_LEN] {
     out[at::CHARGE].copy_from_slice(&o.charge.to_le_bytes());
     out[at::REVOLUTIONS].copy_from_slice(&o.revolutions.to_le_bytes());
     out[at::PULSES].copy_from_slice(&o.pulses.to_le_bytes());
+    out[at::FAULTS] = o.faults;
     out
 }
 
@@ -90,6 +94,8 @@ pub fn decode_outputs(p: &[u8]) -> Option<MeasureOutputs> {
         charge: le_u32(&p[at::CHARGE]),
         revolutions: le_u16(&p[at::REVOLUTIONS]),
         pulses: le_u32(&p[at::PULSES]),
+        confirmed: f & flag::CONFIRMED != 0,
+        faults: p[at::FAULTS],
     })
 }
 
@@ -108,6 +114,8 @@ mod tests {
             charge: 65535,
             pulses: u32::MAX,
             density_fired: true,
+            confirmed: true,
+            faults: 0x7f,
             ..Default::default()
         };
         assert_eq!(decode_outputs(&encode_outputs(&o)), Some(o));
@@ -131,9 +139,11 @@ mod tests {
             density_fired: true,
             revolutions: 0x5152,
             pulses: 0x6162_6364,
+            confirmed: true,
+            faults: 0x45,
         };
         let bytes: [u8; OUTPUTS_LEN] = [
-            0b10_1101, // armed, register_now, first_contact, density_fired
+            0b110_1101, // armed, register_now, first_contact, density_fired, confirmed
             0xfe, 0xff, 0xff, 0xff, // -2
             0x04, 0x03, 0x02, 0x01, //
             0x14, 0x13, 0x12, 0x11, //
@@ -142,7 +152,8 @@ mod tests {
             0x34, 0x33, 0x32, 0x31, //
             0x44, 0x43, 0x42, 0x41, //
             0x52, 0x51, //
-            0x64, 0x63, 0x62, 0x61,
+            0x64, 0x63, 0x62, 0x61, //
+            0x45,
         ];
         assert_eq!(encode_outputs(&o), bytes);
         assert_eq!(decode_outputs(&bytes), Some(o));
@@ -159,7 +170,8 @@ mod tests {
     proptest! {
         #[test]
         fn any_outputs_round_trip(
-            flags in any::<[bool; 6]>(),
+            flags in any::<[bool; 7]>(),
+            faults in 0u8..0x80,
             positions in any::<[i32; 3]>(),
             counts in any::<[u32; 4]>(),
             scale_errors in any::<u8>(),
@@ -181,6 +193,8 @@ mod tests {
                 charge: counts[2],
                 revolutions,
                 pulses: counts[3],
+                confirmed: flags[6],
+                faults,
             };
             let bytes = encode_outputs(&o);
             prop_assert_eq!(decode_outputs(&bytes), Some(o));

@@ -44,7 +44,7 @@ use core::fmt;
 /// File magic.
 pub const MAGIC: [u8; 4] = *b"TTVX";
 /// Format version written and accepted.
-pub const FORMAT_VERSION: u16 = 1;
+pub const FORMAT_VERSION: u16 = 2;
 /// Header length, bytes.
 pub const HEADER_LEN: usize = 28;
 /// Record header length (kind, length, time), bytes.

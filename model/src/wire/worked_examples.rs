@@ -7,10 +7,10 @@ use super::*;
 use std::string::ToString;
 
 /// Header of an events stream at 50 MHz with hashes 0x0102…08 and 0x1112…18, as the
-/// layout spells it: "TTVX", version 1, stream 1, tick_hz, two hashes, all little-endian.
+/// layout spells it: "TTVX", version 2, stream 1, tick_hz, two hashes, all little-endian.
 const HEADER_BYTES: [u8; HEADER_LEN] = [
     b'T', b'T', b'V', b'X', // magic
-    0x01, 0x00, // version 1
+    0x02, 0x00, // version 2
     0x01, 0x00, // stream: events
     0x80, 0xf0, 0xfa, 0x02, // 50_000_000 = 0x02faf080
     0x08, 0x07, 0x06, 0x05, 0x04, 0x03, 0x02, 0x01, // measure hash
@@ -49,11 +49,11 @@ fn a_bad_header_names_its_fault() {
     b[3] = b'Y';
     assert_eq!(Header::decode(&b), Err(WireError::BadMagic(*b"TTVY")));
     let mut b = HEADER_BYTES;
-    b[4] = 2;
-    assert_eq!(Header::decode(&b), Err(WireError::BadVersion(2)));
+    b[4] = 1;
+    assert_eq!(Header::decode(&b), Err(WireError::BadVersion(1)));
     let mut b = HEADER_BYTES;
     b[5] = 1;
-    assert_eq!(Header::decode(&b), Err(WireError::BadVersion(0x0101)));
+    assert_eq!(Header::decode(&b), Err(WireError::BadVersion(0x0102)));
     for (lo, hi, stream) in [(0u8, 0u8, 0u16), (3, 0, 3), (1, 1, 0x0101)] {
         let mut b = HEADER_BYTES;
         b[6] = lo;
@@ -201,7 +201,7 @@ fn error_messages_name_what_is_wrong() {
         ),
         (
             WireError::BadVersion(3),
-            "unsupported format version 3, expected 1",
+            "unsupported format version 3, expected 2",
         ),
         (
             WireError::BadStream(9),

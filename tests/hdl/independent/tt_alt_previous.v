@@ -22,6 +22,15 @@ module tt_alt_previous #(
     parameter integer STICKY = 1,        // 1 sticky rule, 0 sampled
     parameter integer METHOD = 1,        // 0 single pulse, 1 counter, 2 density
     parameter integer DIAG = 0,          // MCU diagnostic counters readable
+    parameter integer CAA = 1,           // checks.contact_at_arm
+    parameter integer REV_CHECK = 1,     // checks.revolutions
+    parameter integer PPR = 1024,        // pulses_per_rev
+    parameter integer TOL = 2,           // checks.pulse_tolerance
+    parameter integer SCALE_CHECK = 1,   // checks.scale_errors
+    parameter integer PROBE = 100,       // checks.probe_revs
+    parameter integer FES_T = 65536,     // checks.fes_timeout_cycles
+    parameter integer CW = 3,            // checks.confirm_windows
+    parameter integer CC = 256,          // confirmation level, contact pulses a window
     parameter [63:0] HASH = 64'd0,
     parameter integer FAULT = 0
 ) (
@@ -45,6 +54,8 @@ module tt_alt_previous #(
     output reg           density_fired,
     output reg  [15:0]   revolutions,
     output reg  [31:0]   pulses,
+    output reg           confirmed,
+    output wire [6:0]    faults,
     output wire          irq
 );
     // Fault-shifted constants (FAULT 0: as configured).
@@ -66,8 +77,20 @@ module tt_alt_previous #(
     reg       reached = 1'b0;
     localparam [7:0] WR8 = WINDOW_REVS;
     reg [7:0] revs_left = WR8;          // index pulses to the end of the window
+    // The status: faults latched since arm (the watchdog's bit only in a clock with edges,
+    // shown lazily in between), FES pulses since the index counted up to PPR + TOL + 1,
+    // the watchdog's ticks left counted down from FES_T, windows to confirm counted down.
+    reg [6:0]  flt = 7'd0;
+    reg [15:0] revp = 16'd0;
+    reg        idx_seen = 1'b0;
+    reg [32:0] fes_left = 33'd0;
+    reg [4:0]  to_confirm = 5'd0;
+    localparam [6:0] EN = {CW != 0, FES_T != 0, PROBE != 0, SCALE_CHECK != 0, REV_CHECK != 0,
+                           REV_CHECK != 0, CAA != 0};
+    localparam [32:0] FT = FES_T;
     integer i;
     initial begin
+        confirmed = 1'b0;
         register_now = 1'b0; decision_position = 0;
         first_contact = 1'b0; first_contact_position = 0; position = 0; scale_errors = 8'd0;
         count = 0; last_window_count = 0; charge = 0; density_armed = 1'b1;
@@ -96,7 +119,17 @@ module tt_alt_previous #(
     reg [31:0]   a_pulses;
     reg [1:0]    old_phase, new_phase;
     reg          bit_now, decide;
+    reg [6:0]    a_flt;
+    reg [15:0]   a_revp;
+    reg          a_idx_seen, a_confirmed, closed;
+    reg [32:0]   a_fes_left;
+    reg [4:0]    a_to_confirm;
     always @* begin
+        a_flt = flt; a_revp = revp; a_idx_seen = idx_seen; a_confirmed = confirmed;
+        a_to_confirm = to_confirm; closed = 1'b0;
+        // one tick of the watchdog
+        a_fes_left = (fes_left == 0) ? 33'd0 : fes_left - 33'd1;
+        if (chg != 6'd0 && armed && FES_T != 0 && a_fes_left == 0) a_flt[5] = 1'b1;
         {a_armed, a_contact, a_stk, a_reached} = {armed, contact, sticky, reached};
         {a_reg, a_first, a_dens_armed, a_fired} = {register_now, first_contact, density_armed, density_fired};
         a_dpos = decision_position; a_fpos = first_contact_position; a_pos = position;
@@ -106,6 +139,8 @@ module tt_alt_previous #(
         // arm
         if (chg[0]) begin
             if (lv[0] && !a_armed) begin
+                a_flt = {6'd0, a_contact && FAULT != 15};  // fault 15: contact at arm not raised
+                a_revp = 0; a_idx_seen = 1'b0; a_fes_left = FT; a_to_confirm = 0; a_confirmed = 1'b0;
                 a_count = 0; a_lwc = 0; a_revs_left = WR8; a_reached = 1'b0;
                 a_charge = 0; a_dens_armed = 1'b1; a_fired = 1'b0;
                 if (FAULT != 12) begin a_first = 1'b0; a_fpos = 0; end
@@ -119,14 +154,24 @@ module tt_alt_previous #(
             if (lv[1]) begin
                 a_stk = 1'b1;
                 if (a_armed && !a_first) begin a_first = 1'b1; a_fpos = a_pos; end
-                if (a_armed && METHOD == 0 && !a_reg) begin a_reg = 1'b1; a_dpos = a_pos; end
+                if (a_armed && METHOD == 0 && !a_reg) begin
+                    a_reg = 1'b1; a_dpos = a_pos;
+                    if (CW == 0) a_confirmed = 1'b1; else a_to_confirm = CW;
+                end
             end
         end
         // index
         if (chg[2] && lv[2] && a_armed) begin
-            if (a_revs_left <= 8'd1) begin a_lwc = a_count; a_count = 0; a_revs_left = WR8; end
+            if (a_revs_left <= 8'd1) begin a_lwc = a_count; a_count = 0; a_revs_left = WR8; closed = 1'b1; end
             else a_revs_left = a_revs_left - 8'd1;
             if (a_revolutions != 16'hffff) a_revolutions = a_revolutions + 16'd1;
+            if (a_idx_seen && a_revp + TOL < PPR) a_flt[1] = 1'b1;
+            a_revp = 0; a_idx_seen = 1'b1;
+            if (closed && a_to_confirm != 0) begin
+                if (a_lwc < CC) begin a_flt[6] = 1'b1; a_to_confirm = 0; end
+                else begin a_to_confirm = a_to_confirm - 5'd1; a_confirmed = a_to_confirm == 0; end
+            end
+            if (!a_reg && PROBE != 0 && a_revolutions >= PROBE) a_flt[4] = 1'b1;
         end
         // FES
         if (chg[3] && lv[3]) begin
@@ -134,6 +179,12 @@ module tt_alt_previous #(
             if (FAULT != 11 || a_armed) a_stk = a_contact;
             if (a_armed) begin
                 a_pulses = a_pulses + 32'd1;
+                a_fes_left = FT;
+                if (a_revp > PPR + TOL) a_flt[2] = 1'b1;
+                else begin
+                    a_revp = a_revp + 16'd1;
+                    if (a_revp > PPR + TOL) a_flt[2] = 1'b1;
+                end
                 if (bit_now && a_count < WINDOW_PULSES) begin
                     // decides on the pulse that takes the count past i_def
                     if (a_count >= ID && !a_reached) begin
@@ -161,14 +212,20 @@ module tt_alt_previous #(
                     end
                 end else if (a_charge < RE)
                     a_dens_armed = 1'b1;
-                if (decide && !a_reg) begin a_reg = 1'b1; a_dpos = a_pos; end
+                if (decide && !a_reg) begin
+                    a_reg = 1'b1; a_dpos = a_pos;
+                    if (CW == 0) a_confirmed = 1'b1; else a_to_confirm = CW;
+                end
             end
         end
         // scale
         if (chg[4] || chg[5]) begin
             if (new_phase == old_phase + 2'd1) a_pos = a_pos + 1'b1;
             else if (new_phase == old_phase - 2'd1) a_pos = a_pos - 1'b1;
-            else if (new_phase != old_phase && a_err != 8'd255) a_err = a_err + 8'd1;
+            else if (new_phase != old_phase) begin
+                if (a_err != 8'd255) a_err = a_err + 8'd1;
+                if (a_armed) a_flt[3] = 1'b1;
+            end
         end
     end
 
@@ -182,6 +239,7 @@ module tt_alt_previous #(
             if (FAULT != 13) position <= 0;  // fault 13: rst leaves the position
             count <= 0; last_window_count <= 0; charge <= 0; density_armed <= 1'b1;
             density_fired <= 0; revolutions <= 0; pulses <= 0;
+            flt <= 0; revp <= 0; idx_seen <= 0; fes_left <= 0; to_confirm <= 0; confirmed <= 0;
         end else begin
             s1 <= pins; s2 <= s1;
             lv <= lv_n; prev <= lv;
@@ -192,16 +250,19 @@ module tt_alt_previous #(
             decision_position <= a_dpos; first_contact_position <= a_fpos; position <= a_pos;
             count <= a_count; last_window_count <= a_lwc; charge <= a_charge;
             revs_left <= a_revs_left; scale_errors <= a_err; revolutions <= a_revolutions; pulses <= a_pulses;
+            flt <= a_flt & EN; revp <= a_revp; idx_seen <= a_idx_seen; fes_left <= a_fes_left;
+            to_confirm <= a_to_confirm; confirmed <= a_confirmed;
         end
     end
 
+    assign faults = flt | ((armed && FES_T != 0 && fes_left == 0) ? 7'd32 : 7'd0);
     assign irq = register_now;
     wire [63:0] pos_x = {{(64-SB){position[SB-1]}}, position};
     wire [63:0] dpos_x = {{(64-SB){decision_position[SB-1]}}, decision_position};
     wire [63:0] fpos_x = {{(64-SB){first_contact_position[SB-1]}}, first_contact_position};
     always @* begin
         case (mcu_addr)
-            4'd0: mcu_rdata = {26'd0, density_fired, density_armed, first_contact, register_now, contact, armed};
+            4'd0: mcu_rdata = {17'd0, faults, 1'b0, confirmed, density_fired, density_armed, first_contact, register_now, contact, armed};
             4'd1: mcu_rdata = pos_x[31:0];
             4'd2: mcu_rdata = dpos_x[31:0];
             4'd3: mcu_rdata = (FAULT == 14) ? pos_x[31:0] : fpos_x[31:0];  // fault 14: wrong word

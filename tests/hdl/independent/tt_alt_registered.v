@@ -20,6 +20,15 @@ module tt_alt_registered #(
     parameter integer STICKY = 1,        // 1 sticky rule, 0 sampled
     parameter integer METHOD = 1,        // 0 single pulse, 1 counter, 2 density
     parameter integer DIAG = 0,          // MCU diagnostic counters readable
+    parameter integer CAA = 1,           // checks.contact_at_arm
+    parameter integer REV_CHECK = 1,     // checks.revolutions
+    parameter integer PPR = 1024,        // pulses_per_rev
+    parameter integer TOL = 2,           // checks.pulse_tolerance
+    parameter integer SCALE_CHECK = 1,   // checks.scale_errors
+    parameter integer PROBE = 100,       // checks.probe_revs
+    parameter integer FES_T = 65536,     // checks.fes_timeout_cycles
+    parameter integer CW = 3,            // checks.confirm_windows
+    parameter integer CC = 256,          // confirmation level, contact pulses a window
     parameter [63:0] HASH = 64'd0,
     parameter integer FAULT = 0
 ) (
@@ -43,6 +52,8 @@ module tt_alt_registered #(
     output reg           density_fired,
     output reg  [15:0]   revolutions,
     output reg  [31:0]   pulses,
+    output reg           confirmed,
+    output reg  [6:0]    faults,
     output wire          irq
 );
     // Fault-shifted constants (FAULT 0: as configured).
@@ -63,8 +74,20 @@ module tt_alt_registered #(
     reg       sticky = 1'b0;
     reg       reached = 1'b0;
     reg [7:0] revs = 8'd0;
+    // The status: every fault a flag of its own; the watchdog latched in every clock from
+    // a tick count saturating at FES_T (no lazy term); FES pulses since the index counted
+    // up to PPR + TOL + 1; the windows confirmed so far counted up to CW.
+    reg        f_caa = 1'b0, f_lost = 1'b0, f_missing = 1'b0, f_scale = 1'b0;
+    reg        f_probe = 1'b0, f_fes = 1'b0, f_unconf = 1'b0;
+    reg [16:0] revp = 17'd0;
+    reg        idx_seen = 1'b0;
+    reg [32:0] idle = 33'd0;
+    reg        pending = 1'b0;           // a decision waits for its confirmation
+    reg [4:0]  windows_ok = 5'd0;        // windows confirmed so far
+    localparam [32:0] FT = FES_T;
     integer i;
     initial begin
+        confirmed = 1'b0; faults = 7'd0;
         armed = 1'b0; contact = 1'b0; register_now = 1'b0; decision_position = 0;
         first_contact = 1'b0; first_contact_position = 0; position = 0; scale_errors = 8'd0;
         count = 0; last_window_count = 0; charge = 0; density_armed = 1'b1;
@@ -89,7 +112,19 @@ module tt_alt_registered #(
     reg [31:0]   a_pulses;
     reg [3:0]    a_ph, new_ph;
     reg          bit_now, decide;
+    reg          b_caa, b_lost, b_missing, b_scale, b_probe, b_fes, b_unconf;
+    reg [16:0]   b_revp;
+    reg          b_idx_seen, b_pending, b_confirmed, closed, b_decided;
+    reg [32:0]   b_idle;
+    reg [4:0]    b_windows_ok;
     always @* begin
+        {b_caa, b_lost, b_missing, b_scale} = {f_caa, f_lost, f_missing, f_scale};
+        {b_probe, b_fes, b_unconf} = {f_probe, f_fes, f_unconf};
+        b_revp = revp; b_idx_seen = idx_seen; b_pending = pending; b_confirmed = confirmed;
+        b_windows_ok = windows_ok; closed = 1'b0; b_decided = 1'b0;
+        // the watchdog: latched in the clock the ticks since the last FES pulse reach FES_T
+        if (FES_T != 0 && armed && idle + 33'd1 >= FT) b_fes = 1'b1;
+        b_idle = (idle >= FT) ? idle : idle + 33'd1;
         {a_armed, a_contact, a_stk, a_reached} = {armed, contact, sticky, reached};
         {a_reg, a_first, a_dens_armed, a_fired} = {register_now, first_contact, density_armed, density_fired};
         a_dpos = decision_position; a_fpos = first_contact_position; a_pos = position;
@@ -99,6 +134,10 @@ module tt_alt_registered #(
         // arm
         if (chg[0]) begin
             if (lv[0] && !a_armed) begin
+                b_caa = CAA != 0 && a_contact && FAULT != 15;  // fault 15: contact at arm not raised
+                {b_lost, b_missing, b_scale, b_probe, b_fes, b_unconf} = 6'd0;
+                b_revp = 0; b_idx_seen = 1'b0; b_idle = 0; b_pending = 1'b0; b_windows_ok = 0;
+                b_confirmed = 1'b0;
                 a_count = 0; a_lwc = 0; a_revs = 0; a_reached = 1'b0;
                 a_charge = 0; a_dens_armed = 1'b1; a_fired = 1'b0;
                 if (FAULT != 12) begin a_first = 1'b0; a_fpos = 0; end
@@ -112,14 +151,27 @@ module tt_alt_registered #(
             if (lv[1]) begin
                 a_stk = 1'b1;
                 if (a_armed && !a_first) begin a_first = 1'b1; a_fpos = a_pos; end
-                if (a_armed && METHOD == 0 && !a_reg) begin a_reg = 1'b1; a_dpos = a_pos; end
+                if (a_armed && METHOD == 0 && !a_reg) begin
+                    a_reg = 1'b1; a_dpos = a_pos;
+                    if (CW == 0) b_confirmed = 1'b1; else begin b_pending = 1'b1; b_windows_ok = 0; end
+                end
             end
         end
         // index
         if (chg[2] && lv[2] && a_armed) begin
             if (a_revs != 8'd255) a_revs = a_revs + 8'd1;
-            if (a_revs >= WINDOW_REVS) begin a_lwc = a_count; a_count = 0; a_revs = 0; end
+            if (a_revs >= WINDOW_REVS) begin a_lwc = a_count; a_count = 0; a_revs = 0; closed = 1'b1; end
             if (a_revolutions != 16'hffff) a_revolutions = a_revolutions + 16'd1;
+            if (REV_CHECK != 0 && b_idx_seen && b_revp < PPR - TOL) b_lost = 1'b1;
+            b_revp = 0; b_idx_seen = 1'b1;
+            if (closed && b_pending) begin
+                if (a_lwc < CC) begin b_unconf = 1'b1; b_pending = 1'b0; end
+                else begin
+                    b_windows_ok = b_windows_ok + 5'd1;
+                    if (b_windows_ok == CW) begin b_pending = 1'b0; b_confirmed = 1'b1; end
+                end
+            end
+            if (PROBE != 0 && !a_reg && a_revolutions >= PROBE) b_probe = 1'b1;
         end
         // FES
         if (chg[3] && lv[3]) begin
@@ -127,6 +179,12 @@ module tt_alt_registered #(
             if (FAULT != 11 || a_armed) a_stk = a_contact;
             if (a_armed) begin
                 a_pulses = a_pulses + 32'd1;
+                b_idle = 0;
+                if (b_revp >= PPR + TOL) begin
+                    if (REV_CHECK != 0) b_missing = 1'b1;
+                    b_revp = PPR + TOL + 1;
+                end else
+                    b_revp = b_revp + 17'd1;
                 if (bit_now && a_count < WINDOW_PULSES) begin
                     // decides on the pulse that takes the count past i_def
                     if (a_count >= ID && !a_reached) begin
@@ -154,7 +212,10 @@ module tt_alt_registered #(
                     end
                 end else if (a_charge < RE)
                     a_dens_armed = 1'b1;
-                if (decide && !a_reg) begin a_reg = 1'b1; a_dpos = a_pos; end
+                if (decide && !a_reg) begin
+                    a_reg = 1'b1; a_dpos = a_pos;
+                    if (CW == 0) b_confirmed = 1'b1; else begin b_pending = 1'b1; b_windows_ok = 0; end
+                end
             end
         end
         // scale
@@ -167,7 +228,10 @@ module tt_alt_registered #(
             endcase
             if (new_ph == {a_ph[2:0], a_ph[3]}) a_pos = a_pos + 1'b1;
             else if (new_ph == {a_ph[0], a_ph[3:1]}) a_pos = a_pos - 1'b1;
-            else if (new_ph != a_ph && a_err != 8'd255) a_err = a_err + 8'd1;
+            else if (new_ph != a_ph) begin
+                if (a_err != 8'd255) a_err = a_err + 8'd1;
+                if (SCALE_CHECK != 0 && a_armed) b_scale = 1'b1;
+            end
             a_ph = new_ph;
         end
     end
@@ -182,6 +246,9 @@ module tt_alt_registered #(
             if (FAULT != 13) position <= 0;  // fault 13: rst leaves the position
             count <= 0; last_window_count <= 0; charge <= 0; density_armed <= 1'b1;
             density_fired <= 0; revolutions <= 0; pulses <= 0;
+            {f_caa, f_lost, f_missing, f_scale, f_probe, f_fes, f_unconf} <= 7'd0;
+            revp <= 0; idx_seen <= 0; idle <= 0; pending <= 0; windows_ok <= 0; confirmed <= 0;
+            faults <= 0;
         end else begin
             s1 <= pins; s2 <= s1;
             lv <= lv_n; chg <= lv_n ^ lv;
@@ -193,6 +260,11 @@ module tt_alt_registered #(
             count <= a_count; last_window_count <= a_lwc; charge <= a_charge;
             revs <= a_revs; scale_errors <= a_err; revolutions <= a_revolutions; pulses <= a_pulses;
             ph <= a_ph;
+            {f_caa, f_lost, f_missing, f_scale, f_probe, f_fes, f_unconf} <=
+                {b_caa, b_lost, b_missing, b_scale, b_probe, b_fes, b_unconf};
+            faults <= {b_unconf, b_fes, b_probe, b_scale, b_missing, b_lost, b_caa};
+            revp <= b_revp; idx_seen <= b_idx_seen; idle <= b_idle; pending <= b_pending;
+            windows_ok <= b_windows_ok; confirmed <= b_confirmed;
         end
     end
 
@@ -202,7 +274,7 @@ module tt_alt_registered #(
     wire [63:0] fpos_x = {{(64-SB){first_contact_position[SB-1]}}, first_contact_position};
     always @* begin
         case (mcu_addr)
-            4'd0: mcu_rdata = {26'd0, density_fired, density_armed, first_contact, register_now, contact, armed};
+            4'd0: mcu_rdata = {17'd0, faults, 1'b0, confirmed, density_fired, density_armed, first_contact, register_now, contact, armed};
             4'd1: mcu_rdata = pos_x[31:0];
             4'd2: mcu_rdata = dpos_x[31:0];
             4'd3: mcu_rdata = (FAULT == 14) ? pos_x[31:0] : fpos_x[31:0];  // fault 14: wrong word

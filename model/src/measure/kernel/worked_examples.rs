@@ -44,6 +44,8 @@ const POWER_ON: MeasureOutputs = MeasureOutputs {
     density_fired: false,
     revolutions: 0,
     pulses: 0,
+    confirmed: false,
+    faults: 0,
 };
 
 fn forward(m: &mut Measurement, steps: usize) {
@@ -124,7 +126,7 @@ fn a_counter_cycle_step_by_step() {
     expected.armed = false;
     assert_eq!(m.outputs(), expected);
     // Re-arm: a new cycle from nothing, but the scale keeps its position and the contact
-    // line its level.
+    // line its level — closed at the arm, which the status names.
     m.on_arm(true);
     assert_eq!(
         m.outputs(),
@@ -132,6 +134,7 @@ fn a_counter_cycle_step_by_step() {
             armed: true,
             contact: true,
             position: 4,
+            faults: crate::measure::checks::fault::CONTACT_AT_ARM,
             ..POWER_ON
         }
     );
