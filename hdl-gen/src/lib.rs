@@ -17,6 +17,8 @@
 //! | `tt_measurement` | `Measurement` | armed, contact, sticky, revolutions, pulses |
 //! | `tt_frontend` (simulation top) | `FrontEnd` + MCU register file | none of its own |
 //! | `tt_fpga` (chip top) | — | the registered MCU address and read data |
+//! | `tt_spi` (SPI design) | — | SPI slave, run-time thresholds, status, settings CRC |
+//! | `tt_fpga_spi` (board top) | — | none of its own |
 //!
 //! Every register has the model's power-on value both as a Verilog initializer and as
 //! the value a synchronous `rst` loads (the chip top's MCU bus registers, which hold no
@@ -60,6 +62,14 @@
 //! The generated files of two configurations are committed under `hdl-gen/snapshots/`
 //! and compared byte for byte by `tests/snapshots.rs`, so every change of the generator
 //! shows as a diff of the Verilog; `cargo xtask bless-hdl` rewrites them.
+//!
+//! ## The SPI design
+//!
+//! [`generate_spi`] writes the board top [`SPI_TOP`] (`tt_fpga_spi`) of both boards
+//! (`hdl-gen/boards/*.pcf`): the kernel with its thresholds as input ports (the
+//! generators' tunable mode; [`generate`] keeps them constants), driven by the registers of
+//! the SPI register interface `tt_spi`, whose register map is the MCU map plus one word per
+//! model output no MCU word shows ([`spi`], docs/CONTRACT.md).
 //!
 //! ## The scoreboards' output lists
 //!

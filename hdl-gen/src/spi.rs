@@ -391,7 +391,7 @@ pub fn threshold_words(settings: &MeasureSettings) -> [u32; 6] {
 /// The model's value of every readable SPI word after a clock whose outputs are
 /// `outputs`, the thresholds in force `thresholds` and the status word `status`:
 /// `(address, value)` in map order (the control word reads 0). The MCU words are written
-/// here from the model's fields, independently of the Verilog's [`mcu_words`].
+/// here from the model's fields, independently of the Verilog's read mux.
 pub fn spi_word_values(
     config: &MeasureConfig,
     outputs: &MeasureOutputs,
@@ -417,7 +417,10 @@ pub fn spi_word_values(
             | flag("register_now", 2)
             | flag("first_contact", 3)
             | flag("density_armed", 4)
-            | flag("density_fired", 5),
+            | flag("density_fired", 5)
+            // The measurement status (issue 39's outputs, 0 while the model has none).
+            | flag("confirmed", 6)
+            | (field("faults") as u32 & 0x7f) << 8,
         sext(field("position")),
         sext(field("decision_position")),
         sext(field("first_contact_position")),

@@ -160,7 +160,7 @@ pub fn report() -> Result<()> {
          fmax {:.2} MHz",
         diag.lcs, diag.ffs, diag.fmax
     );
-    bitstreams()?;
+    bitstreams(None)?;
     refit_cost_model()
 }
 
@@ -223,27 +223,39 @@ fn logic_cells_of(pnr: &str) -> Option<(u64, u64)> {
         .next()
 }
 
-/// Writes the SPI design of the default configuration, synthesizes it once and builds
-/// each board's bitstream; fails when a board's timing is not met at its clock.
-pub fn bitstreams() -> Result<()> {
+/// Writes the SPI design of the default configuration, or of the settings file `config`,
+/// synthesizes it once and builds each board's bitstream; fails when a board's timing is
+/// not met at its clock.
+pub fn bitstreams(config: Option<&str>) -> Result<()> {
     let root = crate::process::root();
     let t = std::time::Instant::now();
     let out = root.join("target/hdl-report/spi");
     let rtl = out.join("rtl");
     let rtl_arg = rtl.to_string_lossy().into_owned();
-    println!("$ cargo run --release -p tooltouch-hdl-gen --example spi_design -- {rtl_arg}");
+    let config = config
+        .map(|c| std::fs::canonicalize(c).with_context(|| format!("settings file {c}")))
+        .transpose()?
+        .map(|p| p.to_string_lossy().into_owned());
+    let config = config.as_deref();
+    let mut args = vec![
+        "run",
+        "--quiet",
+        "--release",
+        "-p",
+        "tooltouch-rtl-sim",
+        "--example",
+        "spi_design",
+        "--",
+        &rtl_arg,
+    ];
+    if let Some(path) = config {
+        args.extend(["--config", path]);
+    }
+    println!("$ cargo {}", args.join(" "));
+    // The old design's files go: the listing names exactly the files synthesized.
+    let _ = std::fs::remove_dir_all(&rtl);
     let listing = Command::new("cargo")
-        .args([
-            "run",
-            "--quiet",
-            "--release",
-            "-p",
-            "tooltouch-hdl-gen",
-            "--example",
-            "spi_design",
-            "--",
-            &rtl_arg,
-        ])
+        .args(&args)
         .current_dir(&root)
         .output()
         .context("could not start cargo")?;
@@ -329,7 +341,10 @@ pub fn bitstreams() -> Result<()> {
         ));
     }
     println!(
-        "\nSPI design tt_fpga_spi, default configuration, seed {SEED} ({:.0} s):",
+        "\nSPI design tt_fpga_spi, {}, seed {SEED} ({:.0} s):",
+        config.map_or("default configuration".to_string(), |c| format!(
+            "configuration of {c}"
+        )),
         t.elapsed().as_secs_f64()
     );
     for l in lines {

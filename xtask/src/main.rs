@@ -47,7 +47,8 @@ verbs:
                build the SPI design's bitstreams for the iCEBreaker and the iCE40-HX8K
                breakout (target/hdl-report/<board>/tt_fpga_spi.bin, cells and fmax per
                board); refit the tuning cost model (host/tune/src/cost_model.json);
-               --boards: only the two bitstreams (what `test` runs)
+               --boards [--config settings.toml]: only the two bitstreams (what `test`
+               runs), of that settings file's configuration
   bless-hdl    rewrite the committed Verilog snapshots (hdl-gen/snapshots/) and the
                scoreboards' generated output lists (host/abi/) from the generator;
                review the result with `git diff hdl-gen/snapshots host/abi`
@@ -75,7 +76,13 @@ fn main() -> Result<()> {
         "test" | "ci" => test(),
         "firmware" => firmware::build_command(&args[1..]),
         "bless-firmware" => firmware::bless_command(),
-        "hdl-report" if args.get(1).map(String::as_str) == Some("--boards") => hdl::bitstreams(),
+        "hdl-report" if args.get(1).map(String::as_str) == Some("--boards") => {
+            match (args.get(2).map(String::as_str), args.get(3)) {
+                (None, _) => hdl::bitstreams(None),
+                (Some("--config"), Some(path)) if args.len() == 4 => hdl::bitstreams(Some(path)),
+                _ => bail!("usage: cargo xtask hdl-report --boards [--config settings.toml]"),
+            }
+        }
         "hdl-report" => hdl::report(),
         "bless-hdl" => hdl::bless_snapshots(),
         "formal" => formal::run(),
@@ -145,7 +152,7 @@ fn test() -> Result<()> {
     )?;
     step(
         "bitstreams of the SPI design (iCEBreaker, iCE40-HX8K breakout)",
-        hdl::bitstreams,
+        || hdl::bitstreams(None),
     )?;
     step("benches build", || {
         run(&root, "cargo", &["bench", "--workspace", "--no-run"])

@@ -4,6 +4,8 @@
 //! tests being `tooltouch_plant::random`.
 //!
 //! The Verilog itself comes from `tooltouch-hdl-gen`. Their speed is timed in [`speed`].
+//! The SPI design (board top `tt_fpga_spi`) is driven bit by bit under Icarus by [`spi`],
+//! which also proves it equal to the constant design with its thresholds tied.
 //! Beside the code, the simulator glue over the C ABI (`tooltouch-abi`): `c/tooltouch_dpi.c`
 //! with `sv/` (the DPI-C package and scoreboard), `c/tooltouch_vpi.c` with `verilog/` (the
 //! VPI scoreboard for Icarus, the stimulus-only bench).

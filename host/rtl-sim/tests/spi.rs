@@ -568,6 +568,7 @@ fn with_no_write_the_spi_design_is_the_constant_one() {
         glitch_cycles: 0,
         scale_bits: 20,
         method: DecisionMethod::Density,
+        ..MeasureSettings::default()
     }
     .validate()
     .expect("valid");
