@@ -198,7 +198,7 @@ fn hdl_verilator_binary_runs_the_generated_testbench_and_stops_on_bad_vectors() 
     ]);
     assert!(
         o.status.success()
-            && text(&o).contains(&format!("OK: {CYCLES} cycles × 15 signals"))
+            && text(&o).contains(&format!("OK: {CYCLES} cycles × 17 signals"))
             && text(&o).contains("in DUT scope `TOP.tt_testbench.dut`"),
         "{}",
         text(&o)

@@ -101,7 +101,9 @@ module tt_checks (
     reg [6:0]  faults_q    = 7'd0;
     reg [${RPB1}:0] rev_q       = ${RZERO};  // FES pulses since the last index (or arm), saturating at MOST + 1
     reg        seen_q      = 1'b0;   // an index pulse came since arm
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     reg [${IB1}:0] idle_q      = ${IZERO};  // clocks since the last FES pulse (or arm), saturating at FES_TIMEOUT
+    /* verilator lint_on UNUSEDSIGNAL */
     reg [4:0]  left_q      = 5'd0;   // windows still to close before the decision is confirmed
     reg        confirmed_q = 1'b0;
 

@@ -253,7 +253,7 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
             "probe_o_rev_pulses == probe_r_rev_pulses && probe_o_index_seen == probe_r_index_seen &&\n\
              \x20       probe_o_confirm_left == probe_r_confirm_left &&\n\
              \x20       (probe_o_faults & 7'b1011111) == (probe_r_faults & 7'b1011111) &&\n\
-             \x20       (!probe_r_armed || probe_o_idle == probe_r_since) &&\n\
+             \x20       probe_o_idle == probe_r_since &&\n\
              \x20       probe_o_faults[5] == (probe_r_faults[5] || (probe_r_armed && ${EXPIRED}))",
             &[(
                 "EXPIRED",
@@ -264,7 +264,7 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
                 },
             )],
         ),
-        "the checks' registers equal (the idle count while armed); the design's latched FES \
+        "the checks' registers equal (the idle count too); the design's latched FES \
          watchdog is the reference's latch or its lazy verdict",
     );
     // Reachability of the reference.
