@@ -72,7 +72,9 @@ module tt_checks (
     input  wire        clk,
     input  wire        rst,
     input  wire        clear,          // arm rising edge: a new measurement cycle
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     input  wire        armed_q,        // armed before this clock's edges
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire        contact_q,      // contact level before this clock's edges
     input  wire        decided_q,      // register_now before this clock's edges
     input  wire        decision_take,  // the decision latch captures in this clock
