@@ -85,9 +85,10 @@ module tt_checks (
 
     // on_fes: the count since the index saturates at MOST + 1; passing MOST is an index missing.
     wire       from_zero   = clear || index;
-    wire       missing     = pulse && !from_zero && (rev_q == MOST || rev_q == MOST + 9'd1);
+    wire       at_most     = (rev_q[8] && (rev_q[7] && (rev_q[6] && (rev_q[5] && (rev_q[4] && (rev_q[3] || rev_q[2]))))));  // rev_q >= MOST: the next pulse passes it
+    wire       missing     = pulse && !from_zero && at_most;
     wire [8:0] rev_p       = from_zero ? {8'd0, pulse} :
-                             (pulse && rev_q != MOST + 9'd1) ? rev_q + 9'd1 : rev_q;
+                             !pulse ? rev_q : at_most ? MOST + 9'd1 : rev_q + 9'd1;
     wire [4:0] left_p      = (decides_p && CONFIRM_WINDOWS != 5'd0) ? CONFIRM_WINDOWS : left_i;
     wire       confirmed_p = confirmed_i || (decides_p && CONFIRM_WINDOWS == 5'd0);
 

@@ -335,7 +335,7 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
         // counted while armed (only then is the model's `now - fes_at` read; the arm
         // rising edge restarts it).
         if (armed_n)
-            since_n = (since_q >= FES_TIMEOUT) ? FES_TIMEOUT : since_q + ${IONE};
+            since_n = (since_q >= FES_TIMEOUT) ? since_q : since_q + ${IONE};
         // Measurement::observe(now), in a clock with edges: MeasurementChecks::observe
         // latches the watchdog if it expired while armed.
         if (changed != ${NZERO} && armed_n && FES_TIMEOUT != ${IZERO} && since_n >= FES_TIMEOUT)
