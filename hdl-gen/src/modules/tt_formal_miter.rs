@@ -244,9 +244,10 @@ pub(crate) fn emit(ctx: &Context) -> Miter {
             "the counter's reaches/exceeds registers equal count >= i_def and count > i_def",
         );
     }
-    // The checks: the optimized registers equal the reference's, but for the FES watchdog,
-    // which the design latches in every clock and the model (the reference) only when it
-    // observes the time, in a clock with edges, showing it lazily in between.
+    // The checks: the optimized registers equal the reference's; the FES watchdog's latch
+    // is also the reference's latch or its lazy verdict (both latch in every clock, so the
+    // lazy verdict adds nothing; stated so that a reference observing only in clocks with
+    // edges, as FrontEnd does, would still be covered).
     add(
         "checks",
         fill(
