@@ -271,7 +271,7 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
             );
             assert_eq!(code, Some(2), "{text}");
             assert!(
-                text.contains("no such scope") && text.contains("`tt_testbench.dut` (15 of 15)"),
+                text.contains("no such scope") && text.contains("`tt_testbench.dut` (17 of 17)"),
                 "{text}"
             );
             continue;
@@ -355,7 +355,7 @@ pub(crate) fn assert_mismatch_report(
     );
     assert!(
         text.contains(&format!(
-            "signals differing at cycle {k} ({} of 15)",
+            "signals differing at cycle {k} ({} of 17)",
             differing.len()
         )),
         "{text}"

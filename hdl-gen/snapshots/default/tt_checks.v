@@ -24,7 +24,9 @@ module tt_checks (
     input  wire        clk,
     input  wire        rst,
     input  wire        clear,          // arm rising edge: a new measurement cycle
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     input  wire        armed_q,        // armed before this clock's edges
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire        contact_q,      // contact level before this clock's edges
     input  wire        decided_q,      // register_now before this clock's edges
     input  wire        decision_take,  // the decision latch captures in this clock
@@ -53,7 +55,9 @@ module tt_checks (
     reg [6:0]  faults_q    = 7'd0;
     reg [10:0] rev_q       = 11'd0;  // FES pulses since the last index (or arm), saturating at MOST + 1
     reg        seen_q      = 1'b0;   // an index pulse came since arm
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     reg [16:0] idle_q      = 17'd0;  // clocks since the last FES pulse (or arm), saturating at FES_TIMEOUT
+    /* verilator lint_on UNUSEDSIGNAL */
     reg [4:0]  left_q      = 5'd0;   // windows still to close before the decision is confirmed
     reg        confirmed_q = 1'b0;
 
@@ -81,14 +85,15 @@ module tt_checks (
 
     // on_fes: the count since the index saturates at MOST + 1; passing MOST is an index missing.
     wire       from_zero   = clear || index;
-    wire       missing     = pulse && !from_zero && (rev_q == MOST || rev_q == MOST + 11'd1);
+    wire       at_most     = (rev_q[10] && (rev_q[9] || (rev_q[8] || (rev_q[7] || (rev_q[6] || (rev_q[5] || (rev_q[4] || (rev_q[3] || (rev_q[2] || rev_q[1])))))))));  // rev_q >= MOST: the next pulse passes it
+    wire       missing     = pulse && !from_zero && at_most;
     wire [10:0] rev_p       = from_zero ? {10'd0, pulse} :
-                             (pulse && rev_q != MOST + 11'd1) ? rev_q + 11'd1 : rev_q;
+                             !pulse ? rev_q : at_most ? MOST + 11'd1 : rev_q + 11'd1;
     wire [4:0] left_p      = (decides_p && CONFIRM_WINDOWS != 5'd0) ? CONFIRM_WINDOWS : left_i;
     wire       confirmed_p = confirmed_i || (decides_p && CONFIRM_WINDOWS == 5'd0);
 
     // The FES watchdog (see the header).
-    wire       expiring    = armed_q && (idle_q == 17'd65535 || idle_q == FES_TIMEOUT);
+    wire       expiring    = armed_q && (idle_q[16] || (idle_q[15] && (idle_q[14] && (idle_q[13] && (idle_q[12] && (idle_q[11] && (idle_q[10] && (idle_q[9] && (idle_q[8] && (idle_q[7] && (idle_q[6] && (idle_q[5] && (idle_q[4] && (idle_q[3] && (idle_q[2] && (idle_q[1] && idle_q[0]))))))))))))))));
 
     wire [6:0] raised = {falls_back, expiring, no_decision, scale_error && armed_a, missing,
                          lost, 1'b0};
@@ -108,7 +113,7 @@ module tt_checks (
             seen_q      <= (seen_q && !clear) || index;
             if (clear || pulse)
                 idle_q  <= 17'd0;
-            else if (armed_q && (idle_q != FES_TIMEOUT))
+            else if (armed_q && !idle_q[16])
                 idle_q  <= idle_q + 17'd1;
             left_q      <= left_p;
             confirmed_q <= confirmed_p;

@@ -24,7 +24,9 @@ module tt_checks (
     input  wire        clk,
     input  wire        rst,
     input  wire        clear,          // arm rising edge: a new measurement cycle
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     input  wire        armed_q,        // armed before this clock's edges
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire        contact_q,      // contact level before this clock's edges
     input  wire        decided_q,      // register_now before this clock's edges
     input  wire        decision_take,  // the decision latch captures in this clock
@@ -53,7 +55,9 @@ module tt_checks (
     reg [6:0]  faults_q    = 7'd0;
     reg [8:0] rev_q       = 9'd0;  // FES pulses since the last index (or arm), saturating at MOST + 1
     reg        seen_q      = 1'b0;   // an index pulse came since arm
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     reg [0:0] idle_q      = 1'd0;  // clocks since the last FES pulse (or arm), saturating at FES_TIMEOUT
+    /* verilator lint_on UNUSEDSIGNAL */
     reg [4:0]  left_q      = 5'd0;   // windows still to close before the decision is confirmed
     reg        confirmed_q = 1'b0;
 
@@ -81,9 +85,10 @@ module tt_checks (
 
     // on_fes: the count since the index saturates at MOST + 1; passing MOST is an index missing.
     wire       from_zero   = clear || index;
-    wire       missing     = pulse && !from_zero && (rev_q == MOST || rev_q == MOST + 9'd1);
+    wire       at_most     = (rev_q[8] && (rev_q[7] && (rev_q[6] && (rev_q[5] && (rev_q[4] && (rev_q[3] || rev_q[2]))))));  // rev_q >= MOST: the next pulse passes it
+    wire       missing     = pulse && !from_zero && at_most;
     wire [8:0] rev_p       = from_zero ? {8'd0, pulse} :
-                             (pulse && rev_q != MOST + 9'd1) ? rev_q + 9'd1 : rev_q;
+                             !pulse ? rev_q : at_most ? MOST + 9'd1 : rev_q + 9'd1;
     wire [4:0] left_p      = (decides_p && CONFIRM_WINDOWS != 5'd0) ? CONFIRM_WINDOWS : left_i;
     wire       confirmed_p = confirmed_i || (decides_p && CONFIRM_WINDOWS == 5'd0);
 

@@ -39,17 +39,15 @@ pub(crate) fn emit(ctx: &Context) -> VerilogFile {
         }
     }
     let single = s.method == DecisionMethod::SinglePulse;
-    // The watchdog's latch condition idle >= T - 1 on a counter saturating at T: two
-    // equalities (the idle count never exceeds T).
+    // The watchdog's latch condition idle >= T - 1 and its saturation idle >= T, as bit
+    // logic (the same values as the reference's comparisons in every state, reachable or
+    // not, so an equivalence checker matches the two counts register for register).
     let (fes_expiring, idle_steps) = if timeout == 0 {
         ("1'b0".to_string(), "1'b0".to_string())
     } else {
         (
-            format!(
-                "armed_q && (idle_q == {} || idle_q == FES_TIMEOUT)",
-                lit(ib, timeout - 1)
-            ),
-            "armed_q && (idle_q != FES_TIMEOUT)".to_string(),
+            format!("armed_q && {}", ge_const("idle_q", ib, timeout - 1)),
+            format!("armed_q && {}", lt_const("idle_q", ib, timeout)),
         )
     };
     let body = fill(
@@ -72,7 +70,9 @@ module tt_checks (
     input  wire        clk,
     input  wire        rst,
     input  wire        clear,          // arm rising edge: a new measurement cycle
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     input  wire        armed_q,        // armed before this clock's edges
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire        contact_q,      // contact level before this clock's edges
     input  wire        decided_q,      // register_now before this clock's edges
     input  wire        decision_take,  // the decision latch captures in this clock
@@ -101,7 +101,9 @@ module tt_checks (
     reg [6:0]  faults_q    = 7'd0;
     reg [${RPB1}:0] rev_q       = ${RZERO};  // FES pulses since the last index (or arm), saturating at MOST + 1
     reg        seen_q      = 1'b0;   // an index pulse came since arm
+    /* verilator lint_off UNUSEDSIGNAL */  // unread without a watchdog (FES_TIMEOUT = 0)
     reg [${IB1}:0] idle_q      = ${IZERO};  // clocks since the last FES pulse (or arm), saturating at FES_TIMEOUT
+    /* verilator lint_on UNUSEDSIGNAL */
     reg [4:0]  left_q      = 5'd0;   // windows still to close before the decision is confirmed
     reg        confirmed_q = 1'b0;
 
@@ -129,9 +131,10 @@ module tt_checks (
 
     // on_fes: the count since the index saturates at MOST + 1; passing MOST is an index missing.
     wire       from_zero   = clear || index;
-    wire       missing     = pulse && !from_zero && (rev_q == MOST || rev_q == MOST + ${RONE});
+    wire       at_most     = ${REV_AT_MOST};  // rev_q >= MOST: the next pulse passes it
+    wire       missing     = pulse && !from_zero && at_most;
     wire [${RPB1}:0] rev_p       = from_zero ? {${RPB_1}'d0, pulse} :
-                             (pulse && rev_q != MOST + ${RONE}) ? rev_q + ${RONE} : rev_q;
+                             !pulse ? rev_q : at_most ? MOST + ${RONE} : rev_q + ${RONE};
     wire [4:0] left_p      = (decides_p && CONFIRM_WINDOWS != 5'd0) ? CONFIRM_WINDOWS : left_i;
     wire       confirmed_p = confirmed_i || (decides_p && CONFIRM_WINDOWS == 5'd0);
 
@@ -194,6 +197,7 @@ endmodule
             ("SINGLE", bool_lit(single)),
             // rev_q < FEWEST and window_count < CONFIRM_COUNT as bit logic.
             ("REV_BELOW_FEWEST", lt_const("rev_q", rpb, fewest)),
+            ("REV_AT_MOST", ge_const("rev_q", rpb, most)),
             (
                 "BELOW_CONFIRM",
                 lt_const("window_count", cb, c.confirm_count().into()),

@@ -311,6 +311,7 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
         decision_valid_n = decision_valid_q;
         decision_position_n = decision_position_q;
         faults_n = faults_q;
+        since_n = since_q;
         rev_pulses_n = rev_pulses_q;
         rev_wide = ${RWZERO};
         index_seen_n = index_seen_q;
@@ -330,11 +331,16 @@ ${STABLE_N}    reg        armed_n, contact_n, sticky_n, pulse_bit;
         changed = filtered_q ^ previous_q;
         levels = filtered_q;
 
-        // The time moves on one tick (FrontEnd::clocks): the ticks since the last FES pulse.
-        since_n = (since_q >= FES_TIMEOUT) ? FES_TIMEOUT : since_q + ${IONE};
-        // Measurement::observe(now), in a clock with edges: MeasurementChecks::observe
-        // latches the watchdog if it expired while armed.
-        if (changed != ${NZERO} && armed_n && FES_TIMEOUT != ${IZERO} && since_n >= FES_TIMEOUT)
+        // The time moves on one tick (FrontEnd::clocks): the ticks since the last FES pulse,
+        // counted while armed (only then is the model's `now - fes_at` read; the arm
+        // rising edge restarts it).
+        if (armed_n)
+            since_n = (since_q >= FES_TIMEOUT) ? since_q : since_q + ${IONE};
+        // Measurement::observe(now): MeasurementChecks::observe latches the watchdog if it
+        // expired while armed. FrontEnd::clock observes in a clock with edges; observing in
+        // every clock, as here, gives the same outputs (the latch is set only where the lazy
+        // verdict of faults_at already shows it) and the same register as the design's.
+        if (armed_n && FES_TIMEOUT != ${IZERO} && since_n >= FES_TIMEOUT)
             faults_n = faults_n | (FES_TIMEOUT_BIT & FAULTS_ENABLED);
 
         // Measurement::on_arm(level)

@@ -78,12 +78,12 @@ module tt_alt_previous #(
     localparam [7:0] WR8 = WINDOW_REVS;
     reg [7:0] revs_left = WR8;          // index pulses to the end of the window
     // The status: faults latched since arm (the watchdog's bit only in a clock with edges,
-    // shown lazily in between), FES pulses since the index counted up to PPR + TOL + 1,
-    // the watchdog's ticks left counted down from FES_T, windows to confirm counted down.
+    // shown lazily in between, as the model observes the time), FES pulses since the index
+    // counted up to PPR + TOL + 1, windows to confirm counted down.
     reg [6:0]  flt = 7'd0;
-    reg [15:0] revp = 16'd0;
+    reg [16:0] revp = 17'd0;
     reg        idx_seen = 1'b0;
-    reg [32:0] fes_left = 33'd0;
+    reg [32:0] idle = 33'd0;            // ticks since the last FES pulse or arm, while armed
     reg [4:0]  to_confirm = 5'd0;
     localparam [6:0] EN = {CW != 0, FES_T != 0, PROBE != 0, SCALE_CHECK != 0, REV_CHECK != 0,
                            REV_CHECK != 0, CAA != 0};
@@ -120,16 +120,16 @@ module tt_alt_previous #(
     reg [1:0]    old_phase, new_phase;
     reg          bit_now, decide;
     reg [6:0]    a_flt;
-    reg [15:0]   a_revp;
+    reg [16:0]   a_revp;
     reg          a_idx_seen, a_confirmed, closed;
-    reg [32:0]   a_fes_left;
+    reg [32:0]   a_idle;
     reg [4:0]    a_to_confirm;
     always @* begin
         a_flt = flt; a_revp = revp; a_idx_seen = idx_seen; a_confirmed = confirmed;
         a_to_confirm = to_confirm; closed = 1'b0;
         // one tick of the watchdog
-        a_fes_left = (fes_left == 0) ? 33'd0 : fes_left - 33'd1;
-        if (chg != 6'd0 && armed && FES_T != 0 && a_fes_left == 0) a_flt[5] = 1'b1;
+        a_idle = (armed && idle < FT) ? idle + 33'd1 : idle;
+        if (chg != 6'd0 && armed && FES_T != 0 && a_idle >= FT) a_flt[5] = 1'b1;
         {a_armed, a_contact, a_stk, a_reached} = {armed, contact, sticky, reached};
         {a_reg, a_first, a_dens_armed, a_fired} = {register_now, first_contact, density_armed, density_fired};
         a_dpos = decision_position; a_fpos = first_contact_position; a_pos = position;
@@ -140,7 +140,7 @@ module tt_alt_previous #(
         if (chg[0]) begin
             if (lv[0] && !a_armed) begin
                 a_flt = {6'd0, a_contact && FAULT != 15};  // fault 15: contact at arm not raised
-                a_revp = 0; a_idx_seen = 1'b0; a_fes_left = FT; a_to_confirm = 0; a_confirmed = 1'b0;
+                a_revp = 0; a_idx_seen = 1'b0; a_idle = 0; a_to_confirm = 0; a_confirmed = 1'b0;
                 a_count = 0; a_lwc = 0; a_revs_left = WR8; a_reached = 1'b0;
                 a_charge = 0; a_dens_armed = 1'b1; a_fired = 1'b0;
                 if (FAULT != 12) begin a_first = 1'b0; a_fpos = 0; end
@@ -179,10 +179,10 @@ module tt_alt_previous #(
             if (FAULT != 11 || a_armed) a_stk = a_contact;
             if (a_armed) begin
                 a_pulses = a_pulses + 32'd1;
-                a_fes_left = FT;
+                a_idle = 0;
                 if (a_revp > PPR + TOL) a_flt[2] = 1'b1;
                 else begin
-                    a_revp = a_revp + 16'd1;
+                    a_revp = a_revp + 17'd1;
                     if (a_revp > PPR + TOL) a_flt[2] = 1'b1;
                 end
                 if (bit_now && a_count < WINDOW_PULSES) begin
@@ -239,7 +239,7 @@ module tt_alt_previous #(
             if (FAULT != 13) position <= 0;  // fault 13: rst leaves the position
             count <= 0; last_window_count <= 0; charge <= 0; density_armed <= 1'b1;
             density_fired <= 0; revolutions <= 0; pulses <= 0;
-            flt <= 0; revp <= 0; idx_seen <= 0; fes_left <= 0; to_confirm <= 0; confirmed <= 0;
+            flt <= 0; revp <= 0; idx_seen <= 0; idle <= 0; to_confirm <= 0; confirmed <= 0;
         end else begin
             s1 <= pins; s2 <= s1;
             lv <= lv_n; prev <= lv;
@@ -250,12 +250,12 @@ module tt_alt_previous #(
             decision_position <= a_dpos; first_contact_position <= a_fpos; position <= a_pos;
             count <= a_count; last_window_count <= a_lwc; charge <= a_charge;
             revs_left <= a_revs_left; scale_errors <= a_err; revolutions <= a_revolutions; pulses <= a_pulses;
-            flt <= a_flt & EN; revp <= a_revp; idx_seen <= a_idx_seen; fes_left <= a_fes_left;
+            flt <= a_flt & EN; revp <= a_revp; idx_seen <= a_idx_seen; idle <= a_idle;
             to_confirm <= a_to_confirm; confirmed <= a_confirmed;
         end
     end
 
-    assign faults = flt | ((armed && FES_T != 0 && fes_left == 0) ? 7'd32 : 7'd0);
+    assign faults = flt | ((armed && FES_T != 0 && idle >= FT) ? 7'd32 : 7'd0);
     assign irq = register_now;
     wire [63:0] pos_x = {{(64-SB){position[SB-1]}}, position};
     wire [63:0] dpos_x = {{(64-SB){decision_position[SB-1]}}, decision_position};

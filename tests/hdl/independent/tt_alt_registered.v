@@ -124,7 +124,7 @@ module tt_alt_registered #(
         b_windows_ok = windows_ok; closed = 1'b0; b_decided = 1'b0;
         // the watchdog: latched in the clock the ticks since the last FES pulse reach FES_T
         if (FES_T != 0 && armed && idle + 33'd1 >= FT) b_fes = 1'b1;
-        b_idle = (idle >= FT) ? idle : idle + 33'd1;
+        b_idle = (idle >= FT || !armed) ? idle : idle + 33'd1;
         {a_armed, a_contact, a_stk, a_reached} = {armed, contact, sticky, reached};
         {a_reg, a_first, a_dens_armed, a_fired} = {register_now, first_contact, density_armed, density_fired};
         a_dpos = decision_position; a_fpos = first_contact_position; a_pos = position;
