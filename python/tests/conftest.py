@@ -26,7 +26,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 FAST_LATHE = """\
 [lathe]
 clock_hz = 1000000
-rpm = 6000.0
+rpm = 4800.0
 [lathe.spindle_path]
 loads = false    # a verification lathe: the measuring path is the machining path
 [lathe.cycle]

@@ -120,9 +120,7 @@ fn scenario(config: &MeasureConfig) -> impl Strategy<Value = LatheScenario> {
                         max_approach_revs: 40,
                         averages_per_z: 1,
                     },
-                    faults: Default::default(),
                     seed,
-                    faults: Default::default(),
                 }
             },
         )
