@@ -68,7 +68,9 @@ fn linuxcnc_the_component_in_halrun_matches_the_golden_model_every_field_every_p
     );
     assert!(o.status.success(), "{verdict}");
     assert!(
-        verdict.starts_with(&format!("OK: {PERIODS} records × 17 fields and {PERIODS} force records × ")),
+        verdict.starts_with(&format!(
+            "OK: {PERIODS} records × 17 fields and {PERIODS} force records × "
+        )),
         "{verdict}"
     );
     // Every field of every period, the status among them, compared here too (the check's

@@ -89,11 +89,16 @@ fn case() -> impl Strategy<Value = Case> {
 
 fn settings_of(c: &Case) -> (MeasureSettings, LatheScenario) {
     let window_pulses = 1024 * u32::from(c.window_revs);
-    let measure = MeasureSettings {
+    let mut measure = MeasureSettings {
         window_revs: c.window_revs,
         i_def: (c.share * f64::from(window_pulses)) as u32,
         ..Default::default()
     };
+    // The budget is about the latched position, which the status does not change; with no
+    // confirmation windows the CNC retracts at the decision's reaction as before (a
+    // single-pulse decision held at the feed stop may otherwise stay unconfirmed while the
+    // slow errors lift the surface off the tool: docs/measure.md).
+    measure.checks.confirm_windows = 0;
     let mut s = LatheScenario {
         rpm: c.rpm,
         feed_mm_per_rev: c.feed_um / 1000.0,
@@ -210,7 +215,8 @@ fn holds(measure: &MeasureSettings, scenario: &LatheScenario, variant: Variant, 
 /// 1σ over a revolution 0.4–0.6 of it): predicted, and held like the drawn cases.
 #[test]
 fn the_slow_error_regime_at_half_the_papers_feed_is_predicted_and_holds() {
-    let measure = MeasureSettings::default();
+    let mut measure = MeasureSettings::default();
+    measure.checks.confirm_windows = 0;
     for (feed, variant) in [(0.0005, Variant::ALL[1]), (0.0007, Variant::ALL[0])] {
         let mut s = LatheScenario {
             feed_mm_per_rev: feed,

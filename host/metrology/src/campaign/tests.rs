@@ -77,7 +77,7 @@ fn shards_merge_into_the_whole_campaign() {
         .unwrap_err()
         .to_string()
         .contains("slice 1/2 is missing"));
-    assert!(merge(&[whole.clone()]).is_err());
+    assert!(merge(std::slice::from_ref(&whole)).is_err());
 }
 
 #[test]
