@@ -40,13 +40,13 @@ fn the_generated_testbench_passes_with_the_vectors_hdl_writes() {
     ]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(
-        text(&o).contains("83701 clocks at 1000000 Hz"),
+        text(&o).contains("104230 clocks at 1000000 Hz"),
         "{}",
         text(&o)
     );
     let out = icarus(&rtl, &["+vcd"]);
     assert!(
-        out.lines().any(|l| l == "TESTBENCH OK 83701"),
+        out.lines().any(|l| l == "TESTBENCH OK 104230"),
         "the testbench did not pass:\n{out}"
     );
     let o = tooltouch(&[

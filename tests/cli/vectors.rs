@@ -61,7 +61,7 @@ fn measures_vcd_events_and_pins_give_back_its_files() {
     }
     let summary: serde_json::Value =
         serde_json::from_slice(&read(&v1.join("summary.json"))).unwrap();
-    assert_eq!(summary["cycles"], 83701, "{summary}");
+    assert_eq!(summary["cycles"], 104230, "{summary}");
     assert_eq!(summary["clock_hz"], 1_000_000);
     assert_eq!(
         summary["decisions"].as_array().unwrap().len(),
@@ -105,7 +105,7 @@ fn measures_vcd_events_and_pins_give_back_its_files() {
         serde_json::from_slice(&read(&v2.join("summary.json"))).unwrap();
     let last_decision = summary["decisions"][0]["clock"].as_u64().unwrap();
     let cycles = from_events["cycles"].as_u64().unwrap();
-    assert!(last_decision < cycles && cycles < 83701, "{from_events}");
+    assert!(last_decision < cycles && cycles < 104230, "{from_events}");
     let o = tooltouch(&[
         "check",
         "--expected",

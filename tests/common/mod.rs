@@ -46,7 +46,7 @@ pub fn s(p: &Path) -> &str {
 }
 
 /// The fast lathe of docs/quickstart.md's verification quick start and of the firmware's demo
-/// stream: 1 MHz clock, 6000 rpm, one measurement in about 84 000 clocks.
+/// stream: 1 MHz clock, 4800 rpm, one measurement in about 104 000 clocks.
 pub const FAST_LATHE: &str = include_str!("../../firmware/demo-lathe.toml");
 
 /// `iverilog -g2005 -o tb *.v && vvp tb <plusargs>` in `dir`; returns vvp's output.

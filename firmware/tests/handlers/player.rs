@@ -155,13 +155,13 @@ fn check(bytes: &[u8], summary: &Summary, steps: &[Step]) {
 fn demo_stream_plays_every_event_in_order_within_half_a_tick() {
     let (summary, steps) = schedule(DEMO);
     check(DEMO, &summary, &steps);
-    // The demo stream (1 MHz ticks): 6562 FES pulses at least 10 µs apart, 9 index pulses
-    // at least 10 ms apart, so 5 µs and 1 ms (the cap) wide at 84 MHz.
-    assert_eq!(summary.fes_pulses, 6562);
+    // The demo stream (1 MHz ticks, 4800 rpm): 8538 FES pulses at least 12 µs apart, 9
+    // index pulses at least 12.5 ms apart, so 6 µs and 1 ms (the cap) wide at 84 MHz.
+    assert_eq!(summary.fes_pulses, 8538);
     assert_eq!(summary.index_pulses, 9);
-    assert_eq!(summary.fes_width, 420);
+    assert_eq!(summary.fes_width, 504);
     assert_eq!(summary.index_width, MAX_PULSE_TICKS);
-    assert_eq!(steps.len(), summary.events as usize + 6562 + 9);
+    assert_eq!(steps.len(), summary.events as usize + 8538 + 9);
     assert_eq!(summary.force_skipped, 0);
 }
 
