@@ -136,14 +136,16 @@ pub fn run(a: Args) -> Result<ExitCode> {
         ProgressStyle::with_template("{bar:40} {pos}/{len} cells, {elapsed} elapsed, ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
+    // The output folder is checked before any work.
+    let out = a.out.as_deref().map(output_folder).transpose()?;
     let results = campaign::run(&spec, &scenario, &settings.measure, shard, &|| bar.inc(1))?;
     bar.finish_and_clear();
     print_table(&results);
     let measurements =
         (results.cells.len() + results.clean.len()) as f64 * f64::from(spec.measurements);
     let seconds = started.elapsed().as_secs_f64();
-    if let Some(dir) = &a.out {
-        write_folder(&results, dir)?;
+    if let (Some(out), Some(dir)) = (out, &a.out) {
+        write_into(&results, out)?;
         outln!("wrote {}", dir.display());
     }
     outln!(
@@ -245,18 +247,22 @@ fn svg_name(kind: FaultKind) -> String {
     format!("faults-{}.svg", kind.name())
 }
 
-fn write_folder(r: &CampaignResults, dir: &Path) -> Result<()> {
-    let kinds = kinds_of(r);
+/// The output folder of a campaign: `faults.json` and a plot per kind.
+fn output_folder(dir: &Path) -> Result<OutputFolder> {
     let names: Vec<String> = std::iter::once(JSON.to_string())
         .chain(FaultKind::ALL.iter().map(|&k| svg_name(k)))
         .collect();
-    let out = OutputFolder::create(dir, names)?;
+    OutputFolder::create(dir, names)
+}
+
+/// Writes `r` into `out` and commits it.
+fn write_into(r: &CampaignResults, out: OutputFolder) -> Result<()> {
     out.write(
         JSON,
         serde_json::to_vec_pretty(r).context("encoding faults.json")?,
     )?;
     if r.shard.is_none() {
-        for k in kinds {
+        for k in kinds_of(r) {
             tooltouch_plot::campaign::campaign_kind(&out.path(&svg_name(k)), k, &r.cells)?;
         }
     }
@@ -265,6 +271,7 @@ fn write_folder(r: &CampaignResults, dir: &Path) -> Result<()> {
 }
 
 fn merge(dirs: &[PathBuf], out: &Path) -> Result<ExitCode> {
+    let folder = output_folder(out)?;
     let parts = dirs
         .iter()
         .map(|d| {
@@ -276,7 +283,7 @@ fn merge(dirs: &[PathBuf], out: &Path) -> Result<ExitCode> {
         })
         .collect::<Result<Vec<_>>>()?;
     let merged = campaign::merge(&parts)?;
-    write_folder(&merged, out)?;
+    write_into(&merged, folder)?;
     print_table(&merged);
     outln!(
         "faults merge: {} slices, {} cells → {}",

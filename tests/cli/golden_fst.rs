@@ -60,5 +60,5 @@ fn vectors_and_measure_write_a_golden_fst_that_check_reads_like_the_vcd() {
     assert!(o.status.success(), "{}", text(&o));
     assert!(m.join("measure.fst").is_file() && !m.join("measure.vcd").exists());
     let (code, out) = check(&m.join("measure.fst"), &m.join("measure.fst"));
-    assert!(code == Some(0) && out.contains("62650001 cycles"), "{out}");
+    assert!(code == Some(0) && out.contains("66410001 cycles"), "{out}");
 }

@@ -304,6 +304,8 @@ struct Fixtures {
     /// An optimizer spec (`tune optimize --spec`).
     optimize_spec: PathBuf,
     results: PathBuf,
+    /// A fault campaign's one slice (`faults merge` reads it).
+    faults_slice: PathBuf,
     /// A controller log holding exactly the golden decision lines of `events`
     /// (`bench check --log`), written by `bench expect`.
     bench_log: PathBuf,
@@ -386,9 +388,31 @@ fn fixtures(dir: &Path) -> Fixtures {
         ],
         dir,
     );
+    let faults_slice = dir.join("faults-slice");
+    must(
+        &[
+            "faults",
+            "--config",
+            settings.to_str().unwrap(),
+            "--kinds",
+            "fes-lost",
+            "--levels",
+            "0.5",
+            "--methods",
+            "counter",
+            "--measurements",
+            "2",
+            "--shard",
+            "0/1",
+            "--out",
+            faults_slice.to_str().unwrap(),
+        ],
+        dir,
+    );
     Fixtures {
         optimize_spec,
         bench_log,
+        faults_slice,
         dir: dir.to_path_buf(),
         settings,
         events: m.join("events.ttv"),
@@ -438,6 +462,15 @@ fn base_args(sub: &str, f: &Fixtures, out: &Path) -> Vec<(String, Option<String>
         "coverage" => vec![("--stimulus", p(&f.events))],
         "control" | "wear" | "hdl" => vec![("--out", o)],
         "tune" => vec![("--spec", p(&f.spec)), ("--out", o)],
+        "faults" => vec![
+            ("--config", p(&f.settings)),
+            ("--kinds", v("fes-lost")),
+            ("--levels", v("0.5")),
+            ("--methods", v("counter")),
+            ("--measurements", v("2")),
+            ("--out", o),
+        ],
+        "faults merge" => vec![("<dirs>", p(&f.faults_slice)), ("--out", o)],
         "tune merge" => vec![("<dirs>", p(&f.results)), ("--out", o)],
         "tune optimize" => vec![("--spec", p(&f.optimize_spec)), ("--out", o)],
         "ranges" => vec![("--scenarios", v("1")), ("--out", o)],

@@ -125,6 +125,23 @@ struct Synthesis {
     fmax: f64,
 }
 
+/// `cargo xtask hdl-report [--boards [--config settings.toml]]`: the synthesis report, or
+/// with `--boards` only the two boards' bitstreams.
+pub fn report_command(args: &[String]) -> Result<()> {
+    match (
+        args.first().map(String::as_str),
+        args.get(1).map(String::as_str),
+        args.get(2),
+    ) {
+        (None, _, _) => report(),
+        (Some("--boards"), None, _) => bitstreams(None),
+        (Some("--boards"), Some("--config"), Some(path)) if args.len() == 3 => {
+            bitstreams(Some(path))
+        }
+        _ => anyhow::bail!("usage: cargo xtask hdl-report [--boards [--config settings.toml]]"),
+    }
+}
+
 /// yosys synth_ice40 + nextpnr-ice40 on the default configuration: the chip as generated
 /// by default (the MCU reads the measurement registers), then with the diagnostic
 /// counters readable too (`tooltouch hdl --mcu-diagnostics`).

@@ -76,14 +76,7 @@ fn main() -> Result<()> {
         "test" | "ci" => test(),
         "firmware" => firmware::build_command(&args[1..]),
         "bless-firmware" => firmware::bless_command(),
-        "hdl-report" if args.get(1).map(String::as_str) == Some("--boards") => {
-            match (args.get(2).map(String::as_str), args.get(3)) {
-                (None, _) => hdl::bitstreams(None),
-                (Some("--config"), Some(path)) if args.len() == 4 => hdl::bitstreams(Some(path)),
-                _ => bail!("usage: cargo xtask hdl-report --boards [--config settings.toml]"),
-            }
-        }
-        "hdl-report" => hdl::report(),
+        "hdl-report" => hdl::report_command(&args[1..]),
         "bless-hdl" => hdl::bless_snapshots(),
         "formal" => formal::run(),
         "bench" => bench::run(&args[1..]),
