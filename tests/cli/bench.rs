@@ -117,7 +117,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let r = collect(&stream, &config, &elf, &fake, &["--out", s(&saved)]);
     assert!(r.starts_with("exit Some(0)"), "{r}");
     assert!(
-        r.contains("3 decision lines in the controller's log, every one equal"),
+        r.contains("2 decision lines in the controller's log, every one equal"),
         "{r}"
     );
     assert_eq!(
@@ -141,8 +141,8 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let wrong_dir = w.path().join("wrong");
     std::fs::create_dir(&wrong_dir).unwrap();
     let mut wrong = session.clone();
-    // (the session's lines 2.. are the expected lines: a status line, then the decision)
-    wrong[3] = wrong[3].replacen("position -", "position -1", 1);
+    // (the session's lines 2.. are the expected lines: the decision, then its confirmation)
+    wrong[2] = wrong[2].replacen("position -", "position -1", 1);
     let fake = fake_probe_rs(&wrong_dir, &elf, &wrong);
     let r = collect(&stream, &config, &elf, &fake, &[]);
     assert!(r.starts_with("exit Some(1)"), "{r}");
@@ -157,7 +157,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let fake = fake_probe_rs(&quiet_dir, &elf, &session[..2]);
     let r = collect(&stream, &config, &elf, &fake, &["--timeout-s", "1"]);
     assert!(r.starts_with("exit Some(1)"), "{r}");
-    assert!(r.contains("the first missing: `status: faults"), "{r}");
+    assert!(r.contains("the first missing: `register now"), "{r}");
 
     // No probe-rs: how to install it.
     let r = collect(

@@ -69,12 +69,12 @@ fn a_dut_vcd_that_stops_early_is_a_mismatch_naming_both_ends() {
         "{out}"
     );
     // A DUT trace that runs on past the golden one is a mismatch too.
-    let longer = format!("{text_}#1300000000\n");
+    let longer = format!("{text_}#1400000000\n");
     std::fs::write(&dut, longer).unwrap();
     let (code, out) = check(&golden, &dut);
     assert_eq!(code, Some(1), "{out}");
     assert!(
-        out.contains("too long") && out.contains("cycle 65000000"),
+        out.contains("too long") && out.contains("cycle 70000000"),
         "{out}"
     );
     // The whole file still matches itself.
