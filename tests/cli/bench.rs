@@ -147,7 +147,7 @@ fn a_bench_session_is_collected_checked_and_its_differences_named() {
     let r = collect(&stream, &config, &elf, &fake, &[]);
     assert!(r.starts_with("exit Some(1)"), "{r}");
     assert!(
-        r.contains("MISMATCH: the controller's log: decision line 1: expected `register now"),
+        r.contains("MISMATCH: the controller's log: decision line 0: expected `register now"),
         "{r}"
     );
 

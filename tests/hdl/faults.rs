@@ -225,7 +225,11 @@ fn hdl_check_matches_by_path_and_reports_every_fault() {
         let dut = dir.join("case0/dut.vcd");
         let (code, text, json, window) = check_with_reports(&golden, &dut, &dir);
         let matches = json["matches"].as_array().expect("matches").clone();
-        assert_eq!(matches.len(), tooltouch_model::MeasureOutputs::FIELD_COUNT, "{json}");
+        assert_eq!(
+            matches.len(),
+            tooltouch_model::MeasureOutputs::FIELD_COUNT,
+            "{json}"
+        );
         for m in &matches {
             let (g, d) = (m["golden"].as_str().unwrap(), m["dut"].as_str().unwrap());
             let leaf = g

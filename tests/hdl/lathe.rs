@@ -1,5 +1,5 @@
 //! Co-simulation on the lathe simulator's closed-loop measurement cycle (approach,
-//! decision, retract, Z step, repeat), run fast and coarse (6000 rpm at a 1 MHz clock) so
+//! decision, retract, Z step, repeat), run fast and coarse (4800 rpm at a 1 MHz clock) so
 //! a whole cycle is a few hundred thousand clocks: Verilator and Icarus must match the
 //! golden cycle model on every cycle. Prints both simulators' speeds (cycles/s; not
 //! asserted).
@@ -13,7 +13,7 @@ use tooltouch_rtl_sim::runner::CxxOpt;
 fn scenario() -> LatheScenario {
     let mut s = LatheScenario {
         clock_hz: 1_000_000,
-        rpm: 6000.0,
+        rpm: 4800.0,
         // A verification lathe: the measuring path is the machining path.
         spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
         ..LatheScenario::default()

@@ -96,7 +96,7 @@ fn spoiled_vectors() -> Vec<Spoiled> {
         (
             "expect.hex cut after 100 lines",
             |d| edit(&d.join("expect.hex"), |l| l.truncate(100)),
-            "TESTBENCH ERROR expect.hex: its header says 6011 entries, the file holds 99 words after it",
+            "TESTBENCH ERROR expect.hex: its header says 7818 entries, the file holds 99 words after it",
         ),
         (
             "stim.hex cut after 10 lines",
