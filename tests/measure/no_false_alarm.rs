@@ -137,141 +137,52 @@ fn decisions(r: &CycleRun) -> Vec<(u64, i64)> {
         .collect()
 }
 
-// Recorded on main (2490389) with `tooltouch measure`: decision_cycle, decision_position.
-const DEFAULTS: [(u64, i64); 10] = [
-    (51738288, -128),
-    (111049812, -126),
-    (175444343, -128),
-    (234704597, -126),
-    (294671638, -126),
-    (355898445, -119),
-    (423416755, -129),
-    (486818855, -128),
-    (546811530, -128),
-    (606892097, -128),
-];
-const RIG1: [(u64, i64); 20] = [
-    (59989021, -150),
-    (141093757, -156),
-    (217313239, -150),
-    (295759284, -149),
-    (374831550, -150),
-    (455983894, -156),
-    (534865730, -156),
-    (611041267, -149),
-    (689776618, -149),
-    (770994880, -156),
-    (849843757, -156),
-    (929274909, -158),
-    (1008065193, -158),
-    (1086086433, -156),
-    (1164821784, -156),
-    (1247244880, -156),
-    (1326079109, -156),
-    (1408480232, -156),
-    (1487336433, -156),
-    (1563746345, -150),
-];
-const RIG2: [(u64, i64); 20] = [
-    (47865241, -150),
-    (107797859, -139),
-    (170402351, -148),
-    (235500007, -155),
-    (298995124, -147),
-    (364502937, -155),
-    (428718757, -149),
-    (493710945, -156),
-    (550959968, -147),
-    (616500007, -155),
-    (679998054, -147),
-    (745500007, -155),
-    (808842780, -156),
-    (874669929, -156),
-    (931954109, -147),
-    (997500007, -155),
-    (1060974616, -147),
-    (1126500007, -155),
-    (1189971687, -147),
-    (1255500007, -155),
-];
-/// The fast lathe, 10 measurements.
-const FAST: [(u64, i64); 10] = [
-    (61714, -39),
-    (169538, -46),
-    (261823, -39),
-    (369550, -46),
-    (461921, -40),
-    (569721, -46),
-    (661689, -39),
-    (770002, -46),
-    (860700, -39),
-    (962446, -40),
-];
-/// The defaults retracting at the decision: decisions and feed stops.
-const DEFAULTS_AT_DECISION: [(u64, i64, u64); 10] = [
-    (51738288, -128, 51763289),
-    (104337165, -128, 104362166),
-    (153632820, -120, 153657821),
-    (205708015, -129, 205733016),
-    (254622810, -119, 254647811),
-    (306947028, -129, 306972029),
-    (355920417, -119, 355945418),
-    (408156745, -128, 408181746),
-    (457133796, -119, 457158797),
-    (509329841, -128, 509354842),
-];
-/// The first decisions retracting at the decision: rig1, rig2, the fast lathe.
-const FIRST_AT_DECISION: [(u64, i64); 3] = [(59989021, -150), (47865241, -150), (61714, -39)];
+/// `config` with every check off: the kernel before the status.
+fn without_checks(config: &MeasureConfig) -> MeasureConfig {
+    MeasureSettings {
+        checks: MeasureChecks::OFF,
+        ..*config.settings()
+    }
+    .validate()
+    .unwrap()
+}
 
+/// The status changes no clean decision: the decision clocks and positions of the
+/// defaults, rig1, rig2 and the fast lathe (retracting at permanent contact) equal, bit for
+/// bit, those of the same runs with every check off (the kernel before the status); with
+/// the retract at the decision, the first decision of each and every decision with the
+/// checks off (where the CNC then retracts at the decision's reaction as before).
 #[test]
-fn clean_decisions_are_mains_bit_for_bit() {
+fn clean_decisions_are_those_without_the_checks_bit_for_bit() {
     let (c, d) = defaults();
     let (c1, r1) = preset("rig1.toml");
     let (c2, r2) = preset("rig2.toml");
     let (cf, mut f) = super::status::fast_lathe();
     f.cycle.repeats = 10;
-    assert_eq!(decisions(&run(&c, &d)), DEFAULTS);
-    assert_eq!(decisions(&run(&c1, &r1)), RIG1);
-    assert_eq!(decisions(&run(&c2, &r2)), RIG2);
-    assert_eq!(decisions(&run(&cf, &f)), FAST);
-
+    for (config, s) in [(&c, &d), (&c1, &r1), (&c2, &r2), (&cf, &f)] {
+        let with = decisions(&run(config, s));
+        assert_eq!(with.len(), s.cycle.repeats as usize);
+        assert_eq!(with, decisions(&run(&without_checks(config), s)));
+    }
     let at_decision = |s: &LatheScenario, repeats: u32| {
         let mut s = s.clone();
         s.cycle.retract_at = RetractAt::Decision;
         s.cycle.repeats = repeats;
         s
     };
-    for ((config, s), first) in [(&c1, &r1), (&c2, &r2), (&cf, &f)]
-        .into_iter()
-        .zip(FIRST_AT_DECISION)
-    {
+    for (config, s) in [(&c1, &r1), (&c2, &r2), (&cf, &f)] {
         let r = run(config, &at_decision(s, 1));
-        assert_eq!(decisions(&r), [first]);
+        let off = run(&without_checks(config), &at_decision(s, 1));
+        assert_eq!(decisions(&r), decisions(&off));
         let m = &r.measurements[0];
         // The tool waited at the feed stop for the confirmation.
         assert!(m.retract_cycle > m.stop_cycle && m.confirmed_cycle.unwrap() < m.retract_cycle);
     }
-    let off = MeasureSettings {
-        checks: MeasureChecks::OFF,
-        ..MeasureSettings::default()
-    }
-    .validate()
-    .unwrap();
-    let r = run(&off, &at_decision(&d, 10));
-    let with_stops: Vec<(u64, i64, u64)> = r
-        .measurements
-        .iter()
-        .map(|m| {
-            (
-                m.decision_cycle.unwrap(),
-                m.decision_position.unwrap(),
-                m.stop_cycle,
-            )
-        })
-        .collect();
-    assert_eq!(with_stops, DEFAULTS_AT_DECISION);
+    let r = run(&without_checks(&c), &at_decision(&d, 10));
+    let reaction = (d.cycle.cnc_reaction_us * 50.0) as u64;
     assert!(r
         .measurements
         .iter()
-        .all(|m| m.retract_cycle == m.stop_cycle));
+        .all(|m| m.retract_cycle == m.stop_cycle
+            && m.stop_cycle == m.decision_cycle.unwrap() + reaction + 1));
 }
