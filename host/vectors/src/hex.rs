@@ -323,11 +323,11 @@ mod tests {
 
     #[test]
     fn skipping_settled_clocks_writes_the_per_cycle_files_of_a_lathe_run() {
-        // The closed-loop measurement cycle, fast and coarse (6000 rpm at 1 MHz, one
-        // measurement: 83 701 clocks of long quiet stretches between encoder pulses).
+        // The closed-loop measurement cycle, fast and coarse (4800 rpm at 1 MHz, one
+        // measurement: about 100 000 clocks of long quiet stretches between encoder pulses).
         let mut scenario = tooltouch_plant::lathe::LatheScenario {
             clock_hz: 1_000_000,
-            rpm: 6000.0,
+            rpm: 4800.0,
             spindle_path: tooltouch_plant::lathe::SpindlePath::none(),
             ..Default::default()
         };
