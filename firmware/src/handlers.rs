@@ -89,9 +89,6 @@ pub struct MeasureDomain {
     armed: bool,
     /// `fes_timeout_cycles` (0: the watchdog is off).
     fes_timeout: u64,
-    /// `pulses_per_rev + pulse_tolerance` when the revolution check is on: one pulse more
-    /// without an index raises `index_missing`.
-    most_rev_pulses: Option<u32>,
 }
 
 impl MeasureDomain {
@@ -110,10 +107,6 @@ impl MeasureDomain {
             folded_at: 0,
             armed: false,
             fes_timeout: config.settings().checks.fes_timeout_cycles.into(),
-            most_rev_pulses: config.settings().checks.revolutions.then(|| {
-                u32::from(config.settings().pulses_per_rev)
-                    + u32::from(config.settings().checks.pulse_tolerance)
-            }),
         };
         d.schedule::<B>();
         d
@@ -181,19 +174,10 @@ impl MeasureDomain {
     }
 
     /// How many more FES pulses raise `index_missing` (so the compare interrupt fires on
-    /// that pulse and the fault output rises with it), while armed and not yet raised.
+    /// that pulse and the fault output rises with it): the kernel's prediction.
     #[inline(always)]
     fn pulses_to_index_missing(&self) -> Option<u32> {
-        let most = self.most_rev_pulses?;
-        let checks = self.kernel.checks();
-        if !self.armed || checks.faults_at(0, false).contains(fault::INDEX_MISSING) {
-            return None;
-        }
-        Some(
-            most.saturating_add(1)
-                .saturating_sub(checks.rev_pulses())
-                .max(1),
-        )
+        self.kernel.fes_to_index_missing()
     }
 
     /// Drives the fault output and publishes the status ([`Board::set_status`]); the
@@ -211,10 +195,10 @@ impl MeasureDomain {
     /// last fold.
     #[inline(always)]
     fn alarm(&self, faults: Faults) -> Option<u64> {
-        if !self.armed || self.fes_timeout == 0 || faults.contains(fault::FES_TIMEOUT) {
+        if faults.contains(fault::FES_TIMEOUT) {
             return None;
         }
-        let deadline = self.kernel.checks().fes_at().wrapping_add(self.fes_timeout);
+        let deadline = self.kernel.fes_deadline()?;
         let step = (self.fes_timeout >> FES_WATCHDOG_STEP_SHIFT).max(1);
         Some(deadline.min(self.folded_at.wrapping_add(step)))
     }

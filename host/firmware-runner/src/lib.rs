@@ -211,21 +211,19 @@ fn replay_as_firmware(case: &Case, observe: Observe, alarms: bool) -> Vec<Measur
         m.on_fes_run(*pending);
         *pending = 0;
     };
-    let settings = case.config.settings();
-    let most_rev_pulses = u32::from(settings.pulses_per_rev) + u32::from(checks.pulse_tolerance);
     let schedule = |m: &Measurement, armed: bool, t: u64| {
         let faults = m.outputs().faults;
         let mut due = m.fes_to_decision(FES_FOLD_LIMIT).unwrap_or(FES_FOLD_LIMIT);
-        if checks.revolutions && armed && faults & tooltouch_model::fault::INDEX_MISSING == 0 {
-            due = due.min(
-                (most_rev_pulses + 1)
-                    .saturating_sub(m.checks().rev_pulses())
-                    .max(1),
-            );
+        if armed {
+            if let Some(k) = m.fes_to_index_missing() {
+                due = due.min(k);
+            }
         }
         let expired = faults & tooltouch_model::fault::FES_TIMEOUT != 0;
-        let alarm = (armed && timeout != 0 && !expired)
-            .then(|| (m.checks().fes_at() + timeout).min(t + step).max(t));
+        let alarm = m
+            .fes_deadline()
+            .filter(|_| armed && !expired)
+            .map(|deadline| deadline.min(t + step).max(t));
         (due, alarm)
     };
     let mut out = Vec::with_capacity(case.events.len());

@@ -61,7 +61,6 @@ pub(crate) fn clock_through_to_end(
     config: &MeasureConfig,
     mut f: impl FnMut(u64, Pins, &FrontEnd, tooltouch_model::measure::frontend::Edges),
 ) -> (FrontEnd, u64) {
-    let timeout = u64::from(config.settings().checks.fes_timeout_cycles);
     let mut fe = FrontEnd::new(config);
     let mut k = 0u64;
     let mut clocked = 0u64;
@@ -71,7 +70,7 @@ pub(crate) fn clock_through_to_end(
             if fe.is_settled(seg.pins) {
                 // Only the time moves on: to the watchdog's expiry if it falls in this
                 // segment (clocked below), else to the segment's end.
-                let to = watchdog_expiry(&fe, timeout).filter(|t| (k..end).contains(t));
+                let to = watchdog_expiry(&fe).filter(|t| (k..end).contains(t));
                 let next = to.unwrap_or(end);
                 fe.advance(seg.pins, next - k, |_, _| {});
                 k = next;
@@ -89,15 +88,11 @@ pub(crate) fn clock_through_to_end(
 }
 
 /// The clock after which the FES watchdog of `fe` will show `fes_timeout`, if it is
-/// armed, running (`timeout` > 0 ticks) and not yet expired: `timeout` clocks after the
-/// last FES pulse (or the arm).
-fn watchdog_expiry(fe: &FrontEnd, timeout: u64) -> Option<u64> {
-    if timeout == 0 {
-        return None;
-    }
-    let o = fe.outputs();
-    (o.armed && o.faults & fault::FES_TIMEOUT == 0)
-        .then(|| fe.measurement().checks().fes_at() + timeout)
+/// armed, running and not yet expired (the model's [`Measurement::fes_deadline`]).
+fn watchdog_expiry(fe: &FrontEnd) -> Option<u64> {
+    let m = fe.measurement();
+    let shown = fe.outputs().faults & fault::FES_TIMEOUT != 0;
+    m.fes_deadline().filter(|_| !shown)
 }
 
 /// Whether the FES watchdog of `fe` expired at clock `k` (the front end's last clock):

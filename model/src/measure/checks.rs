@@ -291,6 +291,27 @@ impl MeasurementChecks {
         Faults(faults)
     }
 
+    /// When the FES watchdog will latch `fes_timeout` if no FES pulse comes first, ticks:
+    /// `fes_at + fes_timeout_cycles` while `armed`, the watchdog on and not yet latched;
+    /// `None` otherwise. A caller that skips time (a settled front end, a firmware alarm)
+    /// schedules itself for this instant.
+    #[inline]
+    pub fn fes_deadline(&self, armed: bool) -> Option<u64> {
+        let latched = self.faults & fault::FES_TIMEOUT != 0;
+        (armed && self.fes_timeout != 0 && self.enabled & fault::FES_TIMEOUT != 0 && !latched)
+            .then(|| self.fes_at.saturating_add(self.fes_timeout))
+    }
+
+    /// How many more FES pulses, with no index pulse between them, raise
+    /// `index_missing`: `Some(k)`, `k >= 1`, while `armed`, the revolution check on and the
+    /// fault not yet raised; `None` otherwise.
+    #[inline]
+    pub fn pulses_to_index_missing(&self, armed: bool) -> Option<u32> {
+        let on = self.enabled & fault::INDEX_MISSING != 0;
+        (armed && on && self.faults & fault::INDEX_MISSING == 0)
+            .then(|| (self.most + 1).saturating_sub(self.rev_pulses).max(1))
+    }
+
     /// Whether the decision is confirmed.
     #[inline]
     pub fn confirmed(&self) -> bool {

@@ -271,6 +271,20 @@ impl Measurement {
     pub fn sticky(&self) -> bool {
         self.sticky
     }
+    /// When the FES watchdog will latch `fes_timeout` if no FES pulse comes first
+    /// ([`MeasurementChecks::fes_deadline`]), ticks.
+    #[inline]
+    pub fn fes_deadline(&self) -> Option<u64> {
+        self.checks.fes_deadline(self.armed)
+    }
+
+    /// How many more FES pulses raise `index_missing`
+    /// ([`MeasurementChecks::pulses_to_index_missing`]).
+    #[inline]
+    pub fn fes_to_index_missing(&self) -> Option<u32> {
+        self.checks.pulses_to_index_missing(self.armed)
+    }
+
     /// The measurement status's checks (read-only).
     pub fn checks(&self) -> &MeasurementChecks {
         &self.checks

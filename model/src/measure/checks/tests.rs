@@ -357,3 +357,45 @@ proptest! {
         prop_assert_eq!(a.checks(), b.checks());
     }
 }
+
+proptest! {
+    /// The predictions the firmware and the host schedule themselves by: the watchdog's
+    /// deadline is the first time the outputs show `fes_timeout`, and `index_missing`
+    /// rises on exactly the predicted pulse.
+    #[test]
+    fn the_deadline_and_the_pulses_to_index_missing_are_exact(prefix in events()) {
+        let config = settings().validate().unwrap();
+        let mut m = Measurement::new(&config);
+        let mut t = 0;
+        for (dt, e) in prefix {
+            t += dt;
+            m.apply_at(t, e);
+        }
+        let shown = |m: &Measurement, at: u64| m.outputs_at(at).faults & fault::FES_TIMEOUT != 0;
+        match m.fes_deadline() {
+            Some(d) if !shown(&m, t) => {
+                prop_assert!(d > t);
+                prop_assert!(!shown(&m, d - 1));
+                prop_assert!(shown(&m, d));
+            }
+            Some(_) => {}
+            None => prop_assert!(!shown(&m, t + 1_000_000) || shown(&m, t)),
+        }
+        if let Some(k) = m.fes_to_index_missing() {
+            let mut a = m;
+            for i in 1..=k {
+                prop_assert_eq!(a.outputs().faults & fault::INDEX_MISSING, 0);
+                a.on_fes();
+                let raised = a.outputs().faults & fault::INDEX_MISSING != 0;
+                prop_assert_eq!(raised, i == k, "pulse {} of {}", i, k);
+            }
+        } else {
+            let mut a = m;
+            let before = a.outputs().faults & fault::INDEX_MISSING;
+            for _ in 0..40 {
+                a.on_fes();
+            }
+            prop_assert_eq!(a.outputs().faults & fault::INDEX_MISSING, before);
+        }
+    }
+}
