@@ -69,6 +69,151 @@ pub struct SizeLoopSettings {
     /// the contact already closed when the arm rises (a coolant bridge): its reading alarms
     /// `contact_at_arm`. `None` for a clean machine.
     pub bridged_touch: Option<usize>,
+    /// Faulted touches drawn at random ([`TouchFaultRates`]); all rates 0 for a clean machine.
+    pub faults: TouchFaultRates,
+    /// What the loop does with a reading ([`LoopRules`]); [`LoopRules::TODAY`] by default.
+    pub rules: LoopRules,
+}
+
+/// How often a touch is faulted, each a probability per touch (0–1), drawn from the seed,
+/// the part, the touch (master or part) and the attempt alone — so two loops over the same
+/// parts meet the same faults on their first touches, whatever each did before.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TouchFaultRates {
+    /// A coolant bridge ([`TouchFault::CoolantBridge`]): flagged `contact_at_arm`.
+    pub coolant_bridge: f64,
+    /// A chip flying through the gap during the approach ([`TouchFault::ChipBurst`]): an
+    /// early contact, flagged `unconfirmed` when the contact falls back.
+    pub chip_burst: f64,
+    /// A chip lying on the surface ([`TouchFault::TrappedChip`]): a real, steady contact
+    /// early by the chip's thickness, unflagged — a silent wrong reading.
+    pub trapped_chip: f64,
+    /// The thickest trapped chip, µm (each drawn uniformly from half this to this; below
+    /// the approach gap of 6 µm — a thicker chip closes the contact at the arm and is
+    /// flagged).
+    pub trapped_chip_um: f64,
+}
+
+/// The rules that turn a part's measurement into a tool-offset update (beside the feedback
+/// percentage and the dead zone of [`SizeLoopSettings`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoopRules {
+    /// A flagged touch (faults, not confirmed, no decision) is made once more; a second
+    /// flagged touch alarms and stops the machine. `false`: the first one alarms.
+    pub remeasure: bool,
+    /// The upper tolerance limit, mm (diameter): a measured error |d − nominal| beyond it
+    /// updates nothing, alarms and stops the machine (a reading that far off is taken for a
+    /// measuring or machining failure, not for drift). `None`: no limit.
+    pub upper_tolerance_mm: Option<f64>,
+    /// The largest offset change after one part, mm (diameter): a larger correction is
+    /// clipped to it. `None`: no limit.
+    pub max_correction_mm: Option<f64>,
+}
+
+impl LoopRules {
+    /// The loop as it was before the safety rules: no re-measure, no upper tolerance
+    /// limit, no maximum correction.
+    pub const TODAY: LoopRules = LoopRules {
+        remeasure: false,
+        upper_tolerance_mm: None,
+        max_correction_mm: None,
+    };
+    /// The safe loop for the default Ø40 ± 0.010 mm parts: re-measure once, an upper
+    /// tolerance limit of 0.015 mm, at most 0.003 mm of correction per part.
+    pub const SAFE: LoopRules = LoopRules {
+        remeasure: true,
+        upper_tolerance_mm: Some(0.015),
+        max_correction_mm: Some(0.003),
+    };
+}
+
+impl Default for LoopRules {
+    /// [`LoopRules::TODAY`].
+    fn default() -> Self {
+        LoopRules::TODAY
+    }
+}
+
+/// A fault made in one touch's stream: what the machine did, and so what the component saw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TouchFault {
+    /// Coolant bridges edge and surface: the contact is closed from before the arm rises
+    /// until it has risen.
+    CoolantBridge,
+    /// A chip swept through the gap during the approach closes the contact for `periods`
+    /// servo periods from `after_arm` periods after the arm rises, in the air.
+    ChipBurst {
+        /// Periods after the arm's rise, while the edge is still in the air.
+        after_arm: u32,
+        /// Length of the burst, periods.
+        periods: u32,
+    },
+    /// A chip `thickness_um` thick lying on the surface: the edge meets it that much early,
+    /// with a real contact the checks cannot tell from the surface's.
+    TrappedChip {
+        /// µm.
+        thickness_um: f64,
+    },
+}
+
+impl std::fmt::Display for TouchFault {
+    /// `coolant bridge`, `chip burst 12 ms at 40 ms`, `trapped chip 3.2 µm`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TouchFault::CoolantBridge => f.write_str("coolant bridge"),
+            TouchFault::ChipBurst { after_arm, periods } => {
+                write!(f, "chip burst {periods} periods at {after_arm}")
+            }
+            TouchFault::TrappedChip { thickness_um } => {
+                write!(f, "trapped chip {thickness_um:.1} µm")
+            }
+        }
+    }
+}
+
+/// The touch in a part's measurement.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Role {
+    /// The master ring.
+    Master,
+    /// The part.
+    Part,
+}
+
+impl std::fmt::Display for Role {
+    /// `master`, `part`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Role::Master => "master",
+            Role::Part => "part",
+        })
+    }
+}
+
+impl TouchFaultRates {
+    /// The fault of touch `attempt` (0: the first, 1: the re-measure) of `role` of `part`
+    /// (from 1), drawn from `seed`.
+    pub fn draw(&self, seed: u64, part: usize, role: Role, attempt: usize) -> Option<TouchFault> {
+        let key = (part as u64) << 2 | (role as u64) << 1 | attempt as u64;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5a5a_0000_0000_0000 ^ key.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let u: f64 = rng.random();
+        let (bridge, burst) = (self.coolant_bridge, self.coolant_bridge + self.chip_burst);
+        if u < bridge {
+            Some(TouchFault::CoolantBridge)
+        } else if u < burst {
+            Some(TouchFault::ChipBurst {
+                after_arm: rng.random_range(10..80),
+                periods: rng.random_range(2..=20),
+            })
+        } else if u < burst + self.trapped_chip {
+            Some(TouchFault::TrappedChip {
+                thickness_um: self.trapped_chip_um * rng.random_range(0.5..=1.0),
+            })
+        } else {
+            None
+        }
+    }
 }
 
 impl Default for SizeLoopSettings {
@@ -93,6 +238,8 @@ impl Default for SizeLoopSettings {
             roughness_um: 1.5,
             seed: 31,
             bridged_touch: None,
+            faults: TouchFaultRates::default(),
+            rules: LoopRules::TODAY,
         }
     }
 }
@@ -122,6 +269,14 @@ pub struct PartRow {
     pub alarm: String,
     /// Tool offset the part was turned with, µm (radial).
     pub offset_um: f64,
+    /// Touches made again after a flagged one ([`LoopRules::remeasure`]).
+    pub remeasures: usize,
+    /// The alarm stopped the machine (a second flagged touch, the upper tolerance limit):
+    /// the operator clears it and the loop goes on with the offset unchanged.
+    pub stopped: bool,
+    /// The faults the stream made in this part's touches (`part: trapped chip 3.2 µm`, …);
+    /// empty for clean touches.
+    pub injected: String,
     /// Verdict of the uncorrected part.
     pub uncorrected_ok: bool,
     /// Verdict of the corrected part.
@@ -167,11 +322,19 @@ pub fn capability(values: &[f64], nominal: f64, tol: f64) -> Capability {
     }
 }
 
-/// Where one touch's decision is in the stream.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Where one touch's decision is in the stream, and what the touch was.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Touch {
     /// The stream's period at which the arm falls (the latched position is read there).
     pub read_at: usize,
+    /// The part measured, from 1.
+    pub part: usize,
+    /// Master or part.
+    pub role: Role,
+    /// 0: the first touch, 1: the re-measure.
+    pub attempt: usize,
+    /// The fault the stream made in it.
+    pub fault: Option<TouchFault>,
 }
 
 /// The loop's result.
@@ -204,18 +367,23 @@ struct Machine {
 
 impl Machine {
     /// Appends one touch of a surface at slide reading `surface_um` (µm, the scale's
-    /// reading when the edge meets the surface's top), returning where its decision is read.
-    /// `bridged`: the contact is closed from before the arm rises until it has risen.
+    /// reading when the edge meets the surface's top), made with `fault`, returning where
+    /// its decision is read.
     fn touch(
         &mut self,
         stream: &mut Vec<PeriodInputs>,
         surface_um: f64,
         sample_hz: f64,
-        bridged: bool,
-    ) -> Touch {
+        fault: Option<TouchFault>,
+    ) -> usize {
         let s = self.settings;
         let feed = s.feed_um_per_rev * s.rpm / 60.0 / sample_hz; // µm per period
         let mut q = surface_um - GAP_UM;
+        // A trapped chip is met that much before the surface (the scale reads smaller).
+        let met_um = match fault {
+            Some(TouchFault::TrappedChip { thickness_um }) => surface_um - thickness_um,
+            _ => surface_um,
+        };
         let start = stream.len();
         for k in 0..TOUCH_PERIODS {
             self.spindle += self.ppr * s.rpm / 60.0 / sample_hz;
@@ -230,16 +398,20 @@ impl Machine {
             self.row.scale_counts = (q / s.scale_um).floor() as i32;
             self.row.arm = (ARM_START..ARM_END).contains(&k);
             // The edge touches the roughness peaks first: P(contact) rises over Rz.
-            let p = ((q - surface_um) / s.roughness_um + 1.0).clamp(0.0, 1.0);
+            let p = ((q - met_um) / s.roughness_um + 1.0).clamp(0.0, 1.0);
             self.row.contact = k < ARM_END && self.rng.random_bool(p);
-            if bridged && k <= ARM_START {
-                self.row.contact = true;
+            match fault {
+                Some(TouchFault::CoolantBridge) if k <= ARM_START => self.row.contact = true,
+                Some(TouchFault::ChipBurst { after_arm, periods })
+                    if (ARM_START + after_arm..ARM_START + after_arm + periods).contains(&k) =>
+                {
+                    self.row.contact = true
+                }
+                _ => {}
             }
             stream.push(self.row);
         }
-        Touch {
-            read_at: start + ARM_END as usize - 1,
-        }
+        start + ARM_END as usize - 1
     }
 }
 
@@ -294,26 +466,124 @@ pub fn reading(o: &MeasureOutputs, scale_um: f64) -> Result<f64, Alarm> {
 /// the correction (`master: …`, `part: …`).
 fn measured(
     s: &SizeLoopSettings,
-    master: Result<f64, Alarm>,
-    part: Result<f64, Alarm>,
+    master: Result<f64, String>,
+    part: Result<f64, String>,
 ) -> Result<f64, String> {
     match (master, part) {
         // Readings grow inward: a larger part is touched at a smaller reading.
         (Ok(m), Ok(p)) => Ok(s.master_mm + 2.0 * (m - p) / 1e3),
-        (Err(a), _) => Err(format!("master: {a}")),
-        (_, Err(a)) => Err(format!("part: {a}")),
+        (Err(a), _) | (_, Err(a)) => Err(a),
     }
 }
 
-/// The offset after a part's measurement, µm: corrected by the feedback share of an error
-/// outside the dead zone; unchanged after an alarm.
-fn corrected_offset(s: &SizeLoopSettings, offset_um: f64, measured: &Result<f64, String>) -> f64 {
-    match measured {
-        Ok(mm) if (mm - s.nominal_mm).abs() > s.dead_zone_mm => {
-            offset_um - s.feedback_pct / 100.0 * (mm - s.nominal_mm) * 1e3 / 2.0
+/// One part's measurement under the rules.
+struct Measurement {
+    /// The diameter, mm, or why there is none.
+    diameter: Result<f64, String>,
+    /// Touches made again.
+    remeasures: usize,
+    /// A touch was flagged twice: the machine stops.
+    stopped: bool,
+}
+
+/// Measures one part: the master, then the part, each made by `touch(role, attempt)` and
+/// made once more after a flagged reading when the rules re-measure.
+fn measure_part(
+    s: &SizeLoopSettings,
+    mut touch: impl FnMut(Role, usize) -> Result<f64, Alarm>,
+) -> Measurement {
+    let mut remeasures = 0;
+    let mut stopped = false;
+    let mut take = |role: Role| match touch(role, 0) {
+        Ok(v) => Ok(v),
+        Err(first) if s.rules.remeasure => {
+            remeasures += 1;
+            touch(role, 1).map_err(|again| {
+                stopped = true;
+                format!("{role}: {first}, re-measured: {again}")
+            })
         }
-        _ => offset_um,
+        Err(first) => Err(format!("{role}: {first}")),
+    };
+    let master = take(Role::Master);
+    let part = take(Role::Part);
+    Measurement {
+        diameter: measured(s, master, part),
+        remeasures,
+        stopped,
     }
+}
+
+/// The offset after a part's measurement, µm, and the alarm that stopped the machine:
+/// corrected by the feedback share of an error outside the dead zone, clipped to the
+/// maximum correction; unchanged after an alarm and beyond the upper tolerance limit.
+fn corrected_offset(
+    s: &SizeLoopSettings,
+    offset_um: f64,
+    measured: &Result<f64, String>,
+) -> (f64, Option<String>) {
+    match measured {
+        Ok(mm) => {
+            let error_mm = mm - s.nominal_mm;
+            if let Some(limit) = s.rules.upper_tolerance_mm {
+                if error_mm.abs() > limit {
+                    return (
+                        offset_um,
+                        Some(format!("upper tolerance limit: error {error_mm:+.4} mm")),
+                    );
+                }
+            }
+            if error_mm.abs() <= s.dead_zone_mm {
+                return (offset_um, None);
+            }
+            let mut correction_mm = s.feedback_pct / 100.0 * error_mm;
+            if let Some(max) = s.rules.max_correction_mm {
+                correction_mm = correction_mm.clamp(-max, max);
+            }
+            (offset_um - correction_mm * 1e3 / 2.0, None)
+        }
+        Err(_) => (offset_um, None),
+    }
+}
+
+/// A part's row from its turned diameters, the offset it was turned with and its
+/// measurement; and the offset for the next part.
+fn part_row(
+    s: &SizeLoopSettings,
+    (part, uncorrected, corrected, offset_um): (usize, f64, f64, f64),
+    m: Measurement,
+    injected: String,
+) -> (PartRow, f64) {
+    let (next, limit_alarm) = corrected_offset(s, offset_um, &m.diameter);
+    let alarm = match (&m.diameter, limit_alarm.as_ref()) {
+        (Err(a), _) => a.clone(),
+        (Ok(_), Some(a)) => a.clone(),
+        (Ok(_), None) => String::new(),
+    };
+    let row = PartRow {
+        part,
+        uncorrected_mm: uncorrected,
+        corrected_mm: corrected,
+        measured_mm: *m.diameter.as_ref().unwrap_or(&f64::NAN),
+        alarm,
+        offset_um,
+        remeasures: m.remeasures,
+        stopped: m.stopped || limit_alarm.is_some(),
+        injected,
+        uncorrected_ok: (uncorrected - s.nominal_mm).abs() <= s.tolerance_mm,
+        corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
+    };
+    (row, next)
+}
+
+/// The faults of `touches` that belong to `part`, as text (`part: trapped chip 3.2 µm`).
+fn injected(touches: &[Touch], part: usize) -> String {
+    touches
+        .iter()
+        .filter(|t| t.part == part)
+        .filter_map(|t| t.fault.map(|f| format!("{}: {f}", t.role)))
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// Runs the loop: every touch through [`PeriodKernel`] as it is made (closed loop: part
@@ -330,21 +600,11 @@ pub fn run(s: &SizeLoopSettings, measure: &MeasureConfig, force: &ForceConfig) -
     let cut = Normal::new(0.0, s.cut_sigma_um).unwrap_or_else(|_| Normal::new(0.0, 0.0).unwrap());
     let mut kernel = PeriodKernel::new(measure, force);
     let mut stream = Vec::new();
-    let mut touches = Vec::new();
+    let mut touches: Vec<Touch> = Vec::new();
     let mut rows = Vec::with_capacity(s.parts);
     let mut offset_um = 0.0;
     // Slide readings: the scale reads `FAR − edge radius`, FAR a reference radius.
     const FAR_UM: f64 = 100_000.0;
-    let latched = |stream: &Vec<PeriodInputs>, kernel: &mut PeriodKernel, from: usize, t: Touch| {
-        let mut out = Err(Alarm::NoDecision);
-        for (i, row) in stream.iter().enumerate().skip(from) {
-            let (m, _) = kernel.step(row);
-            if i == t.read_at {
-                out = reading(&m, s.scale_um);
-            }
-        }
-        out
-    };
     for part in 1..=s.parts {
         let i = (part - 1) as f64;
         let wear = s.wear_um_per_part * i;
@@ -355,28 +615,51 @@ pub fn run(s: &SizeLoopSettings, measure: &MeasureConfig, force: &ForceConfig) -
         let corrected = (2.0 * (radius_nominal_um + offset_um + wear + thermal) + noise) / 1e3;
         // Measure: the master, then the part; the edge sits `wear + thermal` outward.
         let edge = wear + thermal;
-        let mut read =
-            |radius_um: f64, stream: &mut Vec<PeriodInputs>, kernel: &mut PeriodKernel| {
-                let from = stream.len();
-                let bridged = s.bridged_touch == Some(touches.len());
-                let t = machine.touch(stream, FAR_UM - radius_um + edge, sample_hz, bridged);
-                touches.push(t);
-                latched(stream, kernel, from, t)
+        let m = measure_part(s, |role, attempt| {
+            let radius_um = match role {
+                Role::Master => s.master_mm * 500.0,
+                Role::Part => corrected * 500.0,
             };
-        let master = read(s.master_mm * 500.0, &mut stream, &mut kernel);
-        let piece = read(corrected * 500.0, &mut stream, &mut kernel);
-        let measured = measured(s, master, piece);
-        rows.push(PartRow {
-            part,
-            uncorrected_mm: uncorrected,
-            corrected_mm: corrected,
-            measured_mm: *measured.as_ref().unwrap_or(&f64::NAN),
-            alarm: measured.clone().err().unwrap_or_default(),
-            offset_um,
-            uncorrected_ok: (uncorrected - s.nominal_mm).abs() <= s.tolerance_mm,
-            corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
+            let fault = if s.bridged_touch == Some(touches.len()) {
+                Some(TouchFault::CoolantBridge)
+            } else {
+                s.faults.draw(s.seed, part, role, attempt)
+            };
+            let from = stream.len();
+            // A re-measure chatters from its own seed: the first touches, and so the cut
+            // scatter drawn after them, are the same in every loop over these parts.
+            let own = (attempt > 0).then(|| {
+                let key = s.seed ^ (part as u64) << 8 ^ (role as u64) << 4 ^ attempt as u64;
+                std::mem::replace(&mut machine.rng, ChaCha8Rng::seed_from_u64(!key))
+            });
+            let read_at = machine.touch(&mut stream, FAR_UM - radius_um + edge, sample_hz, fault);
+            if let Some(rng) = own {
+                machine.rng = rng;
+            }
+            touches.push(Touch {
+                read_at,
+                part,
+                role,
+                attempt,
+                fault,
+            });
+            let mut out = Err(Alarm::NoDecision);
+            for (k, row) in stream.iter().enumerate().skip(from) {
+                let (o, _) = kernel.step(row);
+                if k == read_at {
+                    out = reading(&o, s.scale_um);
+                }
+            }
+            out
         });
-        offset_um = corrected_offset(s, offset_um, &measured);
+        let (row, next) = part_row(
+            s,
+            (part, uncorrected, corrected, offset_um),
+            m,
+            injected(&touches, part),
+        );
+        rows.push(row);
+        offset_um = next;
     }
     report(s, rows, stream, touches)
 }
@@ -408,10 +691,10 @@ pub fn report(
 }
 
 /// The same rows with the measurements replaced by another device's readings
-/// (`readings[j]` for touch j: master and part of each part in turn, [`reading`] of its
-/// outputs at the touch's read period; a missing one is no decision), and the corrections
-/// they imply: equal to the golden rows exactly when the device latched the same positions
-/// and raised the same alarms.
+/// (`readings[j]` for touch j of `golden.touches`, [`reading`] of its outputs at the
+/// touch's read period; a missing one is no decision), and the corrections they imply:
+/// equal to the golden rows exactly when the device latched the same positions and raised
+/// the same alarms.
 pub fn replay_with(
     s: &SizeLoopSettings,
     golden: &SizeLoopReport,
@@ -419,20 +702,25 @@ pub fn replay_with(
 ) -> Vec<PartRow> {
     let mut offset_um = 0.0;
     let mut out = Vec::with_capacity(golden.rows.len());
-    let touch = |j: usize| readings.get(j).copied().unwrap_or(Err(Alarm::NoDecision));
-    for (i, g) in golden.rows.iter().enumerate() {
-        let measured = measured(s, touch(2 * i), touch(2 * i + 1));
+    let mut next_touch = 0;
+    for g in &golden.rows {
+        let m = measure_part(s, |_, _| {
+            next_touch += 1;
+            readings
+                .get(next_touch - 1)
+                .copied()
+                .unwrap_or(Err(Alarm::NoDecision))
+        });
         let shift = (offset_um - g.offset_um) * 2.0 / 1e3;
         let corrected = g.corrected_mm + shift;
-        out.push(PartRow {
-            measured_mm: *measured.as_ref().unwrap_or(&f64::NAN),
-            alarm: measured.clone().err().unwrap_or_default(),
-            offset_um,
-            corrected_mm: corrected,
-            corrected_ok: (corrected - s.nominal_mm).abs() <= s.tolerance_mm,
-            ..g.clone()
-        });
-        offset_um = corrected_offset(s, offset_um, &measured);
+        let (row, next) = part_row(
+            s,
+            (g.part, g.uncorrected_mm, corrected, offset_um),
+            m,
+            g.injected.clone(),
+        );
+        out.push(row);
+        offset_um = next;
     }
     out
 }
@@ -446,6 +734,62 @@ pub fn alarms(r: &SizeLoopReport) -> Vec<(usize, &str)> {
         .collect()
 }
 
+/// The counts of a run: what the campaign of faulted touches is judged by.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct LoopCounts {
+    /// Parts turned.
+    pub parts: usize,
+    /// Corrected parts out of tolerance.
+    pub out_of_tolerance: usize,
+    /// Uncorrected parts out of tolerance.
+    pub uncorrected_out_of_tolerance: usize,
+    /// Parts with an alarm (offset not corrected).
+    pub alarms: usize,
+    /// Alarms that stopped the machine.
+    pub stops: usize,
+    /// Touches made again after a flagged one.
+    pub remeasures: usize,
+    /// Touches the stream faulted.
+    pub faulted_touches: usize,
+    /// Of those, touches whose reading came through unflagged (silent wrong readings:
+    /// trapped chips, and any chip burst the checks did not flag).
+    pub unflagged_faulted_touches: usize,
+}
+
+/// The counts of `r` (`readings`: [`reading`] of each touch, as the loop saw them).
+pub fn counts(r: &SizeLoopReport, readings: &[Result<f64, Alarm>]) -> LoopCounts {
+    let faulted = || r.touches.iter().zip(readings).filter(|(t, _)| t.fault.is_some());
+    LoopCounts {
+        parts: r.rows.len(),
+        out_of_tolerance: r.rows.iter().filter(|p| !p.corrected_ok).count(),
+        uncorrected_out_of_tolerance: r.rows.iter().filter(|p| !p.uncorrected_ok).count(),
+        alarms: r.rows.iter().filter(|p| !p.alarm.is_empty()).count(),
+        stops: r.rows.iter().filter(|p| p.stopped).count(),
+        remeasures: r.rows.iter().map(|p| p.remeasures).sum(),
+        faulted_touches: faulted().count(),
+        unflagged_faulted_touches: faulted().filter(|(_, v)| v.is_ok()).count(),
+    }
+}
+
+/// The readings of `r`'s touches by the golden model (the component's period semantics).
+pub fn golden_readings(
+    s: &SizeLoopSettings,
+    r: &SizeLoopReport,
+    measure: &MeasureConfig,
+    force: &ForceConfig,
+) -> Vec<Result<f64, Alarm>> {
+    let mut kernel = PeriodKernel::new(measure, force);
+    let mut touches = r.touches.iter().peekable();
+    let mut out = Vec::with_capacity(r.touches.len());
+    for (k, row) in r.stream.iter().enumerate() {
+        let (o, _) = kernel.step(row);
+        while touches.next_if(|t| t.read_at == k).is_some() {
+            out.push(reading(&o, s.scale_um));
+        }
+    }
+    out
+}
+
 /// The table as text: one line per part, then the capabilities.
 pub fn table(s: &SizeLoopSettings, r: &SizeLoopReport) -> Vec<String> {
     let verdict = |ok: bool| if ok { "ok" } else { "OUT" };
@@ -456,10 +800,10 @@ pub fn table(s: &SizeLoopSettings, r: &SizeLoopReport) -> Vec<String> {
         ),
     ];
     for p in &r.rows {
-        let measured = if p.alarm.is_empty() {
-            format!("{:.4}", p.measured_mm)
-        } else {
-            format!("ALARM {} (offset not corrected)", p.alarm)
+        let measured = match (p.alarm.is_empty(), p.stopped) {
+            (true, _) => format!("{:.4}", p.measured_mm),
+            (false, false) => format!("ALARM {} (offset not corrected)", p.alarm),
+            (false, true) => format!("ALARM {} (offset not corrected, machine stopped)", p.alarm),
         };
         lines.push(format!(
             "{:4} | {:21.4} | {:7} | {:10.2} | {:19.4} | {:7} | {measured}",
@@ -630,5 +974,30 @@ mod tests {
             ..o
         };
         assert_eq!(reading(&undecided, 0.5), Err(Alarm::NoDecision));
+    }
+
+    #[test]
+    fn explore_campaign() {
+        let f = ForceSettings::default().validate().unwrap();
+        let m = servo_settings(&SizeLoopSettings::default(), &f);
+        let a = TouchFaultRates { coolant_bridge: 0.02, chip_burst: 0.02, trapped_chip: 0.01, trapped_chip_um: 5.5 };
+        let b = TouchFaultRates { coolant_bridge: 0.03, chip_burst: 0.05, trapped_chip: 0.05, trapped_chip_um: 5.5 };
+        let mut all = vec![LoopRules::TODAY];
+        for (max, utl) in [(0.004, 0.02), (0.005, 0.02), (0.005, 0.015)] {
+            all.push(LoopRules { remeasure: true, upper_tolerance_mm: Some(utl), max_correction_mm: Some(max) });
+        }
+        for rules in all {
+            let mut line = format!("{rules:?}");
+            for faults in [a, b] {
+              line += " ||";
+              for seed in [31, 32, 33, 34] {
+                let s = SizeLoopSettings { parts: 200, faults, rules, seed, ..SizeLoopSettings::default() };
+                let r = run(&s, &m, &f);
+                let c = counts(&r, &golden_readings(&s, &r, &m, &f));
+                line += &format!(" | out {} st {} rm {}", c.out_of_tolerance, c.stops, c.remeasures);
+              }
+            }
+            println!("{line}");
+        }
     }
 }
