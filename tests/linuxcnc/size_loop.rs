@@ -3,7 +3,9 @@
 //! `halrun`, the whole trace checked bit for bit, and the loop's table recomputed from the
 //! positions the component latched: equal to the golden table, so HAL would have corrected
 //! the tool offset exactly as the model did. The table (`size_loop.txt`, `size_loop.csv`)
-//! and the plot (`size_loop.svg`) go to `target/tmp/linuxcnc/`.
+//! and the plot (`size_loop.svg`) go to `target/tmp/linuxcnc/`. Then the safe loop over 200
+//! parts with faulted touches, measured in HAL the same way: re-measures, alarms and stops
+//! where the model made them, and no part out of tolerance.
 
 use crate::common::{s, text, tooltouch};
 use crate::hal::{halrun, stream_hal_file, work_dir, write_config};
@@ -12,8 +14,12 @@ use tooltouch_linuxcnc::files::{
     dut_outputs, golden_outputs, header, outputs_stream, streamer_text,
 };
 use tooltouch_linuxcnc::size_loop::{
-    alarms, reading, replay_with, run, servo_pulse_tolerance, table, SizeLoopSettings,
+    alarms, counts, golden_readings, reading, replay_with, run, servo_pulse_tolerance, table,
+    Alarm, ForcedFault, LoopRules, Role, SizeLoopReport, SizeLoopSettings, TouchFault,
+    TouchFaultRates,
 };
+use tooltouch_model::force::config::ForceConfig;
+use tooltouch_model::MeasureConfig;
 use tooltouch_settings::firmware_config::FirmwareConfig;
 use tooltouch_vectors::output::write_file;
 
@@ -23,8 +29,17 @@ use tooltouch_vectors::output::write_file;
 const SETTINGS: &str = "[measure]\nmethod = \"counter\"\n[measure.checks]\npulse_tolerance = 64\n\
                         [force]\ncontroller = \"pi\"\nkp_percent = 80\n";
 
-#[test]
-fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
+/// Runs `loop_settings` in the model, streams all its touches through the component under
+/// `halrun` (servo thread of `period_ns`), checks the trace bit for bit and returns the golden
+/// report with HAL's readings of the touches.
+fn loop_in_hal(
+    loop_settings: &SizeLoopSettings,
+    period_ns: u32,
+) -> (
+    SizeLoopReport,
+    Vec<Result<f64, Alarm>>,
+    (MeasureConfig, ForceConfig),
+) {
     let dir = work_dir();
     let settings = dir.path().join("settings.toml");
     std::fs::write(&settings, SETTINGS).unwrap();
@@ -32,7 +47,6 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
     write_config(&settings, &config_file);
     let config = FirmwareConfig::load(Some(&settings)).expect("the settings load");
     let (measure, force) = (config.measure, config.force);
-    let loop_settings = SizeLoopSettings::default();
     assert!(
         measure.settings().checks.pulse_tolerance
             >= servo_pulse_tolerance(
@@ -41,8 +55,7 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
                 f64::from(force.settings().sample_hz)
             )
     );
-    let golden = run(&loop_settings, &measure, &force);
-    assert_eq!(alarms(&golden), [], "a clean machine alarms");
+    let golden = run(loop_settings, &measure, &force);
     let rows = &golden.stream;
     std::fs::write(dir.path().join("stim.txt"), streamer_text(rows)).unwrap();
     let hal = stream_hal_file(
@@ -50,7 +63,7 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
         &config_file,
         (measure.hash(), force.hash()),
         rows.len(),
-        1_000_000,
+        period_ns,
     );
     let o = halrun(dir.path(), &hal);
     assert!(o.status.success(), "halrun failed:\n{}", text(&o));
@@ -80,8 +93,8 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
     let verdict = text(&o);
     assert!(o.status.success(), "{verdict}");
     println!("{verdict}");
-    // The loop from HAL's readings: its latched positions, confirmed and fault pins.
-    let readings: Vec<_> = golden
+    // HAL's readings: its latched positions, confirmed and fault pins at each read period.
+    let readings = golden
         .touches
         .iter()
         .map(|t| {
@@ -89,6 +102,19 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
             reading(&m, loop_settings.scale_um)
         })
         .collect();
+    // The model's own readings agree (the loop was closed on them).
+    assert_eq!(
+        golden_readings(loop_settings, &golden, &measure, &force),
+        readings
+    );
+    (golden, readings, (measure, force))
+}
+
+#[test]
+fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
+    let loop_settings = SizeLoopSettings::default();
+    let (golden, readings, _) = loop_in_hal(&loop_settings, 1_000_000);
+    assert_eq!(alarms(&golden), [], "a clean machine alarms");
     let from_hal = replay_with(&loop_settings, &golden, &readings);
     assert_eq!(from_hal, golden.rows);
     let lines = table(&loop_settings, &golden);
@@ -125,4 +151,50 @@ fn linuxcnc_the_size_loop_measured_in_hal_corrects_as_the_model_does() {
     )
     .unwrap();
     println!("table and plot in {}", out.display());
+}
+
+/// The issue's goal in HAL: 200 parts with faulted touches (the campaign's rates, and part
+/// 10's touch bridged twice), the safe rules. HAL's readings replay to the golden rows —
+/// the same re-measures, alarms and stops — and no part is out of tolerance; today's loop
+/// and the uncorrected parts over the same parts beside it. The thread runs at 100 µs:
+/// the component's clock is its calls, the streamer holds the whole stream.
+#[test]
+fn linuxcnc_the_safe_size_loop_with_faulted_touches_in_hal() {
+    let safe = SizeLoopSettings {
+        parts: 200,
+        faults: TouchFaultRates::CAMPAIGN,
+        forced: Some(ForcedFault {
+            part: 10,
+            role: Role::Part,
+            attempts: 2,
+            fault: TouchFault::CoolantBridge,
+        }),
+        rules: LoopRules::SAFE,
+        ..SizeLoopSettings::default()
+    };
+    let (golden, readings, (measure, force)) = loop_in_hal(&safe, 100_000);
+    let from_hal = replay_with(&safe, &golden, &readings);
+    // Debug text: NaN (no reading) compares equal there.
+    assert_eq!(format!("{from_hal:?}"), format!("{:?}", golden.rows));
+    let c = counts(&golden, &readings);
+    let today_settings = SizeLoopSettings {
+        rules: LoopRules::TODAY,
+        ..safe
+    };
+    let today = run(&today_settings, &measure, &force);
+    let t = counts(
+        &today,
+        &golden_readings(&today_settings, &today, &measure, &force),
+    );
+    println!("safe loop (HAL): {c:?}\ntoday's loop:    {t:?}");
+    assert!(golden.rows[9].stopped, "{:?}", golden.rows[9]);
+    assert!(
+        c.faulted_touches >= 20 && c.unflagged_faulted_touches >= 5,
+        "{c:?}"
+    );
+    assert!(c.remeasures >= 10 && c.stops >= 1, "{c:?}");
+    assert_eq!(c.out_of_tolerance, 0, "{c:?}");
+    assert!(c.uncorrected_out_of_tolerance > 150, "{c:?}");
+    assert_eq!(t.remeasures, 0);
+    assert!(t.alarms > c.stops, "{t:?}");
 }
