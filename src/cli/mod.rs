@@ -59,6 +59,7 @@ pub mod ranges;
 pub mod run_settings;
 pub mod run_tables;
 pub mod setting_flags;
+pub mod size_loop;
 pub mod tune;
 pub mod vectors;
 pub mod wear;
@@ -114,6 +115,8 @@ enum Command {
     Control(control::Args),
     /// Run the tool-wear monitoring scenario.
     Wear(wear::Args),
+    /// Run the measure-then-correct size loop with faulted touches.
+    SizeLoop(size_loop::Args),
     /// Write the Verilog of the FPGA front end.
     Hdl(hdl::Args),
     /// Fixed-point tuning sweeps.
@@ -191,6 +194,7 @@ pub fn main() -> ExitCode {
         Command::Coverage(args) => coverage::run(args),
         Command::Control(args) => control::run(args),
         Command::Wear(args) => wear::run(args),
+        Command::SizeLoop(args) => size_loop::run(args),
         Command::Hdl(args) => hdl::run(args),
         Command::Tune(args) => tune::run(args),
         Command::Ranges(args) => ranges::run(args),
