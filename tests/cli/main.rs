@@ -24,6 +24,7 @@ mod plots;
 mod readme_recipes;
 mod run_files;
 mod scaleout;
+mod size_loop;
 mod slurm_cluster;
 mod spelling;
 mod vectors;
