@@ -19,6 +19,15 @@
 //! reported with it and the tool offset is left unchanged — never corrected from a reading
 //! the measurement itself does not trust.
 //!
+//! The safety rules ([`LoopRules`], [`LoopRules::SAFE`]): a flagged touch is made once more
+//! and a second flagged touch alarms and stops the machine; a measured error beyond the
+//! upper tolerance limit updates nothing, alarms and stops; a correction is clipped to the
+//! maximum per part. [`LoopRules::TODAY`], the default, is the loop without them. Faulted
+//! touches ([`TouchFault`]: a coolant bridge, a chip burst, a chip trapped on the surface —
+//! the last a silent wrong reading) are drawn per touch ([`TouchFaultRates`]) or forced
+//! ([`ForcedFault`]); every touch's chatter and every part's turning scatter have their own
+//! random stream of the seed, so faults and re-measures change no other draw.
+//!
 //! Every touch is a servo-rate stream of the component's pins (arm, contact chattering
 //! over the surface's roughness, FES and index counts, the scale): the stream of all
 //! touches is what the HAL test feeds `halrun`, and the loop's table is recomputed from
