@@ -24,10 +24,10 @@ pub struct Args {
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Also write the parts, the settings and the counts as JSON to this file.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub json: Option<PathBuf>,
     /// Also draw the parts' diameters against the tolerance band into this SVG file.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
     pub plot: Option<PathBuf>,
 }
 
@@ -195,9 +195,24 @@ fn load(path: Option<&Path>) -> Result<SizeLoopSettings> {
     let Some(p) = path else { return settings(None) };
     let text =
         std::fs::read_to_string(p).with_context(|| format!("settings file {}", p.display()))?;
+    if text.trim().is_empty() {
+        anyhow::bail!(
+            "settings file {}: empty (write a [size_loop] table, docs/size_loop.md)",
+            p.display()
+        );
+    }
     let file: File =
         toml::from_str(&text).map_err(|e| anyhow::anyhow!("settings file {}: {e}", p.display()))?;
     settings(file.size_loop).map_err(|e| anyhow::anyhow!("settings file {}: {e}", p.display()))
+}
+
+/// A scratch file, removed when dropped.
+struct ScratchFile(PathBuf);
+
+impl Drop for ScratchFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
 }
 
 /// One line of counts.
@@ -290,9 +305,14 @@ pub fn run(args: Args) -> Result<ExitCode> {
             .with_context(|| format!("--json {}", path.display()))?;
     }
     if let Some(path) = &args.plot {
+        // Drawn into a scratch file, then written whole (the SVG backend writes as it goes
+        // and would not report a folder it cannot write to).
+        let scratch = ScratchFile(
+            std::env::temp_dir().join(format!("tooltouch-size-loop-{}.svg", std::process::id())),
+        );
         let col = |f: fn(&PartRow) -> f64| r.rows.iter().map(f).collect::<Vec<_>>();
         tooltouch_plot::size_loop::size_loop(
-            path,
+            &scratch.0,
             s.nominal_mm,
             s.tolerance_mm,
             &col(|p| p.uncorrected_mm),
@@ -300,6 +320,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
             &col(|p| p.measured_mm),
         )
         .with_context(|| format!("--plot {}", path.display()))?;
+        let svg = std::fs::read(&scratch.0).context("reading the drawn plot back")?;
+        tooltouch_vectors::output::write_file(path, &svg)
+            .with_context(|| format!("--plot {}", path.display()))?;
     }
     Ok(ExitCode::SUCCESS)
 }
