@@ -1,8 +1,11 @@
-//! The Slurm recipe on a real scheduler: a one-node Slurm cluster (munged, slurmctld and
+//! The Slurm recipes on a real scheduler: a one-node Slurm cluster (munged, slurmctld and
 //! slurmd on localhost, from Debian's `munge` and `slurm-wlm`, installed by `cargo xtask
-//! setup`) started by the test in a temporary folder, `examples/scale-out/slurm.sh` submitted
-//! to it exactly as written, and the merged sweep compared byte for byte with the unsharded
-//! run. Without the daemons the test fails naming `cargo xtask setup`.
+//! setup`) started once by the test in a temporary folder; `examples/scale-out/slurm.sh` (a
+//! sharded `tune`) and `examples/scale-out/faults-slurm.sh` (a sharded fault campaign)
+//! submitted to it exactly as written, each from its own folder laid out as a checkout; and
+//! every file of each merged result compared byte for byte with the unsharded run's (the
+//! campaign's table too, from the merge job's `slurm-<job>.out`). Without the daemons the
+//! test fails naming `cargo xtask setup`.
 //!
 //! The cluster is private to the test: its own munge key and socket, free TCP ports, state
 //! and spool folders under the temporary folder, no accounting, no cgroups
@@ -19,7 +22,7 @@ use std::time::{Duration, Instant};
 
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
-/// How long the recipe's jobs may take on a loaded two-core machine (they take seconds).
+/// How long the recipes' jobs may take on a loaded two-core machine (they take seconds).
 const JOBS_TIMEOUT: Duration = Duration::from_secs(600);
 
 /// The daemons and commands the test needs, as installed by `cargo xtask setup`.
@@ -61,6 +64,16 @@ fn user_name() -> String {
         .output()
         .expect("`id -un` runs");
     String::from_utf8_lossy(&o.stdout).trim().to_string()
+}
+
+/// A job as `scontrol show job` reports it.
+#[derive(Debug)]
+struct Job {
+    name: String,
+    /// `JobState`: `COMPLETED`, `FAILED`, ...
+    state: String,
+    /// `ExitCode`: the script's exit code and the signal that ended it, `1:0`.
+    exit_code: String,
 }
 
 /// A one-node Slurm cluster on localhost, stopped (its daemons killed) when dropped.
@@ -214,7 +227,8 @@ impl LocalCluster {
         }
     }
 
-    /// Waits until no job is pending or running.
+    /// Waits until no job is pending or running; fails at once when a job's dependency can
+    /// no longer be met.
     fn wait_until_queue_empty(&self) {
         let start = Instant::now();
         loop {
@@ -224,6 +238,12 @@ impl LocalCluster {
             if queue.is_empty() {
                 return;
             }
+            // A merge whose array task failed waits for ever: say so now.
+            assert!(
+                !queue.contains("DependencyNeverSatisfied"),
+                "a job waits on a task that failed:\n{queue}\n{:?}",
+                self.jobs()
+            );
             assert!(
                 start.elapsed() < JOBS_TIMEOUT,
                 "jobs still queued after {JOBS_TIMEOUT:?}:\n{queue}\n{}",
@@ -233,9 +253,8 @@ impl LocalCluster {
         }
     }
 
-    /// `JobState` of every job the controller still knows (kept 300 s after it ends), by
-    /// job name.
-    fn job_states(&self) -> Vec<(String, String)> {
+    /// Every job the controller still knows (kept 300 s after it ends).
+    fn jobs(&self) -> Vec<Job> {
         let o = self.output("scontrol", &["-o", "show", "job"]);
         assert!(o.status.success(), "scontrol: {}", common::text(&o));
         String::from_utf8_lossy(&o.stdout)
@@ -247,7 +266,11 @@ impl LocalCluster {
                         .unwrap_or("")
                         .to_string()
                 };
-                (field("JobName="), field("JobState="))
+                Job {
+                    name: field("JobName="),
+                    state: field("JobState="),
+                    exit_code: field("ExitCode="),
+                }
             })
             .collect()
     }
@@ -267,66 +290,248 @@ impl Drop for LocalCluster {
     }
 }
 
-#[test]
-fn the_slurm_recipe_runs_on_a_one_node_cluster_and_merges_to_the_unsharded_sweep() {
-    let cluster = LocalCluster::start();
-    let work = tempfile::tempdir().unwrap();
-    let dir = work.path();
-    // The checkout layout the recipe expects: its spec under examples/.
-    std::fs::create_dir_all(dir.join("examples/scale-out")).unwrap();
-    for f in ["examples/sweep.toml", "examples/scale-out/slurm.sh"] {
-        std::fs::copy(Path::new(ROOT).join(f), dir.join(f)).unwrap();
-    }
-    // `tooltouch` on the PATH, as the recipe asks (sbatch passes the environment on).
+/// `PATH` with `tooltouch` first, as the recipes ask (sbatch passes the environment on).
+fn path_with_tooltouch() -> std::ffi::OsString {
     let bin = Path::new(env!("CARGO_BIN_EXE_tooltouch"));
-    let path = std::env::join_paths(std::iter::once(bin.parent().unwrap().to_path_buf()).chain(
+    std::env::join_paths(std::iter::once(bin.parent().unwrap().to_path_buf()).chain(
         std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default()),
     ))
-    .unwrap();
-    let submit = Command::new("bash")
-        .arg("examples/scale-out/slurm.sh")
+    .unwrap()
+}
+
+/// `recipe` submitted to `cluster` exactly as written (`bash RECIPE`), from a fresh folder
+/// laid out as the checkout it expects (`files`, the recipe among them, copied from the
+/// repository); returns the folder and what the recipe printed.
+fn submit(cluster: &LocalCluster, recipe: &str, files: &[&str]) -> (tempfile::TempDir, String) {
+    let work = tempfile::tempdir().unwrap();
+    let dir = work.path();
+    for f in files.iter().chain([&recipe]) {
+        let to = dir.join(f);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(Path::new(ROOT).join(f), to).unwrap();
+    }
+    let o = Command::new("bash")
+        .arg(recipe)
         .current_dir(dir)
         .env("SLURM_CONF", cluster.conf())
-        .env("PATH", &path)
+        .env("PATH", path_with_tooltouch())
         .output()
         .unwrap();
     assert!(
-        submit.status.success(),
-        "submitting the recipe: {}\n{}",
-        common::text(&submit),
+        o.status.success(),
+        "submitting {recipe}: {}\n{}",
+        common::text(&o),
         cluster.logs()
     );
-    cluster.wait_until_queue_empty();
-    let states = cluster.job_states();
-    let shards: Vec<&(String, String)> = states
-        .iter()
-        .filter(|(n, _)| n == "tooltouch-tune")
-        .collect();
-    let merges: Vec<&(String, String)> = states
-        .iter()
-        .filter(|(n, _)| n == "tooltouch-tune-merge")
-        .collect();
-    assert_eq!(shards.len(), 4, "array tasks of the recipe: {states:?}");
-    assert_eq!(merges.len(), 1, "merge jobs of the recipe: {states:?}");
-    assert!(
-        states.iter().all(|(_, s)| s == "COMPLETED"),
-        "every job completes: {states:?}\n{}",
-        cluster.logs()
-    );
-    let whole = dir.join("unsharded");
-    let o = Command::new(bin)
-        .args(["tune", "--spec", "examples/sweep.toml", "--out"])
-        .arg(&whole)
+    (work, String::from_utf8_lossy(&o.stdout).into_owned())
+}
+
+/// The arguments of `recipe`'s slice command (the line that runs `command … --shard`) up
+/// to `--shard`: the unsharded run of the same spec or campaign, `command`'s words first.
+fn unsharded_args(recipe: &str, command: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(Path::new(ROOT).join(recipe)).unwrap();
+    let line = text
+        .lines()
+        .find(|l| !l.trim_start().starts_with('#') && l.contains(command) && l.contains("--shard"))
+        .unwrap_or_else(|| panic!("{recipe}: no `{command} … --shard` line"));
+    let start = line.find(command).unwrap() + "tooltouch ".len();
+    let end = line.find(" --shard").unwrap();
+    line[start..end]
+        .split_whitespace()
+        .map(String::from)
+        .collect()
+}
+
+/// `tooltouch ARGS` in `dir`; returns its exit code and its standard output.
+fn tooltouch_in(dir: &Path, args: &[String]) -> (i32, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_tooltouch"))
+        .args(args)
         .current_dir(dir)
         .output()
         .unwrap();
-    assert!(o.status.success(), "unsharded tune: {}", common::text(&o));
-    let merged = dir.join("out/tune");
-    for name in ["results.json", "results.csv", "force.csv", "pareto.svg"] {
-        let (a, b) = (merged.join(name), whole.join(name));
+    let code = o.status.code().unwrap_or(-1);
+    assert!(
+        code == 0 || code == 1,
+        "tooltouch {args:?}: exit {code}: {}",
+        common::text(&o)
+    );
+    (code, String::from_utf8_lossy(&o.stdout).into_owned())
+}
+
+/// Checks the jobs of one recipe: `tasks` array tasks named `shards`, each `COMPLETED`, and
+/// one merge job named `merge` that exited with `merge_exit` (`COMPLETED` for 0).
+fn check_jobs(jobs: &[Job], shards: &str, tasks: usize, merge: &str, merge_exit: i32) {
+    let array: Vec<&Job> = jobs.iter().filter(|j| j.name == shards).collect();
+    let merges: Vec<&Job> = jobs.iter().filter(|j| j.name == merge).collect();
+    assert_eq!(array.len(), tasks, "array tasks named {shards}: {jobs:?}");
+    assert!(
+        array.iter().all(|j| j.state == "COMPLETED"),
+        "every task of {shards} completes: {jobs:?}"
+    );
+    assert_eq!(merges.len(), 1, "merge jobs named {merge}: {jobs:?}");
+    let state = if merge_exit == 0 {
+        "COMPLETED"
+    } else {
+        "FAILED"
+    };
+    assert!(
+        merges[0].state == state && merges[0].exit_code == format!("{merge_exit}:0"),
+        "the merge job {merge} ends {state} with exit code {merge_exit}, as the unsharded run: {:?}",
+        merges[0]
+    );
+}
+
+/// Where `a` and `b` first differ: the byte, its line (numbered from 1) in each.
+fn first_difference(a: &[u8], b: &[u8]) -> String {
+    let at = a.iter().zip(b).position(|(x, y)| x != y);
+    let Some(at) = at else {
+        return format!(
+            "{} bytes against {} bytes, equal up to the shorter's end",
+            a.len(),
+            b.len()
+        );
+    };
+    let line_of = |bytes: &[u8]| {
+        let start = bytes[..at]
+            .iter()
+            .rposition(|&c| c == b'\n')
+            .map_or(0, |i| i + 1);
+        let end = bytes[at..]
+            .iter()
+            .position(|&c| c == b'\n')
+            .map_or(bytes.len(), |i| at + i);
+        let line: String = String::from_utf8_lossy(&bytes[start..end])
+            .chars()
+            .take(200)
+            .collect();
+        line
+    };
+    let line = a[..at].iter().filter(|&&c| c == b'\n').count() + 1;
+    format!(
+        "first difference at byte {at}, line {line}:\n  Slurm:     {}\n  unsharded: {}",
+        line_of(a),
+        line_of(b)
+    )
+}
+
+/// The files of a folder, by name (hidden files left out: none of a result's).
+fn files_of(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    names.sort();
+    names
+}
+
+/// Every file of the Slurm run's merged `merged` and the unsharded `whole` is the same, byte
+/// for byte; `expected` are files each must hold. A mismatch names the file and where.
+fn assert_same_files(recipe: &str, merged: &Path, whole: &Path, expected: &[&str]) {
+    let names = files_of(whole);
+    for e in expected {
         assert!(
-            std::fs::read(&a).ok() == std::fs::read(&b).ok(),
-            "the Slurm run's merged {name} differs from the unsharded run's"
+            names.iter().any(|n| n == e),
+            "{recipe}: the unsharded run wrote no {e}: {names:?}"
         );
     }
+    assert_eq!(
+        files_of(merged),
+        names,
+        "{recipe}: the Slurm run's merged files are not the unsharded run's"
+    );
+    for name in &names {
+        let a = std::fs::read(merged.join(name)).unwrap();
+        let b = std::fs::read(whole.join(name)).unwrap();
+        assert!(
+            a == b,
+            "{recipe}: the Slurm run's merged {name} differs from the unsharded run's: {}",
+            first_difference(&a, &b)
+        );
+    }
+}
+
+/// The campaign's table in `output`: its header line (`kind …`) to its summary line
+/// (`silent-wrong …`).
+fn campaign_table(output: &str) -> String {
+    let lines: Vec<&str> = output.lines().collect();
+    let start = lines
+        .iter()
+        .position(|l| l.starts_with("kind "))
+        .unwrap_or_else(|| panic!("no campaign table in:\n{output}"));
+    let end = start
+        + lines[start..]
+            .iter()
+            .position(|l| l.starts_with("silent-wrong "))
+            .unwrap_or_else(|| panic!("no campaign summary line in:\n{output}"));
+    lines[start..=end].join("\n") + "\n"
+}
+
+/// The job id of the last `Submitted batch job ID` line of what a recipe printed (its
+/// merge job, submitted last and without `--parsable`).
+fn last_job_id(printed: &str) -> String {
+    printed
+        .lines()
+        .filter_map(|l| l.strip_prefix("Submitted batch job "))
+        .next_back()
+        .unwrap_or_else(|| panic!("no `Submitted batch job` line in {printed:?}"))
+        .trim()
+        .to_string()
+}
+
+#[test]
+fn the_slurm_recipes_run_on_a_one_node_cluster_and_merge_to_the_unsharded_runs() {
+    let cluster = LocalCluster::start();
+    // Both recipes submitted at once: the scheduler runs the one array after the other
+    // (each task asks 4 of the node's 16 CPUs) while the unsharded runs go on here.
+    let tune = "examples/scale-out/slurm.sh";
+    let (tune_work, _) = submit(&cluster, tune, &["examples/sweep.toml"]);
+    let faults = "examples/scale-out/faults-slurm.sh";
+    let (faults_work, printed) = submit(&cluster, faults, &["examples/measure.toml"]);
+
+    // The unsharded runs, of the spec and the campaign of the recipes' slices.
+    let (tune_dir, faults_dir) = (tune_work.path(), faults_work.path());
+    let mut args = unsharded_args(tune, "tooltouch tune");
+    args.extend(["--out".into(), "unsharded".into()]);
+    let (code, _) = tooltouch_in(tune_dir, &args);
+    assert_eq!(code, 0, "the unsharded sweep");
+    let mut args = unsharded_args(faults, "tooltouch faults");
+    args.extend(["--out".into(), "unsharded".into()]);
+    let (faults_exit, faults_stdout) = tooltouch_in(faults_dir, &args);
+
+    cluster.wait_until_queue_empty();
+    let jobs = cluster.jobs();
+    check_jobs(&jobs, "tooltouch-tune", 4, "tooltouch-tune-merge", 0);
+    check_jobs(
+        &jobs,
+        "tooltouch-faults",
+        4,
+        "tooltouch-faults-merge",
+        faults_exit,
+    );
+    assert_same_files(
+        tune,
+        &tune_dir.join("out/tune"),
+        &tune_dir.join("unsharded"),
+        &["results.json", "results.csv", "force.csv", "pareto.svg"],
+    );
+    assert_same_files(
+        faults,
+        &faults_dir.join("out/faults"),
+        &faults_dir.join("unsharded"),
+        &["faults.json", "faults-chips.svg", "faults-fes-lost.svg"],
+    );
+    let merge_log = faults_dir.join(format!("slurm-{}.out", last_job_id(&printed)));
+    let merge_output = std::fs::read_to_string(&merge_log)
+        .unwrap_or_else(|e| panic!("{}: {e}", merge_log.display()));
+    let (a, b) = (
+        campaign_table(&merge_output),
+        campaign_table(&faults_stdout),
+    );
+    assert!(
+        a == b,
+        "{faults}: the merge job's table ({}) differs from the unsharded run's: {}",
+        merge_log.display(),
+        first_difference(a.as_bytes(), b.as_bytes())
+    );
 }
