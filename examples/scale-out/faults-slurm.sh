@@ -19,7 +19,8 @@
 # are written all the same): a slice's `|| [ $? -eq 1 ]` keeps that from failing the task,
 # which would keep the merge from starting. The merge job's exit code is the campaign's
 # verdict, 0 or 1 as the unsharded run's (`sacct` or `scontrol show job` shows it); 2 (bad
-# input) fails a slice, and the merge is then never started.
+# input) fails a slice, and the merge then never runs (it stays pending, reason
+# DependencyNeverSatisfied, until you `scancel` it).
 set -euo pipefail
 
 shards_job=$(sbatch --parsable --job-name=tooltouch-faults --array=0-3 --cpus-per-task=4 \
