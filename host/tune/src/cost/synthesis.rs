@@ -28,6 +28,19 @@ pub struct Synthesis {
     pub cpu_seconds: f64,
 }
 
+/// Runs of one point's synthesis when ABC aborts: ABC (the Debian `berkeley-abc` yosys
+/// calls) has assertion crashes that come and go between identical runs (return code 134;
+/// once in CI, never in 80 runs of the same design here), so an abort is synthesized once
+/// more; any other failure, or a second abort, is an error with the log's tail.
+pub const ABC_ATTEMPTS: u32 = 2;
+
+/// Whether a yosys log ends in ABC's abort (`ABC: execution of command … failed: return
+/// code 134.`).
+pub fn abc_aborted(log: &str) -> bool {
+    log.lines()
+        .any(|l| l.contains("ABC: execution of command") && l.contains("return code 134"))
+}
+
 /// `yosys -V`, e.g. `Yosys 0.23 (git sha1 7ce5011c24b)`.
 pub fn yosys_version() -> Result<String> {
     let yosys = find_tool("yosys")?;
@@ -90,23 +103,43 @@ pub fn synthesize(point: &CalibrationPoint, work: &Path) -> Result<Synthesis> {
         .collect();
     let script = format!("read_verilog {}; {SYNTH_SCRIPT}", names.join(" "));
     let log_path = work.join("synth.log");
-    let t = Instant::now();
-    let out = Command::new(&yosys)
-        .arg("-q")
-        .arg("-l")
-        .arg(&log_path)
-        .arg("-p")
-        .arg(&script)
-        .output()
-        .map_err(io_err(&yosys))?;
-    let seconds = t.elapsed().as_secs_f64();
-    if !out.status.success() {
+    let mut attempt = 1;
+    let seconds = loop {
+        let t = Instant::now();
+        let out = Command::new(&yosys)
+            .arg("-q")
+            .arg("-l")
+            .arg(&log_path)
+            .arg("-p")
+            .arg(&script)
+            .output()
+            .map_err(io_err(&yosys))?;
+        let seconds = t.elapsed().as_secs_f64();
+        if out.status.success() {
+            break seconds;
+        }
+        let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+        if attempt < ABC_ATTEMPTS && abc_aborted(&log) {
+            eprintln!(
+                "{}: yosys's ABC aborted (return code 134), synthesizing again ({}/{ABC_ATTEMPTS})",
+                work.display(),
+                attempt + 1
+            );
+            attempt += 1;
+            continue;
+        }
+        let lines: Vec<&str> = log.lines().collect();
         return Err(HdlError::ToolFailed {
             command: format!("yosys -p \"{script}\""),
             status: out.status.to_string(),
-            output: String::from_utf8_lossy(&out.stderr).into_owned(),
+            output: format!(
+                "{}\nlast lines of {}:\n{}",
+                String::from_utf8_lossy(&out.stderr).trim_end(),
+                log_path.display(),
+                lines[lines.len().saturating_sub(30)..].join("\n")
+            ),
         });
-    }
+    };
     let log = std::fs::read_to_string(&log_path).map_err(io_err(&log_path))?;
     let (flip_flops, logic_cells) = cell_counts(&log);
     if flip_flops == 0 || logic_cells == 0 {
@@ -153,6 +186,15 @@ mod tests {
      SB_LUT4                       408
 ";
         assert_eq!(cell_counts(log), (215, 408));
+    }
+
+    #[test]
+    fn only_abcs_abort_is_synthesized_again() {
+        let abort = "ERROR: ABC: execution of command \"\"berkeley-abc\" -s -f \
+                     /tmp/yosys-abc-pC8jEU/abc.script 2>&1\" failed: return code 134.";
+        assert!(abc_aborted(&format!("4.48.1.1. Executing ABC.\n{abort}\n")));
+        assert!(!abc_aborted(&abort.replace("134", "139")));
+        assert!(!abc_aborted("ERROR: syntax error, unexpected TOK_ID\n"));
     }
 
     #[test]
