@@ -95,7 +95,7 @@ use tooltouch_model::MeasureConfig;
 
 pub use config_include::{config_include, CONFIG_INCLUDE};
 pub use design::{Design, Fault, Options, VerilogFile, FPGA_TOP, TOP};
-pub use mcu::{McuRegister, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
+pub use mcu::{McuRegister, McuWord, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS};
 pub use modules::tt_frontend_ref::{reference, REFERENCE_TOP};
 pub use modules::tt_testbench::{
     testbench, TestbenchSpec, EXPECT_HEX, MAX_CYCLES, MAX_DEPTH, STIM_HEX, STIM_WORD_BITS,

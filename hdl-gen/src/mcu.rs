@@ -1,44 +1,12 @@
-//! The MCU's view of the front end: the register map ([`MCU_REGISTERS`]) and the Verilog
-//! expression of each word, shared by the design's read mux (`tt_frontend`) and the
-//! testbench's reference so the two cannot disagree.
+//! The MCU's view of the front end: the register map (the model's [`MCU_REGISTERS`],
+//! re-exported) and the Verilog expression of each word, shared by the design's read mux
+//! (`tt_frontend`) and the testbench's reference so the two cannot disagree.
 
-use tooltouch_model::MeasureConfig;
-
-/// Width of the MCU read-data bus, bits.
-pub const MCU_DATA_BITS: u32 = 32;
-/// Width of the MCU register address, bits.
-pub const MCU_ADDR_BITS: u32 = 4;
-
-/// One word of the MCU register file (read through `mcu_addr` / `mcu_rdata`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct McuRegister {
-    /// Word address.
-    pub addr: u32,
-    /// Name.
-    pub name: &'static str,
-    /// Contents.
-    pub what: &'static str,
-    /// A diagnostic counter: reads 0 unless [`crate::Options::mcu_diagnostics`] is set.
-    pub diagnostic: bool,
-}
-
-/// The MCU register map. Unlisted addresses, and the diagnostic counters unless
-/// [`crate::Options::mcu_diagnostics`] is set, read 0. Positions are sign-extended from
-/// `scale_bits` to 32 bits; counts are zero-extended.
-pub const MCU_REGISTERS: [McuRegister; 12] = [
-    McuRegister { addr: 0, name: "STATUS", what: "bit 0 armed, 1 contact, 2 register_now, 3 first_contact, 4 density_armed, 5 density_fired, 6 confirmed; bits 14..8 faults (bit 8 + n = fault bit n)", diagnostic: false },
-    McuRegister { addr: 1, name: "POSITION", what: "live scale position, counts, sign-extended", diagnostic: false },
-    McuRegister { addr: 2, name: "DECISION_POSITION", what: "position latched at the decision, counts, sign-extended", diagnostic: false },
-    McuRegister { addr: 3, name: "FIRST_CONTACT_POSITION", what: "position latched at the first contact, counts, sign-extended", diagnostic: false },
-    McuRegister { addr: 4, name: "COUNT", what: "contact pulses in the current window", diagnostic: false },
-    McuRegister { addr: 5, name: "LAST_WINDOW_COUNT", what: "contact pulses in the previous window", diagnostic: false },
-    McuRegister { addr: 6, name: "CHARGE", what: "capacitor charge, LSBs", diagnostic: false },
-    McuRegister { addr: 7, name: "REVOLUTIONS", what: "index pulses since arm", diagnostic: true },
-    McuRegister { addr: 8, name: "PULSES", what: "FES pulses since arm", diagnostic: true },
-    McuRegister { addr: 9, name: "SCALE_ERRORS", what: "illegal scale transitions", diagnostic: false },
-    McuRegister { addr: 10, name: "CONFIG_HASH_LO", what: "configuration hash, bits 31..0", diagnostic: false },
-    McuRegister { addr: 11, name: "CONFIG_HASH_HI", what: "configuration hash, bits 63..32", diagnostic: false },
-];
+pub use tooltouch_model::measure::mcu_registers::{
+    McuRegister, McuWord, MCU_ADDR_BITS, MCU_DATA_BITS, MCU_REGISTERS,
+};
+use tooltouch_model::measure::mcu_registers::{STATUS_FAULTS, STATUS_FAULTS_SHIFT, STATUS_FLAGS};
+use tooltouch_model::{MeasureConfig, MeasureOutputs};
 
 /// The MCU read mux: an `always @*` block with one `case (mcu_addr)` arm per register of
 /// [`MCU_REGISTERS`] (`<addr>: mcu_rdata = <word>;  // <name>`) over the output signals
@@ -72,62 +40,56 @@ pub(crate) fn mcu_words(
     prefix: &str,
     diagnostics: bool,
 ) -> [String; 12] {
-    let s = config.settings();
-    let sb = u32::from(s.scale_bits);
-    let p = |n: &str| format!("{prefix}{n}");
-    let sext = |n: &str| {
-        if sb >= MCU_DATA_BITS {
-            p(n)
+    let fields = MeasureOutputs::widths(config);
+    let p = |i: usize| format!("{prefix}{}", fields[i].0);
+    let width = |i: usize| fields[i].1;
+    let sext = |i: usize| {
+        let w = width(i);
+        if w >= MCU_DATA_BITS {
+            p(i)
         } else {
             format!(
                 "{{{{{}{{{}[{}]}}}}, {}}}",
-                MCU_DATA_BITS - sb,
-                p(n),
-                sb - 1,
-                p(n)
+                MCU_DATA_BITS - w,
+                p(i),
+                w - 1,
+                p(i)
             )
         }
     };
-    let zext = |n: &str, w: u32| {
+    let zext = |i: usize| {
+        let w = width(i);
         if w >= MCU_DATA_BITS {
-            p(n)
+            p(i)
         } else {
-            format!("{{{}'d0, {}}}", MCU_DATA_BITS - w, p(n))
+            format!("{{{}'d0, {}}}", MCU_DATA_BITS - w, p(i))
         }
     };
-    let cb = u32::from(config.count_bits());
-    let words = [
-        format!(
-            "{{17'd0, {}, 1'b0, {}, {}, {}, {}, {}, {}, {}}}",
-            p("faults"),
-            p("confirmed"),
-            p("density_fired"),
-            p("density_armed"),
-            p("first_contact"),
-            p("register_now"),
-            p("contact"),
-            p("armed")
-        ),
-        sext("position"),
-        sext("decision_position"),
-        sext("first_contact_position"),
-        zext("count", cb),
-        zext("last_window_count", cb),
-        zext("charge", u32::from(s.charge_bits)),
-        zext("revolutions", 16),
-        p("pulses"),
-        zext("scale_errors", 8),
-        format!("32'h{:08x}", hash & 0xffff_ffff),
-        format!("32'h{:08x}", hash >> 32),
-    ];
-    let mut index = 0;
-    words.map(|word| {
-        let diagnostic = MCU_REGISTERS[index].diagnostic;
-        index += 1;
-        if diagnostic && !diagnostics {
-            format!("{MCU_DATA_BITS}'d0")
-        } else {
-            word
+    // STATUS: `{pad'd0, faults, gap'b0, flag n-1, …, flag 0}`.
+    let status = || {
+        let pad = MCU_DATA_BITS - STATUS_FAULTS_SHIFT - width(STATUS_FAULTS);
+        let gap = STATUS_FAULTS_SHIFT - STATUS_FLAGS.len() as u32;
+        let mut parts = Vec::new();
+        if pad > 0 {
+            parts.push(format!("{pad}'d0"));
+        }
+        parts.push(p(STATUS_FAULTS));
+        if gap > 0 {
+            parts.push(format!("{gap}'b0"));
+        }
+        parts.extend(STATUS_FLAGS.iter().rev().map(|&i| p(i)));
+        format!("{{{}}}", parts.join(", "))
+    };
+    MCU_REGISTERS.map(|reg| {
+        if reg.diagnostic && !diagnostics {
+            return format!("{MCU_DATA_BITS}'d0");
+        }
+        match reg.word {
+            McuWord::Status => status(),
+            McuWord::SignExtended(i) => sext(i),
+            McuWord::ZeroExtended(i) => zext(i),
+            McuWord::HashLow => format!("32'h{:08x}", hash & 0xffff_ffff),
+            McuWord::HashHigh => format!("32'h{:08x}", hash >> 32),
         }
     })
 }

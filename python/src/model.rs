@@ -15,7 +15,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use tooltouch_model::measure::checks::Faults;
 use tooltouch_model::measure::frontend::{pin, FrontEnd as ModelFrontEnd, Pins};
-use tooltouch_model::{MeasureEvent, MeasureOutputs, Measurement as ModelMeasurement};
+use tooltouch_model::measure::mcu_registers::{mcu_word, MCU_ADDR_BITS};
+use tooltouch_model::{
+    MeasureConfig, MeasureEvent, MeasureOutputs, Measurement as ModelMeasurement,
+};
 
 /// Every output of the front end after one clock or event.
 #[pyclass(module = "tooltouch", frozen, eq)]
@@ -255,6 +258,26 @@ fn py_bool(b: bool) -> &'static str {
 }
 
 /// The pins byte `pins`, refusing bits above the six pins.
+/// `addr` checked as the MCU addresses of `clocks` clocks: as long as the pins, each 4 bits.
+fn checked_mcu_addr(addr: &[u8], clocks: usize) -> PyResult<&[u8]> {
+    if addr.len() != clocks {
+        return Err(PyValueError::new_err(format!(
+            "mcu_addr has {} elements and pins {clocks}: one address per clock",
+            addr.len()
+        )));
+    }
+    if let Some(k) = addr
+        .iter()
+        .position(|&a| u32::from(a) >= 1 << MCU_ADDR_BITS)
+    {
+        return Err(PyValueError::new_err(format!(
+            "mcu_addr[{k}] = {}: mcu_addr is {MCU_ADDR_BITS} bits, 0..=15",
+            addr[k]
+        )));
+    }
+    Ok(addr)
+}
+
 fn checked_pins(pins: u8) -> PyResult<Pins> {
     if pins & !pin::ALL != 0 {
         return Err(PyValueError::new_err(format!(
@@ -269,6 +292,8 @@ fn checked_pins(pins: u8) -> PyResult<Pins> {
 pub struct FrontEnd {
     /// The model's front end; it counts its clocks (the time of its FES watchdog).
     inner: ModelFrontEnd,
+    /// Its configuration (the MCU words' widths and hash).
+    config: MeasureConfig,
 }
 
 /// One growing array per output, filled clock by clock and handed to numpy at the end.
@@ -368,6 +393,7 @@ impl FrontEnd {
     fn new(settings: &Settings) -> FrontEnd {
         FrontEnd {
             inner: ModelFrontEnd::new(&settings.config),
+            config: settings.config,
         }
     }
 
@@ -383,11 +409,17 @@ impl FrontEnd {
     /// One clock per element of `pins` (a 1-D uint8 array, pin bytes as for `step`);
     /// returns `{output name: array}`, element `k` the output after clock `k`. dtypes:
     /// flags bool, positions int32, scale_errors uint8, revolutions uint16, the rest
-    /// uint32, faults uint8.
+    /// uint32, faults uint8. With `mcu_addr` (a uint8 array as long as `pins`, addresses
+    /// 0..=15) the dict also holds `mcu_rdata` (uint32): the word of the MCU register map
+    /// at `mcu_addr[k]` after clock `k`, the diagnostic counters 0 unless
+    /// `mcu_diagnostics`.
+    #[pyo3(signature = (pins, mcu_addr=None, mcu_diagnostics=false))]
     fn run<'py>(
         &mut self,
         py: Python<'py>,
         pins: PyReadonlyArray1<'py, u8>,
+        mcu_addr: Option<PyReadonlyArray1<'py, u8>>,
+        mcu_diagnostics: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let pins = pins.as_slice()?;
         if let Some(k) = pins.iter().position(|p| p & !pin::ALL != 0) {
@@ -396,18 +428,41 @@ impl FrontEnd {
                 pins[k]
             )));
         }
+        let mcu_addr = match &mcu_addr {
+            Some(a) => Some(checked_mcu_addr(a.as_slice()?, pins.len())?),
+            None => None,
+        };
         let mut columns = OutputColumns::with_capacity(pins.len());
+        let mut mcu_rdata = Vec::with_capacity(mcu_addr.map_or(0, <[u8]>::len));
+        let hash = self.config.hash();
         // The outputs are the kernel's registers, and the kernel changes only in a clock
         // with edges, or with time while armed (the FES watchdog): the other clocks repeat
         // the last outputs without recomputing them.
         let mut outputs = self.inner.outputs();
-        for &p in pins {
+        let mut bits = outputs.register_bits(&self.config);
+        for (k, &p) in pins.iter().enumerate() {
             if !self.inner.clock(Pins(p)).is_empty() || outputs.armed {
                 outputs = self.inner.outputs();
+                if mcu_addr.is_some() {
+                    bits = outputs.register_bits(&self.config);
+                }
             }
             columns.push(&outputs);
+            if let Some(addr) = mcu_addr {
+                mcu_rdata.push(mcu_word(
+                    &self.config,
+                    hash,
+                    &bits,
+                    u32::from(addr[k]),
+                    mcu_diagnostics,
+                ));
+            }
         }
-        columns.into_dict(py)
+        let d = columns.into_dict(py)?;
+        if mcu_addr.is_some() {
+            d.set_item("mcu_rdata", PyArray1::from_vec(py, mcu_rdata))?;
+        }
+        Ok(d)
     }
 
     /// `cycles` clocks with `pins` held, skipping exactly the clocks after the front end

@@ -119,3 +119,51 @@ def test_event_level_measurement_equals_the_clis_expected_outputs(fast_run):
         compared += 1
     assert compared > 1000
     assert measurement.outputs.register_now
+
+
+def test_mcu_rdata_is_the_word_the_register_map_documents():
+    """``run(pins, mcu_addr=…)``'s ``mcu_rdata`` against the map as docs/CONTRACT.md writes
+    it, computed here from the output columns."""
+    settings = tooltouch.Settings(SMALL)
+    pins, clocks = random_segments(seed=15, count=3000)
+    per_clock = np.repeat(pins, clocks)
+    rng = np.random.default_rng(3)
+    addr = rng.integers(0, 16, size=len(per_clock), dtype=np.uint8)
+    got = tooltouch.FrontEnd(settings).run(per_clock, mcu_addr=addr)
+    diagnostic = tooltouch.FrontEnd(settings).run(per_clock, mcu_addr=addr, mcu_diagnostics=True)
+    assert got["register_now"].any(), "the stimulus never decided: a weak test"
+    c = {name: got[name].astype(np.int64) for name in tooltouch.OUTPUT_NAMES}
+    flags = ["armed", "contact", "register_now", "first_contact", "density_armed", "density_fired", "confirmed"]
+    status = sum(c[name] << bit for bit, name in enumerate(flags)) | (c["faults"] << 8)
+    by_addr = {
+        0: status,
+        1: c["position"] & 0xFFFF_FFFF,
+        2: c["decision_position"] & 0xFFFF_FFFF,
+        3: c["first_contact_position"] & 0xFFFF_FFFF,
+        4: c["count"],
+        5: c["last_window_count"],
+        6: c["charge"],
+        9: c["scale_errors"],
+        10: np.full(len(addr), settings.config_hash & 0xFFFF_FFFF),
+        11: np.full(len(addr), settings.config_hash >> 32),
+    }
+    want = np.zeros(len(addr), dtype=np.int64)
+    for a, words in by_addr.items():
+        want[addr == a] = words[addr == a]
+    assert (got["mcu_rdata"].astype(np.int64) == want).all()
+    want[addr == 7] = c["revolutions"][addr == 7]
+    want[addr == 8] = c["pulses"][addr == 8]
+    assert (diagnostic["mcu_rdata"].astype(np.int64) == want).all()
+    assert "mcu_rdata" not in tooltouch.FrontEnd(settings).run(per_clock[:10])
+
+
+def test_bad_mcu_addresses_are_refused_naming_the_element():
+    fe = tooltouch.FrontEnd(tooltouch.Settings())
+    pins = np.zeros(3, dtype=np.uint8)
+    for addr, named in [(np.array([0, 1, 16], dtype=np.uint8), "mcu_addr[2] = 16"), (np.zeros(2, dtype=np.uint8), "mcu_addr has 2 elements")]:
+        try:
+            fe.run(pins, mcu_addr=addr)
+        except ValueError as e:
+            assert named in str(e), str(e)
+        else:
+            raise AssertionError(f"{addr} accepted")

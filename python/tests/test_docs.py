@@ -1,4 +1,5 @@
-"""docs/python.md's examples run as written; the scoreboard finds the planted mismatch."""
+"""docs/python.md's examples run as written (the MCU words' block asserts its own); the
+scoreboard finds the planted mismatch."""
 
 import contextlib
 import io
@@ -10,7 +11,9 @@ from conftest import ROOT
 def test_the_scoreboard_example_runs_as_written():
     text = (ROOT / "docs" / "python.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert len(blocks) == 2, "docs/python.md should hold the scoreboard and the force example"
+    assert len(blocks) == 3, (
+        "docs/python.md should hold the scoreboard, the force example and the MCU words"
+    )
     printed = []
     for block in blocks:
         out = io.StringIO()
@@ -19,3 +22,4 @@ def test_the_scoreboard_example_runs_as_written():
         printed.append(out.getvalue())
     assert printed[0].startswith("(5000, 'position', "), printed[0]
     assert printed[1].startswith("13000 samples, 263 ticks and commands"), printed[1]
+    assert printed[2] == "", "the MCU example asserts what it shows"

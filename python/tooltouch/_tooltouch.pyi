@@ -187,10 +187,20 @@ class FrontEnd:
     def __init__(self, settings: Settings) -> None: ...
     def step(self, pins: int) -> Outputs:
         """One rising clock edge with ``pins``; the outputs registered by it."""
-    def run(self, pins: npt.NDArray[np.uint8]) -> Dict[str, npt.NDArray[Any]]:
+    def run(
+        self,
+        pins: npt.NDArray[np.uint8],
+        mcu_addr: Optional[npt.NDArray[np.uint8]] = None,
+        mcu_diagnostics: bool = False,
+    ) -> Dict[str, npt.NDArray[Any]]:
         """One clock per element of ``pins``; ``{name: array}`` with element ``k`` the
         output after clock ``k``. dtypes: flags bool, positions int32, scale_errors
-        uint8, revolutions uint16, faults uint8, the others uint32. The loop runs in Rust."""
+        uint8, revolutions uint16, faults uint8, the others uint32. The loop runs in Rust.
+
+        With ``mcu_addr`` (uint8, as long as ``pins``, addresses 0..=15) the dict also
+        holds ``mcu_rdata`` (uint32): the MCU register map's word at ``mcu_addr[k]`` after
+        clock ``k``, read from the registers clock ``k`` left, the diagnostic counters 0
+        unless ``mcu_diagnostics``."""
     def advance(self, pins: int, cycles: int) -> int:
         """``cycles`` clocks with ``pins`` held, exactly skipping those after the front
         end settled; returns the clocks simulated one by one."""

@@ -5,8 +5,9 @@ The model runs once over the whole stimulus (``FrontEnd.run``, the loop in Rust)
 simulation loop only looks values up. The expected values are the unsigned register bits
 the Verilog ports carry: positions are ``scale_bits`` two's complement; ``irq`` is
 ``register_now``; ``mcu_rdata`` is the word of the MCU register map at the address driven
-for that clock, read combinationally from the registers just clocked (tt_frontend's read
-has no latency; the chip top tt_fpga registers it, one clock later).
+for that clock (the model's map, from ``FrontEnd.run(pins, mcu_addr=…)``), read
+combinationally from the registers just clocked (tt_frontend's read has no latency; the
+chip top tt_fpga registers it, one clock later).
 """
 
 from __future__ import annotations
@@ -17,37 +18,6 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 import tooltouch
-
-# The outputs as the STATUS word's bits 0..6, in bit order; the faults word is its bits
-# 14..8 (STATUS_FAULTS_SHIFT).
-STATUS_BITS = [
-    "armed",
-    "contact",
-    "register_now",
-    "first_contact",
-    "density_armed",
-    "density_fired",
-    "confirmed",
-]
-STATUS_FAULTS_SHIFT = 8
-
-# MCU word addresses of the register map (hdl-gen's MCU_REGISTERS) after STATUS, as the
-# output each reads; a position is sign-extended from scale_bits, a count zero-extended.
-MCU_WORDS = {
-    1: "position",
-    2: "decision_position",
-    3: "first_contact_position",
-    4: "count",
-    5: "last_window_count",
-    6: "charge",
-    7: "revolutions",  # diagnostic: 0 unless --mcu-diagnostics
-    8: "pulses",  # diagnostic: 0 unless --mcu-diagnostics
-    9: "scale_errors",
-}
-DIAGNOSTIC_WORDS = {7, 8}
-CONFIG_HASH_LO = 10
-CONFIG_HASH_HI = 11
-POSITIONS = {"position", "decision_position", "first_contact_position"}
 
 
 @dataclass
@@ -81,35 +51,16 @@ class Reference:
 
     def expect(self, pins: np.ndarray, mcu_addr: np.ndarray) -> Dict[str, List[int]]:
         """``{port: [value after each clock]}`` for the next ``len(pins)`` clocks."""
-        columns = self.model.run(pins)
+        columns = self.model.run(
+            pins, mcu_addr=mcu_addr, mcu_diagnostics=self.diagnostics
+        )
         expected: Dict[str, List[int]] = {}
         for name in tooltouch.OUTPUT_NAMES:
             values = columns[name].astype(np.int64) & ((1 << self.widths[name]) - 1)
             expected[name] = values.tolist()
         expected["irq"] = expected["register_now"]
-        expected["mcu_rdata"] = self._mcu_words(columns, mcu_addr)
+        expected["mcu_rdata"] = columns["mcu_rdata"].astype(np.int64).tolist()
         return expected
-
-    def _mcu_words(self, columns: Dict[str, np.ndarray], mcu_addr: np.ndarray) -> List[int]:
-        words = np.zeros(len(mcu_addr), dtype=np.int64)
-        status = np.zeros(len(mcu_addr), dtype=np.int64)
-        for bit, name in enumerate(STATUS_BITS):
-            status |= columns[name].astype(np.int64) << bit
-        status |= (columns["faults"].astype(np.int64) & 0x7F) << STATUS_FAULTS_SHIFT
-        words[mcu_addr == 0] = status[mcu_addr == 0]
-        for addr, name in MCU_WORDS.items():
-            if addr in DIAGNOSTIC_WORDS and not self.diagnostics:
-                continue
-            column = columns[name].astype(np.int64)
-            if name in POSITIONS:
-                column = column & 0xFFFF_FFFF  # sign-extended to 32-bit two's complement
-            else:
-                column = column & ((1 << self.widths[name]) - 1)
-            words[mcu_addr == addr] = column[mcu_addr == addr]
-        config_hash = self.settings.config_hash
-        words[mcu_addr == CONFIG_HASH_LO] = config_hash & 0xFFFF_FFFF
-        words[mcu_addr == CONFIG_HASH_HI] = config_hash >> 32
-        return words.tolist()
 
 
 def first_mismatch(

@@ -25,10 +25,9 @@ pub(crate) fn c_outputs(o: &MeasureOutputs) -> TtMeasureOutputs {
     }
 }
 
-/// The MCU register file's word at `addr` (the map of `tooltouch_hdl_gen::MCU_REGISTERS`:
-/// status (flags in bits 6..0, the faults word in bits 14..8), positions sign-extended from
-/// `scale_bits`, counts, charge, diagnostic counters (0 unless `diagnostics`), scale errors,
-/// configuration hash; 0 elsewhere).
+/// The MCU register file's word at `addr`: the model's register map
+/// (`tooltouch_model::measure::mcu_registers`), the diagnostic counters 0 unless
+/// `diagnostics`, 0 at an unlisted address.
 pub(crate) fn mcu_word(
     config: &MeasureConfig,
     hash: u64,
@@ -36,39 +35,13 @@ pub(crate) fn mcu_word(
     addr: u32,
     diagnostics: bool,
 ) -> u32 {
-    let bits = o.register_bits(config);
-    let scale_bits = u32::from(config.settings().scale_bits);
-    let sign_extend = |raw: u64| -> u32 {
-        if scale_bits >= 32 {
-            raw as u32
-        } else {
-            let shift = 32 - scale_bits;
-            (((raw as u32) << shift) as i32 >> shift) as u32
-        }
-    };
-    let status = u32::from(o.armed)
-        | u32::from(o.contact) << 1
-        | u32::from(o.register_now) << 2
-        | u32::from(o.first_contact) << 3
-        | u32::from(o.density_armed) << 4
-        | u32::from(o.density_fired) << 5
-        | u32::from(o.confirmed) << 6
-        | u32::from(o.faults) << 8;
-    match addr {
-        0 => status,
-        1 => sign_extend(bits[6]),
-        2 => sign_extend(bits[3]),
-        3 => sign_extend(bits[5]),
-        4 => bits[8] as u32,
-        5 => bits[9] as u32,
-        6 => bits[10] as u32,
-        7 if diagnostics => u32::from(o.revolutions),
-        8 if diagnostics => o.pulses,
-        9 => u32::from(o.scale_errors),
-        10 => hash as u32,
-        11 => (hash >> 32) as u32,
-        _ => 0,
-    }
+    tooltouch_model::measure::mcu_registers::mcu_word(
+        config,
+        hash,
+        &o.register_bits(config),
+        addr,
+        diagnostics,
+    )
 }
 
 pub(crate) fn check_mcu_addr(addr: u32) -> Result<(), Failure> {

@@ -14,7 +14,7 @@ use super::error::{io, FormalError};
 use super::inputs::Counterexample;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use tooltouch_hdl_gen::{mask, output_fields, MCU_REGISTERS, TESTBENCH};
+use tooltouch_hdl_gen::{output_fields, MCU_REGISTERS, TESTBENCH};
 use tooltouch_model::measure::frontend::{FrontEnd, Pins};
 use tooltouch_model::{MeasureConfig, MeasureOutputs};
 use tooltouch_rtl_sim::runner::{build, run, CxxOpt, Simulator};
@@ -58,63 +58,22 @@ impl std::fmt::Display for ClockedMismatch {
 }
 
 /// The MCU word at `addr` of a front end whose outputs' register bits are `values`
-/// ([`tooltouch_hdl_gen::output_values`] order), as the register map defines it:
-/// positions sign-extended from `scale_bits`, counts zero-extended, the diagnostic
-/// counters 0 unless `diagnostics`, an unlisted address 0.
+/// ([`tooltouch_hdl_gen::output_values`] order), as the model's register map defines it
+/// (`tooltouch_model::measure::mcu_registers`): the diagnostic counters 0 unless
+/// `diagnostics`, an unlisted address 0.
 pub fn mcu_word(
     config: &MeasureConfig,
     values: &[u64; MeasureOutputs::FIELD_COUNT],
     addr: u32,
     diagnostics: bool,
 ) -> u32 {
-    let fields = output_fields(config);
-    let v = |name: &str| {
-        fields
-            .iter()
-            .position(|f| f.name == name)
-            .map_or(0, |i| values[i])
-    };
-    let sb = u32::from(config.settings().scale_bits);
-    let sext = |name: &str| {
-        let x = v(name) & mask(sb);
-        if sb < 64 && x >> (sb - 1) & 1 == 1 {
-            (x | !mask(sb)) as u32
-        } else {
-            x as u32
-        }
-    };
-    let Some(reg) = MCU_REGISTERS.iter().find(|r| r.addr == addr) else {
-        return 0;
-    };
-    if reg.diagnostic && !diagnostics {
-        return 0;
-    }
-    let hash = config.hash();
-    match reg.name {
-        "STATUS" => {
-            let b = |n: &str| (v(n) & 1) as u32;
-            b("armed")
-                | b("contact") << 1
-                | b("register_now") << 2
-                | b("first_contact") << 3
-                | b("density_armed") << 4
-                | b("density_fired") << 5
-                | b("confirmed") << 6
-                | ((v("faults") & 0x7f) as u32) << 8
-        }
-        "POSITION" => sext("position"),
-        "DECISION_POSITION" => sext("decision_position"),
-        "FIRST_CONTACT_POSITION" => sext("first_contact_position"),
-        "COUNT" => v("count") as u32,
-        "LAST_WINDOW_COUNT" => v("last_window_count") as u32,
-        "CHARGE" => v("charge") as u32,
-        "REVOLUTIONS" => v("revolutions") as u32,
-        "PULSES" => v("pulses") as u32,
-        "SCALE_ERRORS" => v("scale_errors") as u32,
-        "CONFIG_HASH_LO" => hash as u32,
-        "CONFIG_HASH_HI" => (hash >> 32) as u32,
-        _ => 0,
-    }
+    tooltouch_model::measure::mcu_registers::mcu_word(
+        config,
+        config.hash(),
+        values,
+        addr,
+        diagnostics,
+    )
 }
 
 /// The replay testbench (module `tt_testbench`, Verilog-2005) of `cex` on the design's
@@ -286,7 +245,7 @@ fn hdl_error(e: tooltouch_rtl_sim::HdlError) -> FormalError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tooltouch_hdl_gen::output_values;
+    use tooltouch_hdl_gen::{mask, output_values};
 
     #[test]
     fn the_mcu_words_follow_the_register_map() {

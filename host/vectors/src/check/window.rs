@@ -7,7 +7,7 @@
 //!   `k` acts on the outputs at `k + 3 + glitch_cycles`), changes marked `*`;
 //! - when the DUT's top scope has `mcu_addr` and `mcu_rdata` (the generated `tt_frontend`'s
 //!   MCU port), the word read at `K`, its address, the register it names
-//!   (`tooltouch_hdl_gen::MCU_REGISTERS`) and the word the golden outputs give there;
+//!   (`tooltouch_model::measure::mcu_registers`) and the word the golden outputs give there;
 //! - with a window file: a VCD of clocks `K − WINDOW_BEFORE … K + WINDOW_AFTER` of
 //!   golden (`golden.inputs`, `golden.outputs`) and DUT (`dut`, under the golden names,
 //!   plus its MCU port) side by side, with a 1-bit `differs.<name>` per output, every value
@@ -21,8 +21,9 @@ use super::{golden_period_fs, BadInput, FirstMismatch, Report};
 use crate::vcd::{Declarations, Value};
 use std::fmt::Write as _;
 use std::path::Path;
-use tooltouch_hdl_gen::MCU_REGISTERS;
 use tooltouch_model::measure::frontend::pin;
+use tooltouch_model::measure::mcu_registers::McuRegister;
+use tooltouch_model::MeasureOutputs;
 
 /// Rows of the input-pin table: the clocks `K − PIN_ROWS + 1 … K`.
 pub const PIN_ROWS: u64 = 12;
@@ -94,45 +95,20 @@ fn number(v: &Option<Value>) -> Option<u64> {
     v.as_ref().filter(|v| !v.unknown).and_then(Value::to_u64)
 }
 
-/// The MCU word at `addr` that the golden outputs `g` (by name) give, with the
-/// configuration hash `hash`: `tooltouch_hdl_gen::MCU_REGISTERS`' contents; `None` for an
-/// unknown value. A diagnostic counter reads 0 unless the design has them: both are given.
+/// The MCU word at `addr` that the golden outputs `g` (by name: register bits and width)
+/// give, with the configuration hash `hash`: the model's register map
+/// (`tooltouch_model::measure::mcu_registers`); `None` for an unknown value. A diagnostic
+/// counter reads 0 unless the design has them: both are given.
 fn mcu_expected(addr: u64, g: &dyn Fn(&str) -> Option<(u64, u32)>, hash: u64) -> Option<String> {
-    let sext = |n: &str| {
-        g(n).map(|(v, w)| {
-            let w = w.clamp(1, 64);
-            let signed = ((v << (64 - w)) as i64) >> (64 - w);
-            (signed as u64) & 0xffff_ffff
-        })
+    let Some(register) = u32::try_from(addr).ok().and_then(McuRegister::at) else {
+        return Some("0x0".into());
     };
-    let zext = |n: &str| g(n).map(|(v, _)| v & 0xffff_ffff);
-    let flag = |n: &str, bit: u32| g(n).map(|(v, _)| (v & 1) << bit);
-    let word = match addr {
-        0 => [
-            "armed",
-            "contact",
-            "register_now",
-            "first_contact",
-            "density_armed",
-            "density_fired",
-        ]
-        .iter()
-        .zip(0..)
-        .try_fold(0u64, |acc, (n, bit)| flag(n, bit).map(|b| acc | b))?,
-        1 => sext("position")?,
-        2 => sext("decision_position")?,
-        3 => sext("first_contact_position")?,
-        4 => zext("count")?,
-        5 => zext("last_window_count")?,
-        6 => zext("charge")?,
-        7 => return zext("revolutions").map(|v| format!("0x0 (0x{v:x} with --mcu-diagnostics)")),
-        8 => return zext("pulses").map(|v| format!("0x0 (0x{v:x} with --mcu-diagnostics)")),
-        9 => zext("scale_errors")?,
-        10 => hash & 0xffff_ffff,
-        11 => hash >> 32,
-        _ => 0,
-    };
-    Some(format!("0x{word:x}"))
+    let word = register.word(hash, |i| g(MeasureOutputs::LAYOUT[i].0))?;
+    Some(if register.diagnostic {
+        format!("0x0 (0x{word:x} with --mcu-diagnostics)")
+    } else {
+        format!("0x{word:x}")
+    })
 }
 
 /// Adds the mismatch report's lines to `report` (and writes the window VCD at `window`,
@@ -250,8 +226,9 @@ pub fn add_details(
                     number(&g[row][pins.len() + i]).map(|v| (v, report.matches[i].widths.0))
                 })
         };
-        let register =
-            number(addr).and_then(|a| MCU_REGISTERS.iter().find(|r| u64::from(r.addr) == a));
+        let register = number(addr)
+            .and_then(|a| u32::try_from(a).ok())
+            .and_then(McuRegister::at);
         let want = number(addr).and_then(|a| mcu_expected(a, &golden_value, hash));
         lines.push(format!(
             "mcu_rdata at cycle {k}: {} read at mcu_addr {} ({}); the golden outputs give {}",
@@ -574,4 +551,41 @@ fn write_window(
     let sucl = super::surfer::command_file(&vcd_name, &groups, marker);
     crate::output::write_file(&vcd_path.with_extension("sucl"), sucl.as_bytes())?;
     Ok((vcd_path.to_path_buf(), gtkw_path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The golden outputs by name, as the report reads them from the dump.
+    fn golden(name: &str) -> Option<(u64, u32)> {
+        Some(match name {
+            "armed" | "confirmed" => (1, 1),
+            "faults" => (0b100_0010, 7),
+            "decision_position" => (0xff_fffe, 24),
+            "charge" => return None,
+            _ => (0, 1),
+        })
+    }
+
+    #[test]
+    fn the_expected_word_is_the_register_maps() {
+        // STATUS: armed (bit 0), confirmed (bit 6) and the faults word from bit 8.
+        assert_eq!(
+            mcu_expected(0, &golden, 0).as_deref(),
+            Some(format!("0x{:x}", 0b100_0010 << 8 | 1 << 6 | 1).as_str())
+        );
+        assert_eq!(mcu_expected(2, &golden, 0).as_deref(), Some("0xfffffffe"));
+        assert_eq!(mcu_expected(6, &golden, 0), None, "an unknown charge");
+        assert_eq!(
+            mcu_expected(11, &golden, 0xabcd_0000_0000_0000).as_deref(),
+            Some("0xabcd0000")
+        );
+        assert_eq!(
+            mcu_expected(7, &golden, 0).as_deref(),
+            Some("0x0 (0x0 with --mcu-diagnostics)")
+        );
+        assert_eq!(mcu_expected(14, &golden, 0).as_deref(), Some("0x0"));
+        assert_eq!(mcu_expected(1 << 40, &golden, 0).as_deref(), Some("0x0"));
+    }
 }
