@@ -233,6 +233,34 @@ fn recipe(name: &str) -> String {
     body.join("\n") + "\n"
 }
 
+/// The lines of the `text` block the page shows right after recipe `name`'s sh block: the
+/// output it prints, which the run must print too.
+fn recipe_shown_output(name: &str) -> Vec<String> {
+    let doc = std::fs::read_to_string(root().join("docs/systemverilog.md")).expect("the doc");
+    let marker = format!("<!-- recipe: {name} -->");
+    let after = doc
+        .split_once(&marker)
+        .unwrap_or_else(|| panic!("docs/systemverilog.md has no `{marker}`"))
+        .1;
+    let mut lines = after
+        .lines()
+        .skip_while(|l| !l.starts_with("```sh"))
+        .skip(1);
+    lines
+        .by_ref()
+        .take_while(|l| !l.starts_with("```"))
+        .for_each(drop);
+    let mut rest = lines.skip_while(|l| l.trim().is_empty());
+    assert_eq!(
+        rest.next(),
+        Some("```text"),
+        "`{marker}`: no text block of its output after it"
+    );
+    rest.take_while(|l| !l.starts_with("```"))
+        .map(str::to_string)
+        .collect()
+}
+
 /// Runs a recipe with bash in `work`: `TT` the repository, `ABI_LIB` the folder of the
 /// library cargo built for these tests (the recipe's own `cargo build` and `ABI_LIB=`
 /// lines are left out: cargo holds the build folder while the tests run), the built
@@ -375,6 +403,12 @@ fn hdl_scoreboard_dpi_and_vpi_pass_the_lathe_run_and_refuse_another_configuratio
         out.lines().any(|l| l == ok),
         "the VPI recipe: no `{ok}`:\n{out}"
     );
+    for shown in recipe_shown_output("vpi") {
+        assert!(
+            out.lines().any(|l| l.trim_end() == shown),
+            "docs/systemverilog.md shows `{shown}` after the VPI recipe; it printed:\n{out}"
+        );
+    }
 
     // The binaries they built: timed runs and the refusals.
     let config = work.join("config.ttc");

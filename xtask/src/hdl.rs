@@ -102,6 +102,55 @@ const FILES: &[&str] = &[
     "tt_fpga.v",
 ];
 
+/// Runs of one synthesis when yosys's ABC aborts (return code 134): ABC's assertion
+/// crashes come and go between identical runs, so an abort is synthesized once more.
+const ABC_ATTEMPTS: u32 = 2;
+
+/// yosys `read_verilog <files>; synth_ice40 SYNTH_FLAGS <options><after>` in `dir`,
+/// logging to `log`; returns the log. An ABC abort is retried ([`ABC_ATTEMPTS`]); any
+/// other failure names the log's last lines.
+fn synth_ice40(
+    dir: &Path,
+    files: &[String],
+    options: &str,
+    after: &str,
+    log: &Path,
+) -> Result<String> {
+    let script = format!(
+        "read_verilog {}; synth_ice40 {SYNTH_FLAGS} {options}{after}",
+        files.join(" ")
+    );
+    let log_arg = log.to_string_lossy();
+    let args = ["-q", "-l", &log_arg, "-p", &script];
+    let mut attempt = 1;
+    loop {
+        println!("$ (cd {}) yosys {}", dir.display(), args.join(" "));
+        let status = Command::new("yosys")
+            .args(args)
+            .current_dir(dir)
+            .status()
+            .context("could not start yosys: run `cargo xtask setup`")?;
+        let text = std::fs::read_to_string(log).unwrap_or_default();
+        if status.success() {
+            return Ok(text);
+        }
+        let abc_aborted = text
+            .lines()
+            .any(|l| l.contains("ABC: execution of command") && l.contains("return code 134"));
+        if abc_aborted && attempt < ABC_ATTEMPTS {
+            println!("yosys's ABC aborted (return code 134): synthesizing again");
+            attempt += 1;
+            continue;
+        }
+        let lines: Vec<&str> = text.lines().collect();
+        bail!(
+            "yosys failed ({status}); last lines of {}:\n{}",
+            log.display(),
+            lines[lines.len().saturating_sub(30)..].join("\n")
+        );
+    }
+}
+
 /// Sums the counts of yosys `stat` lines whose cell name starts with `prefix`, in the
 /// last statistics block of `log`.
 fn cells(log: &str, prefix: &str) -> u64 {
@@ -288,17 +337,13 @@ pub fn bitstreams(config: Option<&str>) -> Result<()> {
         .collect();
     let json = out.join("tt_fpga_spi.json");
     let synth_log = out.join("synth.log");
-    let script = format!(
-        "read_verilog {}; synth_ice40 {SYNTH_FLAGS} -top tt_fpga_spi -json {}",
-        files.join(" "),
-        json.display()
-    );
-    crate::process::run(
+    synth_ice40(
         &out,
-        "yosys",
-        &["-q", "-l", &synth_log.to_string_lossy(), "-p", &script],
-    )
-    .context("yosys is needed: run `cargo xtask setup`")?;
+        &files,
+        &format!("-top tt_fpga_spi -json {}", json.display()),
+        "",
+        &synth_log,
+    )?;
     let mut lines = Vec::new();
     for board in &BOARDS {
         let dir = root.join("target/hdl-report").join(board.name);
@@ -364,10 +409,51 @@ pub fn bitstreams(config: Option<&str>) -> Result<()> {
         )),
         t.elapsed().as_secs_f64()
     );
-    for l in lines {
+    for l in &lines {
         println!("{l}");
     }
+    if config.is_none() {
+        check_doc_figure(
+            &root,
+            &format!("SPI design tt_fpga_spi, default configuration, seed {SEED}:"),
+            &lines,
+        )?;
+    }
     Ok(())
+}
+
+/// The page that shows the default SPI design's per-board figures.
+const BOARDS_PAGE: &str = "docs/hdl.md";
+
+/// Checks that [`BOARDS_PAGE`] shows `lines` right after the line `heading` (the figures
+/// of this run, the wall time aside); with `TOOLTOUCH_BLESS_FIGURES=1` rewrites them instead.
+fn check_doc_figure(root: &Path, heading: &str, lines: &[String]) -> Result<()> {
+    let path = root.join(BOARDS_PAGE);
+    let text = std::fs::read_to_string(&path).with_context(|| format!("reading {BOARDS_PAGE}"))?;
+    let page: Vec<&str> = text.lines().collect();
+    let Some(at) = page.iter().position(|l| *l == heading) else {
+        bail!("{BOARDS_PAGE} has no line `{heading}` above the boards' figures");
+    };
+    let shown = &page[at + 1..(at + 1 + lines.len()).min(page.len())];
+    if shown.iter().copied().eq(lines.iter().map(String::as_str)) {
+        println!("{BOARDS_PAGE} shows these figures");
+        return Ok(());
+    }
+    if std::env::var_os("TOOLTOUCH_BLESS_FIGURES").is_some() {
+        let mut new: Vec<&str> = page[..=at].to_vec();
+        new.extend(lines.iter().map(String::as_str));
+        new.extend(&page[(at + 1 + shown.len())..]);
+        std::fs::write(&path, new.join("\n") + "\n")
+            .with_context(|| format!("writing {BOARDS_PAGE}"))?;
+        println!("{BOARDS_PAGE}: the boards' figures rewritten");
+        return Ok(());
+    }
+    bail!(
+        "{BOARDS_PAGE} shows other figures under `{heading}`:\n{}\nthis run:\n{}\n\
+         (rewrite them with TOOLTOUCH_BLESS_FIGURES=1 cargo xtask hdl-report --boards)",
+        shown.join("\n"),
+        lines.join("\n")
+    )
 }
 
 /// Refits the tuning cost model from a fresh synthesis of its calibration points.
@@ -423,18 +509,13 @@ fn synthesize(out: &Path, diagnostics: bool) -> Result<Synthesis> {
         .collect();
     let json = out.join("tt_fpga.json");
     let synth_log = out.join("synth.log");
-    let script = format!(
-        "read_verilog {}; synth_ice40 {SYNTH_FLAGS} -top tt_fpga -json {}",
-        files.join(" "),
-        json.display()
-    );
-    crate::process::run(
+    let synth = synth_ice40(
         &out,
-        "yosys",
-        &["-q", "-l", &synth_log.to_string_lossy(), "-p", &script],
-    )
-    .context("yosys is needed: run `cargo xtask setup`")?;
-    let synth = std::fs::read_to_string(&synth_log).context("reading synth.log")?;
+        &files,
+        &format!("-top tt_fpga -json {}", json.display()),
+        "",
+        &synth_log,
+    )?;
     let pnr_log = out.join("pnr.log");
     let freq = format!("{TARGET_MHZ}");
     println!("$ nextpnr-ice40 --hx8k --package ct256 --seed {SEED} --freq {freq} …");
@@ -499,16 +580,13 @@ fn print_blocks(out: &Path) -> Result<()> {
         .map(|f| rtl.join(f).to_string_lossy().into_owned())
         .collect();
     let blocks_log = out.join("blocks.log");
-    let script = format!(
-        "read_verilog {}; synth_ice40 {SYNTH_FLAGS} -noflatten -top tt_fpga; stat",
-        files.join(" ")
-    );
-    crate::process::run(
+    let blocks = synth_ice40(
         out,
-        "yosys",
-        &["-q", "-l", &blocks_log.to_string_lossy(), "-p", &script],
+        &files,
+        "-noflatten -top tt_fpga",
+        "; stat",
+        &blocks_log,
     )?;
-    let blocks = std::fs::read_to_string(&blocks_log).context("reading blocks.log")?;
     println!("\n  per module (yosys -noflatten): LUT4 / flip-flops / carries");
     let last = blocks
         .rfind("Printing statistics")
