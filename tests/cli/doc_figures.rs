@@ -13,7 +13,7 @@
 //!   before the first `...` are the output's first lines, those after the last `...` its
 //!   last lines, and a run between two `...` is found by its shape (digits aside). A shown
 //!   line equals its output line word for word, except a wall-clock time (`in 0.31 s`, `N
-//!   events/s`, `(2 threads)`), which the page may round differently.
+//!   events/s`, `(N measurements/s)`, `(2 threads)`), which the page may round differently.
 //! - **`firmware-gates`** is the markdown table of the size and stack gates' figures
 //!   (`firmware/ci/expected/`), rendered whole.
 //!
@@ -200,6 +200,7 @@ fn volatile(words: &[&str], i: usize) -> bool {
     number
         && ((prev == "in" && next.trim_end_matches([';', ',']) == "s")
             || next == "events/s"
+            || next == "measurements/s)"
             || next == "threads)")
 }
 
