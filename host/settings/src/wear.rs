@@ -120,6 +120,159 @@ fn speed(key: &str, rpm: Option<f64>, v: Option<f64>, diameter_mm: f64) -> Resul
     }
 }
 
+/// The cutter and machine keys over [`MillingParams::default`].
+fn milling(k: &WearKeys) -> Result<MillingParams, String> {
+    let mut m = MillingParams::default();
+    if let Some(z) = k.teeth {
+        m.teeth = z;
+        if !(1..=64).contains(&z) {
+            return Err(format!("[wear] teeth = {z}: allowed 1..=64"));
+        }
+    }
+    if let Some(v) = k.diameter_mm {
+        m.diameter_mm = positive("diameter_mm", v, 2000.0)?;
+    }
+    if let Some(v) = k.width_mm {
+        m.width_mm = positive("width_mm", v, m.diameter_mm)?;
+    }
+    if let Some(v) = k.efficiency {
+        m.efficiency = positive("efficiency", v, 1.0)?;
+    }
+    Ok(m)
+}
+
+/// The monitor's and the run's scalar keys (seed, limit, lag, filter, debounce, idle time)
+/// into `sc`.
+fn scenario_scalars(k: &WearKeys, sc: &mut WearScenario) -> Result<(), String> {
+    if let Some(v) = k.seed {
+        sc.seed = v;
+    }
+    if let Some(v) = k.vb_limit_mm {
+        sc.vb_limit_mm = positive("vb_limit_mm", v, 10.0)?;
+    }
+    if let Some(v) = k.power_lag_s {
+        sc.power_lag = positive("power_lag_s", v, 10.0)?;
+    }
+    if let Some(v) = k.lowpass_shift {
+        if v > 8 {
+            return Err(format!("[wear] lowpass_shift = {v}: allowed 0..=8"));
+        }
+        sc.monitor_lowpass_shift = v;
+    }
+    if let Some(v) = k.debounce_periods {
+        if v == 0 {
+            return Err("[wear] debounce_periods = 0: allowed 1..=255".into());
+        }
+        sc.debounce_periods = v;
+    }
+    if let Some(v) = k.idle_s {
+        sc.idle_s = in_range("idle_s", v, 0.0, 600.0)?;
+    }
+    Ok(())
+}
+
+/// `idle_power` as `(rpm, watts)` pairs.
+fn idle_table(k: &WearKeys, m: &MillingParams) -> Result<Vec<(f64, f64)>, String> {
+    let mut idle = Vec::new();
+    for (i, e) in k.idle_power.iter().flatten().enumerate() {
+        let key = format!("idle_power[{i}]");
+        let n = speed(&key, e.rpm, e.speed_m_per_min, m.diameter_mm)?;
+        idle.push((n, in_range(&format!("{key}.watts"), e.watts, 0.0, 1e6)?));
+    }
+    Ok(idle)
+}
+
+/// One cut as written (`key` = `cuts[i]`), its idle power from `idle` (or the cutter's).
+fn cut(key: &str, c: &CutKeys, m: &MillingParams, idle: &[(f64, f64)]) -> Result<Cut, String> {
+    let rpm = speed(key, c.rpm, c.speed_m_per_min, m.diameter_mm)?;
+    let feed_per_tooth_mm = match (c.feed_per_tooth_mm, c.feed_mm_per_rev) {
+        (Some(f), None) => positive(&format!("{key}.feed_per_tooth_mm"), f, 10.0)?,
+        (None, Some(f)) => {
+            positive(&format!("{key}.feed_mm_per_rev"), f, 100.0)? / f64::from(m.teeth)
+        }
+        _ => {
+            return Err(format!(
+                "[wear] {key}: give exactly one of feed_per_tooth_mm and feed_mm_per_rev"
+            ))
+        }
+    };
+    let idle_power = if idle.is_empty() {
+        m.idle_power
+    } else {
+        idle.iter()
+            .find(|(n, _)| (n - rpm).abs() <= 1e-6 * rpm)
+            .map(|(_, w)| *w)
+            .ok_or_else(|| {
+                format!("[wear] {key}: its speed ({rpm:.1} rpm) has no idle_power entry")
+            })?
+    };
+    let seconds = positive(&format!("{key}.seconds"), c.seconds, 3600.0)?;
+    Ok(Cut {
+        conditions: Conditions {
+            depth_mm: positive(&format!("{key}.depth_mm"), c.depth_mm, 100.0)?,
+            feed_per_tooth_mm,
+            rpm,
+        },
+        seconds,
+        idle_power,
+    })
+}
+
+/// The cuts (when given) into `sc`, their run at most an hour with `sc.idle_s`.
+fn cuts(k: &WearKeys, m: &MillingParams, sc: &mut WearScenario) -> Result<(), String> {
+    let idle = idle_table(k, m)?;
+    let Some(cuts) = &k.cuts else {
+        if !idle.is_empty() {
+            return Err(
+                "[wear] idle_power: give the cuts too (their speeds pick the entry)".into(),
+            );
+        }
+        return Ok(());
+    };
+    if cuts.is_empty() {
+        return Err("[wear] cuts: at least one cut".into());
+    }
+    sc.cuts = Vec::with_capacity(cuts.len().min(1024));
+    let mut total = sc.idle_s;
+    for (i, c) in cuts.iter().enumerate() {
+        let cut = cut(&format!("cuts[{i}]"), c, m, &idle)?;
+        total += cut.seconds;
+        sc.cuts.push(cut);
+    }
+    // Memory: one row per 50 ms period of the run.
+    if total > 3600.0 {
+        return Err(format!(
+            "[wear] cuts: {total} s in all, at most 3600 s (idle_s and every cut's seconds)"
+        ));
+    }
+    Ok(())
+}
+
+/// The new and the worn tool over the defaults `d`.
+fn tools(k: &WearKeys, d: &WearPlan) -> Result<(Tool, Tool), String> {
+    let rate = match k.vb_rate_mm_per_s {
+        Some(v) => in_range("vb_rate_mm_per_s", v, 0.0, 1.0)?,
+        None => d.new_tool.vb_rate,
+    };
+    let new_tool = Tool {
+        vb_start: match k.new_vb_mm {
+            Some(v) => in_range("new_vb_mm", v, 0.0, 10.0)?,
+            None => d.new_tool.vb_start,
+        },
+        vb_rate: rate,
+        ..d.new_tool
+    };
+    let worn_tool = Tool {
+        vb_start: match k.worn_vb_mm {
+            Some(v) => in_range("worn_vb_mm", v, 0.0, 10.0)?,
+            None => d.worn_tool.vb_start,
+        },
+        vb_rate: rate,
+        ..d.worn_tool
+    };
+    Ok((new_tool, worn_tool))
+}
+
 impl WearPlan {
     /// Reads a `[wear]` table; the error names the key.
     pub fn from_table(table: &toml::Value) -> Result<WearPlan, String> {
@@ -128,112 +281,13 @@ impl WearPlan {
             .try_into()
             .map_err(|e: toml::de::Error| format!("[wear] {}", e.message()))?;
         let d = WearPlan::default();
-        let dm = MillingParams::default();
-        let mut m = dm;
-        if let Some(z) = k.teeth {
-            m.teeth = z;
-            if !(1..=64).contains(&z) {
-                return Err(format!("[wear] teeth = {z}: allowed 1..=64"));
-            }
-        }
-        if let Some(v) = k.diameter_mm {
-            m.diameter_mm = positive("diameter_mm", v, 2000.0)?;
-        }
-        if let Some(v) = k.width_mm {
-            m.width_mm = positive("width_mm", v, m.diameter_mm)?;
-        }
-        if let Some(v) = k.efficiency {
-            m.efficiency = positive("efficiency", v, 1.0)?;
-        }
+        let m = milling(&k)?;
         let mut sc = WearScenario {
             milling: m,
             ..d.scenario.clone()
         };
-        if let Some(v) = k.seed {
-            sc.seed = v;
-        }
-        if let Some(v) = k.vb_limit_mm {
-            sc.vb_limit_mm = positive("vb_limit_mm", v, 10.0)?;
-        }
-        if let Some(v) = k.power_lag_s {
-            sc.power_lag = positive("power_lag_s", v, 10.0)?;
-        }
-        if let Some(v) = k.lowpass_shift {
-            if v > 8 {
-                return Err(format!("[wear] lowpass_shift = {v}: allowed 0..=8"));
-            }
-            sc.monitor_lowpass_shift = v;
-        }
-        if let Some(v) = k.debounce_periods {
-            if v == 0 {
-                return Err("[wear] debounce_periods = 0: allowed 1..=255".into());
-            }
-            sc.debounce_periods = v;
-        }
-        if let Some(v) = k.idle_s {
-            sc.idle_s = in_range("idle_s", v, 0.0, 600.0)?;
-        }
-        let mut idle: Vec<(f64, f64)> = Vec::new();
-        for (i, e) in k.idle_power.iter().flatten().enumerate() {
-            let key = format!("idle_power[{i}]");
-            let n = speed(&key, e.rpm, e.speed_m_per_min, m.diameter_mm)?;
-            idle.push((n, in_range(&format!("{key}.watts"), e.watts, 0.0, 1e6)?));
-        }
-        if let Some(cuts) = &k.cuts {
-            if cuts.is_empty() {
-                return Err("[wear] cuts: at least one cut".into());
-            }
-            sc.cuts = Vec::with_capacity(cuts.len().min(1024));
-            let mut total = sc.idle_s;
-            for (i, c) in cuts.iter().enumerate() {
-                let key = format!("cuts[{i}]");
-                let rpm = speed(&key, c.rpm, c.speed_m_per_min, m.diameter_mm)?;
-                let feed_per_tooth_mm = match (c.feed_per_tooth_mm, c.feed_mm_per_rev) {
-                    (Some(f), None) => positive(&format!("{key}.feed_per_tooth_mm"), f, 10.0)?,
-                    (None, Some(f)) => {
-                        positive(&format!("{key}.feed_mm_per_rev"), f, 100.0)? / f64::from(m.teeth)
-                    }
-                    _ => {
-                        return Err(format!(
-                        "[wear] {key}: give exactly one of feed_per_tooth_mm and feed_mm_per_rev"
-                    ))
-                    }
-                };
-                let idle_power = if idle.is_empty() {
-                    m.idle_power
-                } else {
-                    idle.iter()
-                        .find(|(n, _)| (n - rpm).abs() <= 1e-6 * rpm)
-                        .map(|(_, w)| *w)
-                        .ok_or_else(|| {
-                            format!(
-                                "[wear] {key}: its speed ({rpm:.1} rpm) has no idle_power entry"
-                            )
-                        })?
-                };
-                let seconds = positive(&format!("{key}.seconds"), c.seconds, 3600.0)?;
-                total += seconds;
-                sc.cuts.push(Cut {
-                    conditions: Conditions {
-                        depth_mm: positive(&format!("{key}.depth_mm"), c.depth_mm, 100.0)?,
-                        feed_per_tooth_mm,
-                        rpm,
-                    },
-                    seconds,
-                    idle_power,
-                });
-            }
-            // Memory: one row per 50 ms period of the run.
-            if total > 3600.0 {
-                return Err(format!(
-                    "[wear] cuts: {total} s in all, at most 3600 s (idle_s and every cut's seconds)"
-                ));
-            }
-        } else if !idle.is_empty() {
-            return Err(
-                "[wear] idle_power: give the cuts too (their speeds pick the entry)".into(),
-            );
-        }
+        scenario_scalars(&k, &mut sc)?;
+        cuts(&k, &m, &mut sc)?;
         if let Some(t) = &k.transients {
             let d = ToothTransients::default();
             let t = ToothTransients {
@@ -251,26 +305,7 @@ impl WearPlan {
                 sets.len()
             ));
         }
-        let rate = match k.vb_rate_mm_per_s {
-            Some(v) => in_range("vb_rate_mm_per_s", v, 0.0, 1.0)?,
-            None => d.new_tool.vb_rate,
-        };
-        let new_tool = Tool {
-            vb_start: match k.new_vb_mm {
-                Some(v) => in_range("new_vb_mm", v, 0.0, 10.0)?,
-                None => d.new_tool.vb_start,
-            },
-            vb_rate: rate,
-            ..d.new_tool
-        };
-        let worn_tool = Tool {
-            vb_start: match k.worn_vb_mm {
-                Some(v) => in_range("worn_vb_mm", v, 0.0, 10.0)?,
-                None => d.worn_tool.vb_start,
-            },
-            vb_rate: rate,
-            ..d.worn_tool
-        };
+        let (new_tool, worn_tool) = tools(&k, &d)?;
         let plan = WearPlan {
             scenario: sc,
             new_tool,
