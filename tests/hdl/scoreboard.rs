@@ -216,14 +216,21 @@ fn stimulus_clocks(rtl: &Path) -> u64 {
         .sum()
 }
 
-/// The body of the fenced block after `<!-- recipe: name -->` in docs/systemverilog.md.
-fn recipe(name: &str) -> String {
+/// `<!-- recipe: name -->` and the text of docs/systemverilog.md after it.
+fn after_recipe_marker(name: &str) -> (String, String) {
     let doc = std::fs::read_to_string(root().join("docs/systemverilog.md")).expect("the doc");
     let marker = format!("<!-- recipe: {name} -->");
     let after = doc
         .split_once(&marker)
         .unwrap_or_else(|| panic!("docs/systemverilog.md has no `{marker}`"))
-        .1;
+        .1
+        .to_string();
+    (marker, after)
+}
+
+/// The body of the fenced block after `<!-- recipe: name -->` in docs/systemverilog.md.
+fn recipe(name: &str) -> String {
+    let (marker, after) = after_recipe_marker(name);
     let mut lines = after.lines().skip_while(|l| l.trim().is_empty());
     assert!(
         lines.next().unwrap_or("").starts_with("```sh"),
@@ -236,12 +243,7 @@ fn recipe(name: &str) -> String {
 /// The lines of the `text` block the page shows right after recipe `name`'s sh block: the
 /// output it prints, which the run must print too.
 fn recipe_shown_output(name: &str) -> Vec<String> {
-    let doc = std::fs::read_to_string(root().join("docs/systemverilog.md")).expect("the doc");
-    let marker = format!("<!-- recipe: {name} -->");
-    let after = doc
-        .split_once(&marker)
-        .unwrap_or_else(|| panic!("docs/systemverilog.md has no `{marker}`"))
-        .1;
+    let (marker, after) = after_recipe_marker(name);
     let mut lines = after
         .lines()
         .skip_while(|l| !l.starts_with("```sh"))
