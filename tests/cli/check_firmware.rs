@@ -69,7 +69,7 @@ fn the_firmware_trace_passes_check_for_measurement_and_force_streams() {
     let o = check(&v.join("expected_outputs.ttv"), &trace);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     assert!(
-        text(&o).contains("force records × 14 fields"),
+        text(&o).contains("force records × 15 fields"),
         "{}",
         text(&o)
     );

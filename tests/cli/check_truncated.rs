@@ -257,7 +257,7 @@ fn force_output_streams_are_checked_field_by_field() {
     let (code, out) = check(&golden, &golden);
     assert_eq!(code, Some(0), "{out}");
     assert!(
-        out.starts_with("OK: ") && out.contains("force records × 14 fields"),
+        out.starts_with("OK: ") && out.contains("force records × 15 fields"),
         "{out}"
     );
 

@@ -1,7 +1,7 @@
 //! The component under `halrun`, bit for bit: the golden stimulus through LinuxCNC's
 //! `streamer`, every output through two `sampler`s, and `tooltouch check` on the two Outputs
 //! streams: 17 measurement fields (the status, `confirmed` and `faults`, among them; the
-//! alarm pin `fault` checked against `faults`) and 14 force fields in every servo period.
+//! alarm pin `fault` checked against `faults`) and 15 force fields in every servo period.
 
 use crate::common::{s, text, tooltouch};
 use crate::hal::{halrun, stream_hal_file, work_dir, write_config};

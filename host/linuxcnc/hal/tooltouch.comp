@@ -78,7 +78,7 @@ pin out u32 pulses "FES pulses since arm, wrapping at 2^32";
 pin out bit confirmed "the decision was confirmed by the contact pattern after it; accept a reading only with confirmed high and fault low";
 pin out u32 faults "fault conditions latched since arm, one bit each: 1 contact_at_arm, 2 pulses_lost, 4 index_missing, 8 scale_error, 16 no_decision, 32 fes_timeout, 64 unconfirmed";
 pin out bit fault "a fault is latched (faults != 0): to the CNC's alarm input; retract and re-measure";
-// ---- force outputs (the model's 14 fields; I32F32 values as high and low words)
+// ---- force outputs (the model's 15 fields; I32F32 values as high and low words)
 pin out u32 override_pct "feed override, %";
 pin out float adaptive_feed "override-pct / 100, for motion.adaptive-feed";
 pin out bit saturated "the controller's demand was outside 0..255 in the last period";

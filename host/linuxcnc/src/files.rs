@@ -35,7 +35,7 @@ pub const MEASURE_PINS: [(&str, char); 18] = [
     ("fault", 'b'),
 ];
 
-/// Sampler 1: the 14 force outputs (each I32F32 value as its high and low words), then the
+/// Sampler 1: the 15 force outputs (each I32F32 value as its high and low words), then the
 /// `overruns` health pin.
 pub const FORCE_PINS: [(&str, char); 21] = [
     ("override-pct", 'u'),

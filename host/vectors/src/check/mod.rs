@@ -735,10 +735,11 @@ pub fn compare_output_sources<E: Read, D: Read>(
         tooltouch_model::MeasureOutputs::FIELD_COUNT
     );
     if es.force > 0 {
+        let fields = crate::signals::force_signals(&Default::default()).len();
         summary = if es.measure == 0 {
-            format!("OK: {} force records × 14 fields", es.force)
+            format!("OK: {} force records × {fields} fields", es.force)
         } else {
-            format!("{summary} and {} force records × 14 fields", es.force)
+            format!("{summary} and {} force records × {fields} fields", es.force)
         };
     }
     if let Some(s) = ds.status {
